@@ -1,0 +1,95 @@
+// Result file writing (see result_io.h and the design's "Result file"). Field order follows
+// the design; a value that is not finite is left out and a "<field>_note" says why.
+#include "lib/result_io.h"
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace linkfit {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kNotFinite = "not finite";
+
+// object[key] = value, or object[key + "_note"] when the value is not finite. Adding 0.0
+// writes -0 as 0.
+void PutNumber(Json* object, const std::string& key, double value) {
+  if (std::isfinite(value)) {
+    (*object)[key] = value + 0.0;
+  } else {
+    (*object)[key + "_note"] = kNotFinite;
+  }
+}
+
+void PutPoint(Json* object, const std::string& key, const Eigen::Vector2d& point) {
+  if (point.allFinite()) {
+    (*object)[key] = Json::array({point.x() + 0.0, point.y() + 0.0});
+  } else {
+    (*object)[key + "_note"] = kNotFinite;
+  }
+}
+
+Json DyadToJson(const DyadReport& report) {
+  const PlanarDyad& dyad = report.dyad;
+  Json object;
+  object["type"] = DyadTypeName(dyad.type);
+  switch (dyad.type) {
+    case DyadType::kRR:
+      PutPoint(&object, "fixed", dyad.fixed_pivot);
+      PutPoint(&object, "moving", dyad.moving_pivot);
+      PutNumber(&object, "radius", dyad.radius);
+      break;
+    case DyadType::kPR:
+      PutPoint(&object, "moving", dyad.moving_pivot);
+      PutPoint(&object, "line_point", dyad.LineFoot());
+      PutNumber(&object, "line_angle_deg", dyad.LineAngleDeg());
+      break;
+    case DyadType::kRP:
+      PutPoint(&object, "fixed", dyad.fixed_pivot);
+      PutPoint(&object, "line_point", dyad.LineFoot());
+      PutNumber(&object, "line_angle_deg", dyad.LineAngleDeg());
+      break;
+  }
+  PutNumber(&object, "max_residual", report.max_residual);
+  return object;
+}
+
+Json MechanismToJson(const MechanismReport& report) {
+  Json object;
+  object["type"] = FourBarTypeName(report.type);
+  object["dyads"] = Json::array({report.input_dyad, report.output_dyad});
+  if (report.max_pose_error && std::isfinite(*report.max_pose_error)) {
+    object["max_pose_error"] = *report.max_pose_error;
+  } else if (report.max_pose_error) {
+    object["max_pose_error_note"] = kNotFinite;
+  } else {
+    object["max_pose_error_note"] =
+        report.pose_error_note.empty() ? "not computed" : report.pose_error_note;
+  }
+  if (!report.grashof.empty()) object["grashof"] = report.grashof;
+  return object;
+}
+
+}  // namespace
+
+std::string ResultToJson(const PlanarMotionResult& result, int indent) {
+  Json root;
+  root["problem"] = ProblemKindName(result.problem);
+  root["space"] = SpaceName(result.space);
+  root["method"] = result.method;
+  PutNumber(&root, "scale", result.scale);
+  root["dyads"] = Json::array();
+  for (const DyadReport& dyad : result.dyads) root["dyads"].push_back(DyadToJson(dyad));
+  root["mechanisms"] = Json::array();
+  for (const MechanismReport& mechanism : result.mechanisms) {
+    root["mechanisms"].push_back(MechanismToJson(mechanism));
+  }
+  root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};
+  if (!result.notes.empty()) root["notes"] = result.notes;
+  PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
+  // Notes are library text, but never let a stray byte turn into an exception here.
+  return root.dump(indent < 0 ? -1 : indent, ' ', false, Json::error_handler_t::replace);
+}
+
+}  // namespace linkfit

@@ -1,0 +1,17 @@
+// Writing result files (JSON). Values that cannot be computed are left out with a reason;
+// NaN or Infinity are never written.
+#ifndef LINKFIT_LIB_RESULT_IO_H_
+#define LINKFIT_LIB_RESULT_IO_H_
+
+#include <string>
+
+#include "lib/result.h"
+
+namespace linkfit {
+
+// The result as JSON text; `indent` < 0 gives one line (batch mode), otherwise pretty-printed.
+std::string ResultToJson(const PlanarMotionResult& result, int indent);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_LIB_RESULT_IO_H_

@@ -1,0 +1,44 @@
+// In-memory form of the task file (see README, "Task file"). Parsing and validation live in
+// task_io.h; this header holds only the data.
+#ifndef LINKFIT_LIB_TASK_H_
+#define LINKFIT_LIB_TASK_H_
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lib/planar_pose.h"
+#include "lib/spatial_pose.h"
+
+namespace linkfit {
+
+enum class ProblemKind { kMotion, kPath };
+enum class Space { kPlanar, kSpatial };
+enum class Effort { kFast, kBalanced, kThorough };
+
+const char* ProblemKindName(ProblemKind kind);
+const char* SpaceName(Space space);
+const char* EffortName(Effort effort);
+
+struct TimedPoint {
+  Eigen::Vector2d point_in_fixed = Eigen::Vector2d::Zero();
+  std::optional<double> input_angle;  // radians; absent for free timing
+  double weight = 1.0;
+  bool exact = false;
+};
+
+struct Task {
+  ProblemKind problem = ProblemKind::kMotion;
+  Space space = Space::kPlanar;
+  std::vector<PlanarPose> planar_poses;       // motion, planar
+  std::vector<DualQuaternion> spatial_poses;  // motion, spatial
+  std::vector<double> pose_weights;           // one per pose, default 1
+  std::vector<bool> pose_exact;               // one per pose, default false
+  std::vector<TimedPoint> points;             // path
+  std::optional<double> scale;                // characteristic length L, when given
+  Effort effort = Effort::kBalanced;
+};
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_LIB_TASK_H_

@@ -1,0 +1,41 @@
+// Reading task files (JSON, or JSON lines for batch mode) with the error contract of the
+// design: any problem is reported as one line naming the file, the item and what is wrong.
+#ifndef LINKFIT_LIB_TASK_IO_H_
+#define LINKFIT_LIB_TASK_IO_H_
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "lib/task.h"
+
+namespace linkfit {
+
+// Bad input. what() is the complete one-line message, e.g.
+// "task.json: poses[3].theta_deg: expected a number, got a string".
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct TaskReadOptions {
+  // Largest accepted deviation of |q| from 1 (eq. 2) and of q . g from 0 (eq. 3), relative.
+  double unit_tolerance = 1e-6;
+  // Two poses closer than this (pose error relative to L) are coincident.
+  double coincident_tolerance = 1e-10;
+  // Upper bound on poses or points in one task (bounded memory, clear message).
+  size_t max_items = 100000;
+};
+
+// Parses and validates one task given as JSON text. `source` names the input in messages
+// ("task.json" or "tasks.jsonl:4").
+Task ParseTask(const std::string& json_text, const std::string& source,
+               const TaskReadOptions& options = {});
+
+// Reads a file: a .jsonl file gives one task per non-empty line, anything else one task.
+// Every task is validated before any is returned, so a bad line leaves nothing done.
+std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& options = {});
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_LIB_TASK_IO_H_

@@ -1,0 +1,182 @@
+// Tests of the `linkfit` program as a user runs it: exit status, one line on stderr, and no
+// result file for bad input; help for the program and for `solve`.
+#include <gtest/gtest.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+// The five distinct planar poses of a minimal motion task, as JSON objects.
+const char* const kPoses[5] = {
+    R"({"x": 0.0, "y": 0.0, "theta_deg": 0.0})", R"({"x": 1.0, "y": 0.0, "theta_deg": 10.0})",
+    R"({"x": 2.0, "y": 1.0, "theta_deg": 20.0})", R"({"x": 1.0, "y": 2.0, "theta_deg": 30.0})",
+    R"({"x": 0.0, "y": 1.0, "theta_deg": 40.0})"};
+
+// A motion task with the given pose texts.
+std::string MotionTask(const std::vector<std::string>& poses) {
+  std::string text = "{\n  \"problem\": \"motion\",\n  \"poses\": [\n";
+  for (size_t i = 0; i < poses.size(); ++i) {
+    text += "    " + poses[i] + (i + 1 < poses.size() ? ",\n" : "\n");
+  }
+  return text + "  ]\n}\n";
+}
+
+std::vector<std::string> FivePoses() { return {kPoses, kPoses + 5}; }
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+struct RunResult {
+  int status = -1;
+  std::string out;
+  std::string err;
+};
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char pattern[] = "/tmp/linkfit_cli_XXXXXX";
+    ASSERT_NE(mkdtemp(pattern), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
+
+  std::string WriteTask(const std::string& name, const std::string& text) const {
+    std::ofstream(Path(name), std::ios::binary) << text;
+    return Path(name);
+  }
+
+  // Runs `linkfit ARGS` with stdout and stderr captured in files of the temporary directory.
+  RunResult Run(const std::string& args) const {
+    const std::string command = std::string("'") + LINKFIT_BINARY + "' " + args + " >'" +
+                                Path("stdout") + "' 2>'" + Path("stderr") + "'";
+    const int raw = std::system(command.c_str());
+    RunResult result;
+    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    result.out = ReadFile(Path("stdout"));
+    result.err = ReadFile(Path("stderr"));
+    return result;
+  }
+
+  // Runs `solve` on a task that must be rejected: exit 2, one stderr line that starts with
+  // `expected_start`, no result file, nothing on stdout.
+  void ExpectRejected(const std::string& task_text, const std::string& expected_start) {
+    const std::string task = WriteTask("task.json", task_text);
+    const std::string output = Path("result.json");
+    const RunResult run = Run("solve '" + task + "' -o '" + output + "'");
+    EXPECT_EQ(run.status, 2) << run.err;
+    ASSERT_FALSE(run.err.empty());
+    EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << "not one line: " << run.err;
+    EXPECT_EQ(run.err.rfind("linkfit: error: " + task + ": " + expected_start, 0), 0u) << run.err;
+    EXPECT_FALSE(std::filesystem::exists(output));
+    EXPECT_EQ(run.out, "");
+    // No temporary file is left behind either.
+    for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
+      const std::string name = entry.path().filename().string();
+      EXPECT_TRUE(name == "task.json" || name == "stdout" || name == "stderr") << name;
+    }
+  }
+
+  std::string dir_;
+};
+
+TEST_F(CliTest, MalformedJson) {
+  ExpectRejected("{\n  \"poses\": [\n    {\"x\": 1,, }\n", "malformed JSON at line 3, column 13: ");
+}
+
+TEST_F(CliTest, MissingField) {
+  std::vector<std::string> poses = FivePoses();
+  poses[2] = R"({"x": 2.0, "theta_deg": 20.0})";
+  ExpectRejected(MotionTask(poses), "poses[2].y: missing field");
+}
+
+TEST_F(CliTest, StringForANumber) {
+  std::vector<std::string> poses = FivePoses();
+  poses[3] = R"({"x": 1.0, "y": 2.0, "theta_deg": "30"})";
+  ExpectRejected(MotionTask(poses), "poses[3].theta_deg: expected a number, got a string");
+}
+
+TEST_F(CliTest, NumberThatOverflows) {
+  std::vector<std::string> poses = FivePoses();
+  poses[1] = R"({"x": 1e999, "y": 0.0, "theta_deg": 10.0})";
+  ExpectRejected(MotionTask(poses), "poses[1].x: not a finite number");
+}
+
+TEST_F(CliTest, TwoIdenticalPoses) {
+  std::vector<std::string> poses = FivePoses();
+  poses[4] = poses[1];
+  ExpectRejected(MotionTask(poses), "poses[4]: coincides with poses[1]");
+}
+
+TEST_F(CliTest, FourPoses) {
+  std::vector<std::string> poses = FivePoses();
+  poses.pop_back();
+  ExpectRejected(MotionTask(poses),
+                 "poses: 4 poses given, planar motion synthesis needs at least 5");
+}
+
+TEST_F(CliTest, UnknownField) {
+  std::string text = MotionTask(FivePoses());
+  text.replace(text.find("\"poses\""), 7, "\"pose\"");
+  ExpectRejected(text, "pose: unknown field");
+}
+
+TEST_F(CliTest, DeepNesting) {
+  ExpectRejected(std::string(100000, '['), "malformed JSON at line 1, column 65: nested deeper");
+}
+
+TEST_F(CliTest, BadLineOfAJsonLinesFile) {
+  const std::string good = R"({"poses": [)" + std::string(kPoses[0]) + "," + kPoses[1] + "," +
+                           kPoses[2] + "," + kPoses[3] + "," + kPoses[4] + "]}";
+  const std::string bad = R"({"poses": [)" + std::string(kPoses[0]) + "]}";
+  const std::string task = WriteTask("tasks.jsonl", good + "\n" + good + "\n" + bad + "\n");
+  const std::string output = Path("results.jsonl");
+  const RunResult run = Run("solve '" + task + "' -o '" + output + "'");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err, "linkfit: error: " + task +
+                         ":3: poses: 1 pose given, planar motion synthesis needs at least 5\n");
+  EXPECT_FALSE(std::filesystem::exists(output));
+}
+
+TEST_F(CliTest, MissingTaskFile) {
+  const RunResult run = Run("solve '" + Path("nope.json") + "'");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_EQ(run.err, "linkfit: error: " + Path("nope.json") + ": cannot open file\n");
+}
+
+TEST_F(CliTest, UsageErrors) {
+  for (const std::string& args : {std::string(""), std::string("solve"), std::string("--bogus"),
+                                  std::string("solve a.json --bogus"), std::string("frobnicate"),
+                                  std::string("solve a.json -o")}) {
+    const RunResult run = Run(args);
+    EXPECT_EQ(run.status, 2) << args;
+    EXPECT_EQ(run.err.rfind("linkfit: error: ", 0), 0u) << args << ": " << run.err;
+    EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << args << ": " << run.err;
+  }
+}
+
+TEST_F(CliTest, Help) {
+  RunResult run = Run("--help");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find("solve"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("Exit status"), std::string::npos) << run.out;
+  EXPECT_EQ(run.err, "");
+  run = Run("solve --help");
+  EXPECT_EQ(run.status, 0);
+  EXPECT_NE(run.out.find("theta_deg"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("rotation"), std::string::npos) << run.out;
+}
+
+}  // namespace

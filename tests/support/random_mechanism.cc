@@ -1,0 +1,143 @@
+#include "tests/support/random_mechanism.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "lib/mechanism.h"
+
+namespace linkfit::testing {
+namespace {
+
+Eigen::Vector2d RandomPoint(std::mt19937_64& rng, double half_width) {
+  std::uniform_real_distribution<double> u(-half_width, half_width);
+  return Eigen::Vector2d(u(rng), u(rng));
+}
+
+Eigen::Vector2d RandomDirection(std::mt19937_64& rng) {
+  std::uniform_real_distribution<double> angle(-M_PI, M_PI);
+  const double a = angle(rng);
+  return Eigen::Vector2d(std::cos(a), std::sin(a));
+}
+
+// A dyad of `type` satisfied by the coupler at `pose`.
+PlanarDyad RandomDyadAt(std::mt19937_64& rng, DyadType type, const PlanarPose& pose) {
+  switch (type) {
+    case DyadType::kRR: {
+      const Eigen::Vector2d fixed_pivot = RandomPoint(rng, 1.0);
+      const Eigen::Vector2d pivot_in_fixed = RandomPoint(rng, 1.0);
+      return PlanarDyad::RR(fixed_pivot, pose.ToMoving(pivot_in_fixed),
+                            (pivot_in_fixed - fixed_pivot).norm());
+    }
+    case DyadType::kPR: {
+      const Eigen::Vector2d pivot_in_fixed = RandomPoint(rng, 1.0);
+      return PlanarDyad::PR(pose.ToMoving(pivot_in_fixed), pivot_in_fixed, RandomDirection(rng));
+    }
+    case DyadType::kRP: {
+      const Eigen::Vector2d fixed_pivot = RandomPoint(rng, 1.0);
+      return PlanarDyad::RP(fixed_pivot, pose.ToMoving(fixed_pivot), RandomDirection(rng));
+    }
+  }
+  return PlanarDyad();
+}
+
+bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, int count,
+             GeneratedTask* task) {
+  PlanarPose start(0.0, 0.0, 0.0);
+  start.origin_in_fixed = RandomPoint(rng, 1.0);
+  start.theta = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
+  task->input = RandomDyadAt(rng, input_type, start);
+  task->output = RandomDyadAt(rng, output_type, start);
+  task->poses.assign(1, start);
+
+  const bool slider_input = input_type == DyadType::kPR;
+  std::uniform_real_distribution<double> step_size(slider_input ? 0.15 : 15.0 * M_PI / 180.0,
+                                                   slider_input ? 0.45 : 45.0 * M_PI / 180.0);
+  const double direction = std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0;
+  double value = InputValue(task->input, start);
+  std::vector<PlanarPose> candidates;
+  while (static_cast<int>(task->poses.size()) < count) {
+    value += direction * step_size(rng);
+    if (AssembleFourBar(task->input, task->output, value, 0.0, &candidates) == 0) return false;
+    // Follow the branch: the configuration nearest the previous pose.
+    const PlanarPose& previous = task->poses.back();
+    const PlanarPose* nearest = &candidates[0];
+    for (const PlanarPose& candidate : candidates) {
+      if (PoseError(candidate, previous, 1.0) < PoseError(*nearest, previous, 1.0)) {
+        nearest = &candidate;
+      }
+    }
+    task->poses.push_back(*nearest);
+  }
+  const double length = CharacteristicLength(task->poses);
+  if (!(length > 1e-3)) return false;
+  for (size_t i = 0; i < task->poses.size(); ++i) {
+    for (size_t j = i + 1; j < task->poses.size(); ++j) {
+      if (PoseError(task->poses[i], task->poses[j], length) < 0.05 * length) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
+GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, int count) {
+  GeneratedTask task;
+  while (!TryTask(rng, input, output, count, &task)) {
+  }
+  return task;
+}
+
+double DyadDistance(const PlanarDyad& found, const PlanarDyad& expected, double length) {
+  if (found.type != expected.type) return std::numeric_limits<double>::infinity();
+  auto line_distance = [](const Eigen::Vector2d& dir_a, const Eigen::Vector2d& point_a,
+                          const Eigen::Vector2d& dir_b, const Eigen::Vector2d& point_b) {
+    const double angle = std::abs(dir_a.x() * dir_b.y() - dir_a.y() * dir_b.x());
+    const Eigen::Vector2d normal_a(-dir_a.y(), dir_a.x()), normal_b(-dir_b.y(), dir_b.x());
+    return std::max({angle, std::abs(normal_a.dot(point_b - point_a)),
+                     std::abs(normal_b.dot(point_a - point_b))});
+  };
+  switch (expected.type) {
+    case DyadType::kRR:
+      return std::max({(found.fixed_pivot - expected.fixed_pivot).norm(),
+                       (found.moving_pivot - expected.moving_pivot).norm(),
+                       std::abs(found.radius - expected.radius)}) /
+             length;
+    case DyadType::kPR:
+      return std::max((found.moving_pivot - expected.moving_pivot).norm() / length,
+                      line_distance(found.line_direction, found.line_point / length,
+                                    expected.line_direction, expected.line_point / length));
+    case DyadType::kRP:
+      return std::max((found.fixed_pivot - expected.fixed_pivot).norm() / length,
+                      line_distance(found.line_direction, found.line_point / length,
+                                    expected.line_direction, expected.line_point / length));
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+double DyadScale(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses) {
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const PlanarPose& pose : poses) centroid += pose.origin_in_fixed;
+  centroid /= static_cast<double>(poses.size());
+  double scale = CharacteristicLength(poses);
+  switch (dyad.type) {
+    case DyadType::kRR:
+      return std::max({scale, (dyad.fixed_pivot - centroid).norm(), dyad.moving_pivot.norm()});
+    case DyadType::kPR:
+      return std::max({scale, dyad.moving_pivot.norm(), (dyad.LineFoot() - centroid).norm()});
+    case DyadType::kRP:
+      return std::max({scale, (dyad.fixed_pivot - centroid).norm(), dyad.LineFoot().norm()});
+  }
+  return scale;
+}
+
+double NearestDyadDistance(const std::vector<PlanarDyad>& candidates, const PlanarDyad& expected,
+                           double length) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const PlanarDyad& candidate : candidates) {
+    best = std::min(best, DyadDistance(candidate, expected, length));
+  }
+  return best;
+}
+
+}  // namespace linkfit::testing

@@ -1,0 +1,53 @@
+// Random planar four-bars and the exact tasks they make, for the tests and the benchmark.
+#ifndef LINKFIT_TESTS_SUPPORT_RANDOM_MECHANISM_H_
+#define LINKFIT_TESTS_SUPPORT_RANDOM_MECHANISM_H_
+
+#include <random>
+#include <vector>
+
+#include "lib/dyad.h"
+#include "lib/planar_pose.h"
+
+namespace linkfit::testing {
+
+// A four-bar given by two dyads, and the poses its coupler E reaches.
+struct GeneratedTask {
+  PlanarDyad input;   // the driven dyad
+  PlanarDyad output;  // the other dyad
+  std::vector<PlanarPose> poses;
+};
+
+// Draws a four-bar of the given dyad types in an assembled start configuration (pivots in a
+// box of half-width 1 about the origin, random coupler frame E), then drives the input joint
+// by random steps (15 to 45 degrees, or 0.15 to 0.45 for a slider) and follows the coupler on
+// one assembly branch for `count` poses. Mechanisms that lock up, or tasks with two poses
+// closer than 0.05 L, are drawn again.
+GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, int count = 5);
+
+inline GeneratedTask RandomFourBarTask(std::mt19937_64& rng, int count = 5) {
+  return RandomTask(rng, DyadType::kRR, DyadType::kRR, count);
+}
+inline GeneratedTask RandomSliderCrankTask(std::mt19937_64& rng, int count = 5) {
+  return RandomTask(rng, DyadType::kRR, DyadType::kPR, count);
+}
+inline GeneratedTask RandomInvertedSliderCrankTask(std::mt19937_64& rng, int count = 5) {
+  return RandomTask(rng, DyadType::kRR, DyadType::kRP, count);
+}
+
+// Relative difference of two dyads, in units of `length`: the largest of the pivot, radius
+// and line differences (lines compared as lines: direction up to sign, and the distance of
+// each line point from the other line). Infinity for different types.
+double DyadDistance(const PlanarDyad& found, const PlanarDyad& expected, double length);
+
+// The length to measure a dyad's error against: the larger of L and the distance of its
+// pivots and line points from the pose-origin centroid (Sigma) or from E's origin (E). A pivot
+// 1000 L away is known to a relative, not an absolute, accuracy.
+double DyadScale(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses);
+
+// The smallest DyadDistance from `expected` to any of `candidates` (infinity if none).
+double NearestDyadDistance(const std::vector<PlanarDyad>& candidates, const PlanarDyad& expected,
+                           double length);
+
+}  // namespace linkfit::testing
+
+#endif  // LINKFIT_TESTS_SUPPORT_RANDOM_MECHANISM_H_

@@ -254,33 +254,24 @@ PlanarDyad PolishDyad(const PlanarDyad& dyad, const std::vector<PoseFrame>& pose
 // A real root read as a dyad in the normalized frames.
 struct ReadRoot {
   PlanarDyad dyad;
-  double max_residual = 0.0;
+  double max_residual = std::numeric_limits<double>::infinity();
 };
 
-// Reads a real root z as a dyad. Three readings exist (file comment): RR (K0 != 0), PR
-// (K0 := 0, seed 001 eq. 13) and RP (K0 := 0 and K := 0: the limit of an RR dyad whose moving
-// pivot runs to infinity along n, z -> (0, n, 0, 0, -F . n, Fx ny - Fy nx, 2h), i.e. the fixed
-// pivot F stays on the line n . p_E = h of E). A slider reading is taken when it fits the poses
-// within `slider_tolerance` or at least as well as the circle reading, so that a radius
-// beyond what rounding can tell from infinity is reported as a slider, consistently in both
-// directions.
-ReadRoot ReadConstraintVector(const ConstraintVector& z, const std::vector<PoseFrame>& poses,
-                              double slider_tolerance) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// The readings of a real root z as a dyad, sliders first. Three readings exist (file
+// comment): PR (K0 := 0, seed 001 eq. 13), RP (K0 := 0 and K := 0: the limit of an RR dyad
+// whose moving pivot runs to infinity along n, z -> (0, n, 0, 0, -F . n, Fx ny - Fy nx, 2h),
+// i.e. the fixed pivot F stays on the line n . p_E = h of E) and RR (K0 != 0). Returns the
+// count.
+int ReadingsOf(const ConstraintVector& z, const std::vector<PoseFrame>& poses,
+               ReadRoot readings[3]) {
   const double k0 = z[0];
   const Eigen::Vector2d k(z[3], z[4]);
   const Eigen::Vector2d n(z[1], z[2]);
-
-  ReadRoot best;
-  best.max_residual = kInfinity;
-  auto consider = [&](const PlanarDyad& dyad) {
-    const double residual = MaxResidual(dyad, poses);
-    // Sliders are read first; a circle must fit strictly better, and beyond the tolerance.
-    if (residual < best.max_residual &&
-        (best.max_residual == kInfinity || best.max_residual > slider_tolerance)) {
-      best.dyad = dyad;
-      best.max_residual = residual;
-    }
+  int count = 0;
+  auto add = [&](const PlanarDyad& dyad) {
+    readings[count].dyad = dyad;
+    readings[count].max_residual = MaxResidual(dyad, poses);
+    ++count;
   };
   if (k.norm() > 0.0) {
     // PR: the line 2 K . P + K3 = 0, K3 = z7; moving pivot from [[K1, K2], [K2, -K1]] m =
@@ -289,8 +280,8 @@ ReadRoot ReadConstraintVector(const ConstraintVector& z, const std::vector<PoseF
     kmat << k.x(), k.y(), k.y(), -k.x();
     const Eigen::Vector2d moving_pivot = kmat * Eigen::Vector2d(z[5], z[6]) / k.squaredNorm();
     const Eigen::Vector2d normal = k.normalized();
-    consider(PlanarDyad::PR(moving_pivot, (-z[7] / (2.0 * k.norm())) * normal,
-                            Eigen::Vector2d(-normal.y(), normal.x())));
+    add(PlanarDyad::PR(moving_pivot, (-z[7] / (2.0 * k.norm())) * normal,
+                       Eigen::Vector2d(-normal.y(), normal.x())));
   }
   if (n.norm() > 0.0) {
     // RP: (z5, z6) = (-F . n, Fx ny - Fy nx) = [[-nx, -ny], [ny, -nx]] F, whose inverse is
@@ -299,8 +290,8 @@ ReadRoot ReadConstraintVector(const ConstraintVector& z, const std::vector<PoseF
     nmat << -n.x(), n.y(), -n.y(), -n.x();
     const Eigen::Vector2d fixed_pivot = nmat * Eigen::Vector2d(z[5], z[6]) / n.squaredNorm();
     const Eigen::Vector2d normal = n.normalized();
-    consider(PlanarDyad::RP(fixed_pivot, (0.5 * z[7] / n.norm()) * normal,
-                            Eigen::Vector2d(-normal.y(), normal.x())));
+    add(PlanarDyad::RP(fixed_pivot, (0.5 * z[7] / n.norm()) * normal,
+                       Eigen::Vector2d(-normal.y(), normal.x())));
   }
   if (k0 != 0.0) {
     // RR: fixed pivot -K/K0 (seed 001 eq. 10); moving pivot from the least-squares
@@ -318,7 +309,21 @@ ReadRoot ReadConstraintVector(const ConstraintVector& z, const std::vector<PoseF
       radius += (pose.rotation * moving_pivot + pose.origin - fixed_pivot).norm();
     }
     radius /= static_cast<double>(poses.size());
-    consider(PlanarDyad::RR(fixed_pivot, moving_pivot, radius));
+    add(PlanarDyad::RR(fixed_pivot, moving_pivot, radius));
+  }
+  return count;
+}
+
+// The typing rule: a slider reading (listed first) is taken when it fits the poses within
+// `slider_tolerance` or at least as well as the circle reading, so that a radius beyond what
+// rounding can tell from infinity is reported as a slider, consistently in both directions.
+int ChooseReading(const ReadRoot readings[3], int count, double slider_tolerance) {
+  int best = -1;
+  for (int i = 0; i < count; ++i) {
+    if (best < 0 || (readings[i].max_residual < readings[best].max_residual &&
+                     readings[best].max_residual > slider_tolerance)) {
+      best = i;
+    }
   }
   return best;
 }
@@ -417,12 +422,28 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     if (!(residual <= 1e-9) || !(scale > 0.0)) continue;
     // Two complex-conjugate roots near a real double root polish to the same point: keep one.
     const ConstraintVector z_real = basis * a_real;
-    bool duplicate = false;
-    ReadRoot read = ReadConstraintVector(z_real, frames, options.slider_tolerance);
+    ReadRoot readings[3];
+    const int count = ReadingsOf(z_real, frames, readings);
+    if (count == 0) continue;
+    int chosen = ChooseReading(readings, count, options.slider_tolerance);
     if (n == 5) {
-      read.dyad = PolishDyad(read.dyad, frames, options.newton_iterations);
-      read.max_residual = MaxResidual(read.dyad, frames);
+      // Polish the chosen reading on its geometric equations. Near a double root (a slider
+      // next to a huge-radius circle) the unpolished residuals can mislead the typing: then
+      // polish every reading and type again on the polished ones.
+      ReadRoot& first = readings[chosen];
+      first.dyad = PolishDyad(first.dyad, frames, options.newton_iterations);
+      first.max_residual = MaxResidual(first.dyad, frames);
+      if (first.max_residual > options.slider_tolerance) {
+        for (int i = 0; i < count; ++i) {
+          if (i == chosen) continue;
+          readings[i].dyad = PolishDyad(readings[i].dyad, frames, options.newton_iterations);
+          readings[i].max_residual = MaxResidual(readings[i].dyad, frames);
+        }
+        chosen = ChooseReading(readings, count, options.slider_tolerance);
+      }
     }
+    const ReadRoot& read = readings[chosen];
+    bool duplicate = false;
     for (const ReadRoot& previous : result->roots) {
       if (previous.dyad.type == read.dyad.type &&
           (previous.dyad.moving_pivot - read.dyad.moving_pivot).norm() < 1e-7 &&

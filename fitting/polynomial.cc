@@ -2,41 +2,85 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace linkfit {
 
+namespace {
+
+// Newton's method on the cubic from t, keeping only steps that lower |f|.
+double PolishCubicRoot(double c3, double c2, double c1, double c0, double t) {
+  auto value = [&](double x) { return ((c3 * x + c2) * x + c1) * x + c0; };
+  double f = value(t);
+  for (int iteration = 0; iteration < 8 && f != 0.0; ++iteration) {
+    const double df = (3.0 * c3 * t + 2.0 * c2) * t + c1;
+    if (df == 0.0) break;
+    const double next = t - f / df;
+    const double next_f = value(next);
+    if (!(std::abs(next_f) < std::abs(f))) break;
+    t = next;
+    f = next_f;
+  }
+  return t;
+}
+
+}  // namespace
+
 int SolveCubicReal(double c3, double c2, double c1, double c0, double roots[3]) {
-  // Monic form t^3 + a t^2 + b t + c; trigonometric or Cardano branch (Numerical Recipes
-  // 5.6), then Newton polish on the original coefficients.
+  // Monic form t^3 + a t^2 + b t + c.
   const double a = c2 / c3, b = c1 / c3, c = c0 / c3;
+  if (a == 0.0 && b == 0.0 && c == 0.0) {
+    roots[0] = roots[1] = roots[2] = 0.0;
+    return 3;
+  }
+  // 1. The real root of largest magnitude, which is well determined even where the
+  // discriminant cancels (widely spread or repeated roots): Cardano or the trigonometric
+  // form (Numerical Recipes 5.6), whichever applies, then Newton.
   const double q = (a * a - 3.0 * b) / 9.0;
   const double r = (2.0 * a * a * a - 9.0 * a * b + 27.0 * c) / 54.0;
-  int count = 0;
+  double largest = 0.0;
   if (r * r < q * q * q) {
     const double theta = std::acos(std::clamp(r / std::sqrt(q * q * q), -1.0, 1.0));
     const double sq = -2.0 * std::sqrt(q);
-    roots[0] = sq * std::cos(theta / 3.0) - a / 3.0;
-    roots[1] = sq * std::cos((theta + 2.0 * M_PI) / 3.0) - a / 3.0;
-    roots[2] = sq * std::cos((theta - 2.0 * M_PI) / 3.0) - a / 3.0;
-    count = 3;
+    for (double shift : {0.0, 2.0 * M_PI, -2.0 * M_PI}) {
+      const double t = sq * std::cos((theta + shift) / 3.0) - a / 3.0;
+      if (std::abs(t) > std::abs(largest)) largest = t;
+    }
   } else {
     const double big = -std::copysign(std::cbrt(std::abs(r) + std::sqrt(r * r - q * q * q)), r);
-    const double small = big == 0.0 ? 0.0 : q / big;
-    roots[0] = big + small - a / 3.0;
-    count = 1;
+    largest = big + (big == 0.0 ? 0.0 : q / big) - a / 3.0;
   }
-  for (int i = 0; i < count; ++i) {
-    double t = roots[i];
-    for (int iteration = 0; iteration < 3; ++iteration) {
-      const double f = ((c3 * t + c2) * t + c1) * t + c0;
-      const double df = (3.0 * c3 * t + 2.0 * c2) * t + c1;
-      if (df == 0.0) break;
-      const double step = f / df;
-      t -= step;
-      if (std::abs(step) <= 1e-16 * std::abs(t)) break;
+  const double t1 = PolishCubicRoot(1.0, a, b, c, largest);
+  // 2. Deflate: t^3 + a t^2 + b t + c = (t - t1)(t^2 + p1 t + p0). Backward (p0 = -c/t1)
+  // when t1 dominates the other roots (|t1|^3 >= |c|), forward (p1 = a + t1) otherwise, so
+  // that the small coefficients do not come from a cancelling difference.
+  double p1, p0;
+  if (t1 != 0.0 && std::abs(t1) * t1 * t1 >= std::abs(c)) {
+    p0 = -c / t1;
+    p1 = (p0 - b) / t1;
+  } else {
+    p1 = a + t1;
+    p0 = b + t1 * p1;
+  }
+  // 3. The quadratic, without cancellation; a discriminant that is zero to rounding is a
+  // double root.
+  int count = 0;
+  roots[count++] = t1;
+  double discriminant = p1 * p1 - 4.0 * p0;
+  const double rounding =
+      16.0 * std::numeric_limits<double>::epsilon() * (p1 * p1 + 4.0 * std::abs(p0));
+  if (discriminant < 0.0 && discriminant >= -rounding) discriminant = 0.0;
+  if (discriminant >= 0.0) {
+    const double w = -0.5 * (p1 + std::copysign(std::sqrt(discriminant), p1));
+    if (w != 0.0) {
+      roots[count++] = PolishCubicRoot(c3, c2, c1, c0, w);
+      roots[count++] = PolishCubicRoot(c3, c2, c1, c0, p0 / w);
+    } else {
+      roots[count++] = 0.0;
+      roots[count++] = 0.0;
     }
-    roots[i] = t;
   }
+  roots[0] = PolishCubicRoot(c3, c2, c1, c0, t1);
   std::sort(roots, roots + count);
   return count;
 }

@@ -112,7 +112,8 @@ int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double in
       a = 2.0 * w.dot(v);
       b = 2.0 * (w.y() * v.x() - w.x() * v.y());
       c = output.radius * output.radius - v.squaredNorm() - w.squaredNorm();
-      scale = 2.0 * std::max(v.norm() * w.norm(), 1e-300);
+      // A length slack t on the radius moves c by 2 r2 t against rho = 2 |v||w|.
+      scale = std::max(v.norm() * w.norm(), 1e-300) / std::max(output.radius, 1e-300);
     } else if (output.type == DyadType::kPR) {
       // n . (R v + M1) = n . line_point, n the line normal.
       const Eigen::Vector2d v = output.moving_pivot - m1, n = Perp(output.line_direction);

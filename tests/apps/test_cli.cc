@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 
@@ -180,3 +181,96 @@ TEST_F(CliTest, Help) {
 }
 
 }  // namespace
+
+namespace {
+
+constexpr double kSolveTolerance = 1e-9;  // relative to the task's L
+
+std::string DataPath(const std::string& name) {
+  return std::string(LINKFIT_SOURCE_DIR) + "/data/" + name;
+}
+
+// True when the result lists an RR dyad with these pivots and radius, to kSolveTolerance * L.
+bool HasRR(const nlohmann::json& result, double fx, double fy, double mx, double my, double r) {
+  const double tolerance = kSolveTolerance * result["scale"].get<double>();
+  for (const nlohmann::json& dyad : result["dyads"]) {
+    if (dyad["type"] != "RR") continue;
+    if (std::abs(dyad["fixed"][0].get<double>() - fx) <= tolerance &&
+        std::abs(dyad["fixed"][1].get<double>() - fy) <= tolerance &&
+        std::abs(dyad["moving"][0].get<double>() - mx) <= tolerance &&
+        std::abs(dyad["moving"][1].get<double>() - my) <= tolerance &&
+        std::abs(dyad["radius"].get<double>() - r) <= tolerance) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+// The bundled 4R (ground pivots (0,0) and (100,0) mm, crank 37.5, coupler 87.5, rocker 75; E at
+// the crank pin, x-axis toward the rocker pin) must come back with both dyads and as a 4R
+// that reaches every pose.
+TEST_F(CliTest, SolvesTheBundledFourBar) {
+  const std::string output = Path("result.json");
+  const RunResult run =
+      Run("solve '" + DataPath("four_bar_5_poses.json") + "' -o '" + output + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(output));
+  EXPECT_EQ(result["method"], "exact");
+  EXPECT_EQ(result["roots"]["total"], 4);
+  EXPECT_TRUE(HasRR(result, 0.0, 0.0, 0.0, 0.0, 37.5));
+  EXPECT_TRUE(HasRR(result, 100.0, 0.0, 87.5, 0.0, 75.0));
+  const double tolerance = kSolveTolerance * result["scale"].get<double>();
+  for (const nlohmann::json& dyad : result["dyads"]) {
+    EXPECT_LE(dyad["max_residual"].get<double>(), tolerance);
+  }
+  int four_bars = 0;
+  for (const nlohmann::json& mechanism : result["mechanisms"]) {
+    EXPECT_LE(mechanism["max_pose_error"].get<double>(), tolerance);
+    four_bars += mechanism["type"] == "4R";
+  }
+  EXPECT_GE(four_bars, 1);
+  // Without -o the same result goes to stdout.
+  const RunResult to_stdout = Run("solve '" + DataPath("four_bar_5_poses.json") + "'");
+  ASSERT_EQ(to_stdout.status, 0);
+  EXPECT_EQ(nlohmann::json::parse(to_stdout.out)["dyads"], result["dyads"]);
+}
+
+// The bundled slider-crank (crank pivot (0,0), radius 30; slider pin 80 mm along E's x-axis on
+// the line y = -10) must come back typed: an RR crank and a PR slider, not a huge radius.
+TEST_F(CliTest, SolvesTheBundledSliderCrankAsASlider) {
+  const RunResult run = Run("solve '" + DataPath("slider_crank_5_poses.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(run.out);
+  const double tolerance = kSolveTolerance * result["scale"].get<double>();
+  EXPECT_TRUE(HasRR(result, 0.0, 0.0, 0.0, 0.0, 30.0));
+  bool slider = false;
+  for (const nlohmann::json& dyad : result["dyads"]) {
+    if (dyad["type"] != "PR") continue;
+    const double angle = dyad["line_angle_deg"].get<double>();
+    slider = slider || (std::abs(dyad["moving"][0].get<double>() - 80.0) <= tolerance &&
+                        std::abs(dyad["moving"][1].get<double>()) <= tolerance &&
+                        std::abs(dyad["line_point"][1].get<double>() + 10.0) <= tolerance &&
+                        std::min(angle, 180.0 - angle) <= 1e-9);
+  }
+  EXPECT_TRUE(slider) << result.dump(2);
+  bool slider_crank = false;
+  for (const nlohmann::json& mechanism : result["mechanisms"]) {
+    slider_crank = slider_crank || mechanism["type"] == "slider-crank";
+  }
+  EXPECT_TRUE(slider_crank);
+}
+
+// Batch mode: one result line per task line, in order.
+TEST_F(CliTest, SolvesAJsonLinesBatch) {
+  const RunResult run = Run("solve '" + DataPath("batch.jsonl") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::istringstream lines(run.out);
+  std::string line;
+  std::vector<nlohmann::json> results;
+  while (std::getline(lines, line)) results.push_back(nlohmann::json::parse(line));
+  ASSERT_EQ(results.size(), 2u);
+  EXPECT_TRUE(HasRR(results[0], 100.0, 0.0, 87.5, 0.0, 75.0));
+  EXPECT_TRUE(HasRR(results[1], 0.0, 0.0, 0.0, 0.0, 30.0));
+}

@@ -15,7 +15,9 @@ using testing::GeneratedTask;
 using testing::NearestDyadDistance;
 using testing::RandomTask;
 
-constexpr double kRecoveryTolerance = 1e-9;  // relative to L, issue: generating dyads back
+// Relative error of a recovered dyad: pivot, radius and line differences over the dyad's own
+// size (DyadScale: its largest pivot distance from the poses, never less than L).
+constexpr double kRecoveryTolerance = 1e-9;
 constexpr double kResidualTolerance = 1e-9;  // relative to L, every returned dyad
 constexpr int kTasksPerType = 200;
 
@@ -64,8 +66,10 @@ void ExpectRecovery(DyadType input, DyadType output, uint64_t seed) {
     SCOPED_TRACE("seed " + std::to_string(seed) + " trial " + std::to_string(trial));
     EXPECT_EQ(summary.roots_total, 4);
     EXPECT_LE(summary.roots_real, 4);
-    EXPECT_LE(NearestDyadDistance(dyads, task.input, length), kRecoveryTolerance);
-    EXPECT_LE(NearestDyadDistance(dyads, task.output, length), kRecoveryTolerance);
+    EXPECT_LE(NearestDyadDistance(dyads, task.input, DyadScale(task.input, task.poses)),
+              kRecoveryTolerance);
+    EXPECT_LE(NearestDyadDistance(dyads, task.output, DyadScale(task.output, task.poses)),
+              kRecoveryTolerance);
     for (const PlanarDyad& dyad : dyads) {
       EXPECT_LE(dyad.MaxResidual(task.poses), kResidualTolerance * length)
           << DyadTypeName(dyad.type);

@@ -31,25 +31,11 @@ std::vector<PoseFrame> MakeFrames(const std::vector<PlanarPose>& poses) {
   return frames;
 }
 
-// PlanarDyad::Residual on a precomputed frame.
-double Residual(const PlanarDyad& dyad, const PoseFrame& frame) {
-  const Eigen::Vector2d normal(-dyad.line_direction.y(), dyad.line_direction.x());
-  switch (dyad.type) {
-    case DyadType::kRR:
-      return (frame.rotation * dyad.moving_pivot + frame.origin - dyad.fixed_pivot).norm() -
-             dyad.radius;
-    case DyadType::kPR:
-      return normal.dot(frame.rotation * dyad.moving_pivot + frame.origin - dyad.line_point);
-    case DyadType::kRP:
-      return normal.dot(frame.rotation.transpose() * (dyad.fixed_pivot - frame.origin) -
-                        dyad.line_point);
-  }
-  return 0.0;
-}
-
 double MaxResidual(const PlanarDyad& dyad, const std::vector<PoseFrame>& frames) {
   double worst = 0.0;
-  for (const PoseFrame& frame : frames) worst = std::max(worst, std::abs(Residual(dyad, frame)));
+  for (const PoseFrame& frame : frames) {
+    worst = std::max(worst, std::abs(dyad.Residual(frame.rotation, frame.origin)));
+  }
   return worst;
 }
 
@@ -134,6 +120,60 @@ void IntersectLineConic(const Vector3c& l, const Eigen::Matrix3d& m, Vector3c po
   Complex alpha[2], beta[2];
   SolveBinaryQuadratic(uu, uv, vv, alpha, beta);
   for (int j = 0; j < 2; ++j) points[j] = alpha[j] * u + beta[j] * v;
+}
+
+// IntersectConstraintConics on the already restricted conics.
+int IntersectConics(const NullBasis& basis, Eigen::Matrix3d m1, Eigen::Matrix3d m2,
+                    std::vector<ComplexConstraintVector>* roots) {
+  roots->clear();
+  const double n1 = m1.norm(), n2 = m2.norm();
+  if (!(n1 > 0.0) || !(n2 > 0.0)) return 0;
+  m1 /= n1;
+  m2 /= n2;
+  // Degenerate members of the pencil M1 + t M2: det = c0 + c1 t + c2 t^2 + c3 t^3 with
+  // c1 = tr(adj(M1) M2), c2 = tr(M1 adj(M2)). A real root always exists (odd degree); solve
+  // in t or in 1/t, whichever keeps the leading coefficient the larger.
+  const double c0 = m1.determinant(), c3 = m2.determinant();
+  const double c1 = (Adjugate(m1) * m2).trace(), c2 = (m1 * Adjugate(m2)).trace();
+  if (std::max({std::abs(c0), std::abs(c1), std::abs(c2), std::abs(c3)}) <= 1e-11) return -1;
+  double parameters[3];
+  Eigen::Matrix3d members[3];
+  int count = 0;
+  if (std::abs(c3) >= std::abs(c0) && c3 != 0.0) {
+    count = SolveCubicReal(c3, c2, c1, c0, parameters);
+    for (int i = 0; i < count; ++i) members[i] = m1 + parameters[i] * m2;
+  } else if (c0 != 0.0) {
+    count = SolveCubicReal(c0, c1, c2, c3, parameters);  // in u = 1/t
+    for (int i = 0; i < count; ++i) members[i] = parameters[i] * m1 + m2;
+  } else {
+    members[0] = m1;  // both ends singular: M1 itself is degenerate
+    count = 1;
+  }
+  // The best-conditioned split: lines well apart, |adj(D)| large against |D|^2.
+  int best = 0;
+  double best_quality = -1.0;
+  for (int i = 0; i < count; ++i) {
+    members[i] /= members[i].norm();
+    const double quality = Adjugate(members[i]).diagonal().cwiseAbs().maxCoeff();
+    if (quality > best_quality) {
+      best_quality = quality;
+      best = i;
+    }
+  }
+  const Eigen::Matrix3d& degenerate = members[best];
+  // Intersect the two lines with the pencil member farthest from the degenerate one.
+  const Eigen::Matrix3d other =
+      std::abs(degenerate.cwiseProduct(m1).sum()) < std::abs(degenerate.cwiseProduct(m2).sum())
+          ? m1
+          : m2;
+  Vector3c lines[2];
+  SplitDegenerateConic(degenerate, &lines[0], &lines[1]);
+  for (const Vector3c& line : lines) {
+    Vector3c points[2];
+    IntersectLineConic(line, other, points);
+    for (const Vector3c& point : points) roots->push_back(basis.cast<Complex>() * point);
+  }
+  return static_cast<int>(roots->size());
 }
 
 // Newton's method in real arithmetic on a^T M1 a = a^T M2 a = 0 in the chart a0 . a = a0 . a0.
@@ -355,8 +395,9 @@ NormalizedMotion Normalize(const std::vector<PlanarPose>& poses) {
 }
 
 struct CoreResult {
-  std::vector<ReadRoot> roots;  // real roots, read
+  std::vector<ReadRoot> roots;  // real roots, read, without duplicates
   int roots_total = 0;
+  int roots_real = 0;
   double condition = 0.0;
   double fit_residual = 0.0;
   bool degenerate = false;
@@ -398,7 +439,7 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
   std::vector<ComplexConstraintVector> complex_roots;
   Eigen::Matrix3d m1, m2;
   RestrictedConics(basis, &m1, &m2);
-  result->roots_total = IntersectConstraintConics(basis, &complex_roots);
+  result->roots_total = IntersectConics(basis, m1, m2, &complex_roots);
   if (result->roots_total < 0) {
     // The two conics share a component: a curve of dyads (e.g. the Cardan motion of an
     // elliptic trammel, where every point of a circle of E moves on a line).
@@ -407,7 +448,6 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     return;
   }
 
-  const double scale = std::max(m1.norm(), m2.norm());
   const std::vector<PoseFrame> frames = MakeFrames(poses);
   for (const ComplexConstraintVector& z : complex_roots) {
     // Back to P^2 coordinates (the basis is orthonormal), phase removed.
@@ -419,8 +459,8 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     if (!(imaginary <= options.real_tolerance)) continue;
     Eigen::Vector3d a_real = a.real();
     const double residual = PolishRealRoot(m1, m2, options.newton_iterations, &a_real);
-    if (!(residual <= 1e-9) || !(scale > 0.0)) continue;
-    // Two complex-conjugate roots near a real double root polish to the same point: keep one.
+    if (!(residual <= 1e-9)) continue;
+    ++result->roots_real;
     const ConstraintVector z_real = basis * a_real;
     ReadRoot readings[3];
     const int count = ReadingsOf(z_real, frames, readings);
@@ -442,6 +482,7 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
         chosen = ChooseReading(readings, count, options.slider_tolerance);
       }
     }
+    // Two complex-conjugate roots near a real double root polish to the same point: keep one.
     const ReadRoot& read = readings[chosen];
     bool duplicate = false;
     for (const ReadRoot& previous : result->roots) {
@@ -478,57 +519,9 @@ ConstraintVector ConstraintRow(const PlanarPose& pose) {
 
 int IntersectConstraintConics(const Eigen::Matrix<double, 8, 3>& basis,
                               std::vector<ComplexConstraintVector>* roots) {
-  roots->clear();
   Eigen::Matrix3d m1, m2;
   RestrictedConics(basis, &m1, &m2);
-  const double n1 = m1.norm(), n2 = m2.norm();
-  if (!(n1 > 0.0) || !(n2 > 0.0)) return 0;
-  m1 /= n1;
-  m2 /= n2;
-  // Degenerate members of the pencil M1 + t M2: det = c0 + c1 t + c2 t^2 + c3 t^3 with
-  // c1 = tr(adj(M1) M2), c2 = tr(M1 adj(M2)). A real root always exists (odd degree); solve
-  // in t or in 1/t, whichever keeps the leading coefficient the larger.
-  const double c0 = m1.determinant(), c3 = m2.determinant();
-  const double c1 = (Adjugate(m1) * m2).trace(), c2 = (m1 * Adjugate(m2)).trace();
-  if (std::max({std::abs(c0), std::abs(c1), std::abs(c2), std::abs(c3)}) <= 1e-11) return -1;
-  double parameters[3];
-  Eigen::Matrix3d members[3];
-  int count = 0;
-  if (std::abs(c3) >= std::abs(c0) && c3 != 0.0) {
-    count = SolveCubicReal(c3, c2, c1, c0, parameters);
-    for (int i = 0; i < count; ++i) members[i] = m1 + parameters[i] * m2;
-  } else if (c0 != 0.0) {
-    count = SolveCubicReal(c0, c1, c2, c3, parameters);  // in u = 1/t
-    for (int i = 0; i < count; ++i) members[i] = parameters[i] * m1 + m2;
-  } else {
-    members[0] = m1;  // both ends singular: M1 itself is degenerate
-    count = 1;
-  }
-  // The best-conditioned split: lines well apart, |adj(D)| large against |D|^2.
-  int best = 0;
-  double best_quality = -1.0;
-  for (int i = 0; i < count; ++i) {
-    members[i] /= members[i].norm();
-    const double quality = Adjugate(members[i]).diagonal().cwiseAbs().maxCoeff();
-    if (quality > best_quality) {
-      best_quality = quality;
-      best = i;
-    }
-  }
-  const Eigen::Matrix3d& degenerate = members[best];
-  // Intersect the two lines with the pencil member farthest from the degenerate one.
-  const Eigen::Matrix3d other =
-      std::abs(degenerate.cwiseProduct(m1).sum()) < std::abs(degenerate.cwiseProduct(m2).sum())
-          ? m1
-          : m2;
-  Vector3c lines[2];
-  SplitDegenerateConic(degenerate, &lines[0], &lines[1]);
-  for (const Vector3c& line : lines) {
-    Vector3c points[2];
-    IntersectLineConic(line, other, points);
-    for (const Vector3c& point : points) roots->push_back(basis.cast<Complex>() * point);
-  }
-  return static_cast<int>(roots->size());
+  return IntersectConics(basis, m1, m2, roots);
 }
 
 int SolvePlanarBurmester(const std::vector<PlanarPose>& poses,
@@ -544,7 +537,7 @@ int SolvePlanarBurmester(const std::vector<PlanarPose>& poses,
   CoreResult core;
   SolveNormalized(direct.poses, options, &core);
   local_summary.roots_total = core.roots_total;
-  local_summary.roots_real = static_cast<int>(core.roots.size());
+  local_summary.roots_real = core.roots_real;
   local_summary.condition = core.condition;
   local_summary.fit_residual = core.fit_residual;
   local_summary.degenerate = core.degenerate;

@@ -42,7 +42,8 @@ struct PlanarBurmesterOptions {
   // A root whose imaginary part is below this (relative to its largest component) is taken
   // to real arithmetic and accepted as real if Newton's method then converges.
   double real_tolerance = 1e-5;
-  // Newton iterations on the original equations (5 linear + 2 quadric) for each real root.
+  // Newton iterations per real root: on the two conics in the null-space plane, then (five
+  // poses) on the dyad's own geometric equations.
   int newton_iterations = 4;
   // A root with K0 != 0 whose slider reading (K0 := 0) fits the poses within
   // slider_tolerance * L is reported as PR: its radius exceeds anything a designer builds.

@@ -59,13 +59,18 @@ PlanarDyad PlanarDyad::RP(const Eigen::Vector2d& fixed_pivot, const Eigen::Vecto
 }
 
 double PlanarDyad::Residual(const PlanarPose& pose) const {
+  return Residual(Rotation2(pose.theta), pose.origin_in_fixed);
+}
+
+double PlanarDyad::Residual(const Eigen::Matrix2d& rotation, const Eigen::Vector2d& origin) const {
   switch (type) {
     case DyadType::kRR:
-      return (pose.ToFixed(moving_pivot) - fixed_pivot).norm() - radius;
+      return (rotation * moving_pivot + origin - fixed_pivot).norm() - radius;
     case DyadType::kPR:
-      return LineDistance(pose.ToFixed(moving_pivot), line_point, line_direction);
+      return LineDistance(rotation * moving_pivot + origin, line_point, line_direction);
     case DyadType::kRP:
-      return LineDistance(pose.ToMoving(fixed_pivot), line_point, line_direction);
+      return LineDistance(rotation.transpose() * (fixed_pivot - origin), line_point,
+                          line_direction);
   }
   return 0.0;
 }

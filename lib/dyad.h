@@ -41,6 +41,9 @@ struct PlanarDyad {
 
   // Signed distance of the constrained point from its circle or line at `pose`.
   double Residual(const PlanarPose& pose) const;
+  // The same for a pose given by its rotation matrix and origin (callers that evaluate many
+  // residuals build the rotation once).
+  double Residual(const Eigen::Matrix2d& rotation, const Eigen::Vector2d& origin) const;
   // Largest |residual| over the poses.
   double MaxResidual(const std::vector<PlanarPose>& poses) const;
 

@@ -251,9 +251,27 @@ class TaskParser {
       return root;
     } catch (const Json::parse_error& error) {
       // byte is the 1-based index of the last character read (size + 1 at the end).
-      const auto [line, column] = LineColumn(text, error.byte == 0 ? 0 : error.byte - 1);
+      const size_t last = error.byte == 0 ? 0 : std::min<size_t>(error.byte - 1, text.size());
+      const auto [line, column] = LineColumn(text, last);
+      // Where the parser was: the value being read, or the last key or element before the
+      // fault.
+      const std::string item = path.Current();
+      // NaN and Infinity, as some JSON writers emit them, are not JSON: say so plainly.
+      size_t token = last;
+      while (token > 0 && (std::isalpha(static_cast<unsigned char>(text[token - 1])) ||
+                           text[token - 1] == '-')) {
+        --token;
+      }
+      const std::string word = text.substr(token, 9);
+      if (word.rfind("NaN", 0) == 0 || word.rfind("nan", 0) == 0 || word.rfind("Inf", 0) == 0 ||
+          word.rfind("-Inf", 0) == 0 || word.rfind("inf", 0) == 0 || word.rfind("-inf", 0) == 0) {
+        Fail(item.empty() ? "top level" : item, "NaN and Infinity are not numbers (line " +
+                                                    std::to_string(line) + ", column " +
+                                                    std::to_string(column) + ")");
+      }
       throw InputError(source_ + ": malformed JSON at line " + std::to_string(line) + ", column " +
-                       std::to_string(column) + ": " + ParserReason(error.what()));
+                       std::to_string(column) + (item.empty() ? "" : " (near " + item + ")") +
+                       ": " + ParserReason(error.what()));
     } catch (const Json::out_of_range& error) {
       // 406: a number such as 1e999 overflows to infinity.
       const std::string item = path.Current().empty() ? "top level" : path.Current();

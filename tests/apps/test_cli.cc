@@ -94,7 +94,14 @@ class CliTest : public ::testing::Test {
 };
 
 TEST_F(CliTest, MalformedJson) {
-  ExpectRejected("{\n  \"poses\": [\n    {\"x\": 1,, }\n", "malformed JSON at line 3, column 13: ");
+  ExpectRejected("{\n  \"poses\": [\n    {\"x\": 1,, }\n",
+                 "malformed JSON at line 3, column 13 (near poses[0].x): ");
+}
+
+TEST_F(CliTest, NaNAsSomeWritersEmitIt) {
+  std::vector<std::string> poses = FivePoses();
+  poses[2] = R"({"x": NaN, "y": 1.0, "theta_deg": 20.0})";
+  ExpectRejected(MotionTask(poses), "poses[2].x: NaN and Infinity are not numbers");
 }
 
 TEST_F(CliTest, MissingField) {

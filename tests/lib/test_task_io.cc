@@ -297,12 +297,17 @@ TEST(TaskIoErrors, NonFiniteNumbers) {
 
 TEST(TaskIoErrors, MalformedJson) {
   EXPECT_EQ(ErrorOf("{\n  \"poses\": [\n    {\"x\": 1,, }"),
-            "task.json: malformed JSON at line 3, column 13: syntax error while parsing object "
-            "key - unexpected ','; expected string literal");
+            "task.json: malformed JSON at line 3, column 13 (near poses[0].x): syntax error while "
+            "parsing object key - unexpected ','; expected string literal");
+  // NaN and Infinity, as some writers emit them, are named at their item.
+  EXPECT_EQ(ErrorOf("{\"poses\": [{\"x\": 0, \"y\": NaN}]}"),
+            "task.json: poses[0].y: NaN and Infinity are not numbers (line 1, column 26)");
+  EXPECT_TRUE(StartsWith(ErrorOf("{\"scale\": -Infinity}"),
+                         "task.json: scale: NaN and Infinity are not numbers"));
   EXPECT_TRUE(
       StartsWith(ErrorOf("{\"poses\": [tru]}"), "task.json: malformed JSON at line 1, column"));
-  EXPECT_TRUE(
-      StartsWith(ErrorOf("{\"poses\": ["), "task.json: malformed JSON at line 1, column 12: "));
+  EXPECT_TRUE(StartsWith(ErrorOf("{\"poses\": ["),
+                         "task.json: malformed JSON at line 1, column 12 (near poses[0]): "));
   EXPECT_TRUE(StartsWith(ErrorOf("{} {}"), "task.json: malformed JSON at line 1, column 4: "));
   EXPECT_EQ(ErrorOf(""), "task.json: no JSON text (empty input)");
   EXPECT_EQ(ErrorOf(" \n\t"), "task.json: no JSON text (empty input)");

@@ -3,6 +3,7 @@
 #include "lib/result_io.h"
 
 #include <cmath>
+#include <cstring>
 #include <nlohmann/json.hpp>
 
 namespace linkfit {
@@ -71,6 +72,50 @@ Json MechanismToJson(const MechanismReport& report) {
   return object;
 }
 
+// Puts arrays of plain numbers (points, index pairs) of pretty-printed JSON on one line:
+// "[\n    1.5,\n    2\n  ]" -> "[1.5, 2]". Only text outside strings is touched.
+std::string CompactNumberArrays(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  bool in_string = false;
+  for (size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      out += c;
+      if (c == '\\') {
+        out += text[++i];
+      } else if (c == '"') {
+        in_string = false;
+      }
+      continue;
+    }
+    if (c == '"') in_string = true;
+    if (c != '[') {
+      out += c;
+      continue;
+    }
+    // Find the matching ']' if everything up to it is numbers, commas and white space.
+    size_t end = i + 1;
+    while (end < text.size() && std::strchr("0123456789+-.eE, \n", text[end]) != nullptr) ++end;
+    if (end >= text.size() || text[end] != ']') {
+      out += c;
+      continue;
+    }
+    std::string items = "[";
+    bool pending_space = false;
+    for (size_t k = i + 1; k < end; ++k) {
+      const char d = text[k];
+      if (d == ' ' || d == '\n') continue;
+      if (pending_space) items += ' ';
+      items += d;
+      pending_space = d == ',';
+    }
+    out += items + "]";
+    i = end;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string ResultToJson(const PlanarMotionResult& result, int indent) {
@@ -89,7 +134,9 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   if (!result.notes.empty()) root["notes"] = result.notes;
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
   // Notes are library text, but never let a stray byte turn into an exception here.
-  return root.dump(indent < 0 ? -1 : indent, ' ', false, Json::error_handler_t::replace);
+  const std::string text =
+      root.dump(indent < 0 ? -1 : indent, ' ', false, Json::error_handler_t::replace);
+  return indent < 0 ? text : CompactNumberArrays(text);
 }
 
 }  // namespace linkfit

@@ -176,6 +176,18 @@ TEST(ResultIo, IndentAndOneLine) {
   const std::string pretty = ResultToJson(result, 2);
   EXPECT_NE(pretty.find("\n  \"space\""), std::string::npos) << pretty;
   EXPECT_EQ(Json::parse(line), Json::parse(pretty));
+  // Points stay on one line in the pretty form.
+  const size_t fixed = pretty.find("\"fixed\": [");
+  ASSERT_NE(fixed, std::string::npos) << pretty;
+  EXPECT_LT(pretty.find(']', fixed), pretty.find('\n', fixed)) << pretty;
+}
+
+TEST(ResultIo, CompactArraysLeaveStringsAlone) {
+  PlanarMotionResult result = HandBuiltResult();
+  result.notes.push_back("bracket in text [\n 1,\n 2 ] stays");
+  const std::string pretty = ResultToJson(result, 2);
+  EXPECT_EQ(Json::parse(pretty), Json::parse(ResultToJson(result, -1)));
+  EXPECT_EQ(Json::parse(pretty)["notes"].back(), "bracket in text [\n 1,\n 2 ] stays");
 }
 
 TEST(ResultIo, LineAngleStaysInRange) {

@@ -124,10 +124,13 @@ double OneUlpSensitivity(const std::vector<PlanarPose>& poses, std::mt19937_64& 
 }
 
 // Tasks whose exact answer moves by more than this under a 1-ulp change of the data cannot be
-// compared at kRecoveryTolerance after a transformation that rounds the data; the invariance
-// tests skip them and require that they are rare.
+// compared at kRecoveryTolerance after a transformation that rounds the data (by a few ulps);
+// the invariance tests skip them and require that they stay a small minority. The sensitivity
+// covers all four dyads, whose far-pivot or near-double members are less well conditioned
+// than the generating pair: 3 to 5 of 100 random tasks are skipped (recorded as test
+// properties), so the cap below is a guard against skipping wholesale, not an accuracy bound.
 constexpr double kDataLimitedSensitivity = 1e-10;
-constexpr double kMaxDataLimitedShare = 0.05;
+constexpr double kMaxDataLimitedShare = 0.10;
 
 // The answer must transform with the data: the dyads of the transformed task are the
 // transformed dyads, one to one. Returns false when the task was skipped as data-limited.
@@ -166,6 +169,7 @@ TEST(PlanarBurmester, InvariantToRigidMotionOfTheFixedFrame) {
     compared += ExpectSameAnswer(task.poses, sigma, Similarity2(), trial, rng);
   }
   EXPECT_GE(compared, (1.0 - kMaxDataLimitedShare) * kInvarianceTrials);
+  RecordProperty("data_limited_skipped", kInvarianceTrials - compared);
 }
 
 TEST(PlanarBurmester, InvariantToUnits) {
@@ -180,6 +184,8 @@ TEST(PlanarBurmester, InvariantToUnits) {
       compared += ExpectSameAnswer(task.poses, units, units, trial, rng);
     }
     EXPECT_GE(compared, (1.0 - kMaxDataLimitedShare) * kInvarianceTrials) << "scale " << scale;
+    RecordProperty(scale < 1.0 ? "data_limited_skipped_milli" : "data_limited_skipped_kilo",
+                   kInvarianceTrials - compared);
   }
 }
 

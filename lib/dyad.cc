@@ -4,17 +4,6 @@
 #include <cmath>
 
 namespace linkfit {
-namespace {
-
-// Signed distance of `point` from the line through `line_point` along unit `direction`,
-// positive to the left of the direction.
-double LineDistance(const Eigen::Vector2d& point, const Eigen::Vector2d& line_point,
-                    const Eigen::Vector2d& direction) {
-  const Eigen::Vector2d offset = point - line_point;
-  return direction.x() * offset.y() - direction.y() * offset.x();
-}
-
-}  // namespace
 
 const char* DyadTypeName(DyadType type) {
   switch (type) {
@@ -60,19 +49,6 @@ PlanarDyad PlanarDyad::RP(const Eigen::Vector2d& fixed_pivot, const Eigen::Vecto
 
 double PlanarDyad::Residual(const PlanarPose& pose) const {
   return Residual(Rotation2(pose.theta), pose.origin_in_fixed);
-}
-
-double PlanarDyad::Residual(const Eigen::Matrix2d& rotation, const Eigen::Vector2d& origin) const {
-  switch (type) {
-    case DyadType::kRR:
-      return (rotation * moving_pivot + origin - fixed_pivot).norm() - radius;
-    case DyadType::kPR:
-      return LineDistance(rotation * moving_pivot + origin, line_point, line_direction);
-    case DyadType::kRP:
-      return LineDistance(rotation.transpose() * (fixed_pivot - origin), line_point,
-                          line_direction);
-  }
-  return 0.0;
 }
 
 double PlanarDyad::MaxResidual(const std::vector<PlanarPose>& poses) const {

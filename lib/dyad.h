@@ -42,8 +42,20 @@ struct PlanarDyad {
   // Signed distance of the constrained point from its circle or line at `pose`.
   double Residual(const PlanarPose& pose) const;
   // The same for a pose given by its rotation matrix and origin (callers that evaluate many
-  // residuals build the rotation once).
-  double Residual(const Eigen::Matrix2d& rotation, const Eigen::Vector2d& origin) const;
+  // residuals build the rotation once; inline, as solvers call it in their inner loops).
+  double Residual(const Eigen::Matrix2d& rotation, const Eigen::Vector2d& origin) const {
+    // Signed distances from lines are positive to the left of the line direction.
+    const Eigen::Vector2d normal(-line_direction.y(), line_direction.x());
+    switch (type) {
+      case DyadType::kRR:
+        return (rotation * moving_pivot + origin - fixed_pivot).norm() - radius;
+      case DyadType::kPR:
+        return normal.dot(rotation * moving_pivot + origin - line_point);
+      case DyadType::kRP:
+        return normal.dot(rotation.transpose() * (fixed_pivot - origin) - line_point);
+    }
+    return 0.0;
+  }
   // Largest |residual| over the poses.
   double MaxResidual(const std::vector<PlanarPose>& poses) const;
 

@@ -12,10 +12,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "apps/picture.h"
 #include "fitting/planar_motion.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
@@ -52,8 +54,8 @@ constexpr const char* kSolveFooter =
     "Task fields:\n"
     "  problem   \"motion\" (default) or \"path\"\n"
     "  space     \"planar\" (default) or \"spatial\" (motion only)\n"
-    "  poses     motion: planar {\"x\", \"y\", \"theta_deg\"} (at least 5), or spatial (at least "
-    "1)\n"
+    "  poses     motion: planar {\"x\", \"y\", \"theta_deg\"} (at least 3; five give every\n"
+    "            dyad exactly), or spatial (at least 1)\n"
     "            one of {\"q\": [q1,q2,q3,q4], \"g\": [g1,g2,g3,g4]} (q4 scalar, g = 1/2 d q),\n"
     "            {\"rotation\": [[3],[3],[3]], \"translation\": [3]} or\n"
     "            {\"axis\": [3], \"angle_deg\": a, \"translation\": [3]};\n"
@@ -62,6 +64,10 @@ constexpr const char* kSolveFooter =
     "            \"exact\"\n"
     "  scale     characteristic length L (> 0); default: RMS distance of the pose origins or\n"
     "            points from their centroid\n"
+    "  moving_pivots, fixed_pivots\n"
+    "            planar motion with 3 or 4 poses: [[x, y], ...] pivots in the body frame (on the\n"
+    "            circle-point curve) or in the fixed frame (on the center-point curve), one\n"
+    "            dyad each; three poses without pivots get a default pair\n"
     "  options   {\"effort\": \"fast\" | \"balanced\" (default) | \"thorough\"}\n"
     "Poses are (x, y, theta): the body frame's origin in the fixed frame and its\n"
     "counter-clockwise turn. Coincident poses, non-unit quaternions and unknown fields are\n"
@@ -114,18 +120,114 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
   }
 }
 
+// The picture of a solved planar motion task: its poses, its mechanisms in ranked order (at
+// most `max_panels`), and for four poses the Burmester curves.
+Picture MakePicture(const std::string& title, const Task& task, const PlanarMotionResult& result,
+                    size_t max_panels) {
+  Picture picture;
+  picture.title = title;
+  picture.task_poses = task.planar_poses;
+  picture.length = result.scale;
+  for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
+  picture.center_point_curves = result.center_point_curves;
+  if (!task.planar_poses.empty()) {
+    // Circle points live in E: draw them where E is at the first pose.
+    for (const std::vector<Eigen::Vector2d>& polyline : result.circle_point_curves) {
+      std::vector<Eigen::Vector2d> in_fixed;
+      for (const Eigen::Vector2d& point : polyline) {
+        in_fixed.push_back(task.planar_poses.front().ToFixed(point));
+      }
+      picture.circle_point_curves.push_back(in_fixed);
+    }
+  }
+  for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
+    const MechanismReport& report = result.mechanisms[m];
+    PictureMechanism mechanism;
+    mechanism.input = result.dyads[report.input_dyad].dyad;
+    mechanism.output = result.dyads[report.output_dyad].dyad;
+    mechanism.title = std::to_string(m + 1) + ": " + FourBarTypeName(report.type) +
+                      (report.grashof.empty() ? "" : ", " + report.grashof) + ", dyads " +
+                      std::to_string(report.input_dyad) + "+" + std::to_string(report.output_dyad);
+    for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
+    if (report.defects.empty()) mechanism.labels.push_back("no defects");
+    if (report.transmission_min_deg) {
+      char text[64];
+      std::snprintf(text, sizeof(text), "transmission angle >= %.0f deg",
+                    *report.transmission_min_deg);
+      mechanism.labels.push_back(text);
+    }
+    // The links at the first pose: the assembled configuration on the mechanism's circuit
+    // nearest the first task pose.
+    mechanism.first_pose = task.planar_poses.front();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const PlanarPose& pose : report.cycle) {
+      const double error = PoseError(pose, task.planar_poses.front(), result.scale);
+      if (error < nearest) {
+        nearest = error;
+        mechanism.first_pose = pose;
+      }
+    }
+    for (const PlanarPose& pose : report.cycle) {
+      mechanism.coupler_curve.push_back(pose.origin_in_fixed);
+    }
+    // About 120 frames for the animation.
+    const size_t stride = std::max<size_t>(1, report.cycle.size() / 120);
+    for (size_t k = 0; k < report.cycle.size(); k += stride) {
+      mechanism.cycle.push_back(report.cycle[k]);
+    }
+    picture.mechanisms.push_back(std::move(mechanism));
+  }
+  return picture;
+}
+
+struct SolveOutputs {
+  std::string result_path;   // -o; empty or "-" for stdout
+  std::string svg_path;      // --svg
+  std::string animate_path;  // --animate (.svg or .html)
+  int animate_index = 1;     // --mechanism: which mechanism to animate (1 = the first listed)
+};
+
 // `linkfit solve`: every task is read and validated before anything is solved or written.
-int Solve(const std::string& task_path, const std::string& output_path) {
+int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   const std::vector<Task> tasks = ReadTaskFile(task_path);
-  const int indent = IsJsonLines(task_path) ? -1 : 2;
+  const bool batch = IsJsonLines(task_path);
+  if (batch && (!outputs.svg_path.empty() || !outputs.animate_path.empty())) {
+    throw InputError(task_path + ": --svg and --animate draw one task; a .jsonl file holds many");
+  }
+  const int indent = batch ? -1 : 2;
   std::string text;
-  for (const Task& task : tasks) text += ResultToJson(SolveTask(task), indent) + "\n";
-  if (output_path.empty() || output_path == "-") {
+  std::vector<PlanarMotionResult> results;
+  for (const Task& task : tasks) {
+    results.push_back(SolveTask(task));
+    text += ResultToJson(results.back(), indent) + "\n";
+  }
+  // Everything is rendered before anything is written.
+  std::string svg, animation;
+  if (!outputs.svg_path.empty() || !outputs.animate_path.empty()) {
+    const std::string title = std::filesystem::path(task_path).filename().string();
+    if (!outputs.svg_path.empty()) svg = RenderSvg(MakePicture(title, tasks[0], results[0], 12));
+    if (!outputs.animate_path.empty()) {
+      const Picture picture = MakePicture(title, tasks[0], results[0], 64);
+      const size_t index = static_cast<size_t>(outputs.animate_index - 1);
+      if (index >= picture.mechanisms.size()) {
+        throw InputError(task_path + ": --mechanism " + std::to_string(outputs.animate_index) +
+                         ": the result lists " + std::to_string(picture.mechanisms.size()) +
+                         " mechanisms");
+      }
+      std::string extension = std::filesystem::path(outputs.animate_path).extension().string();
+      std::transform(extension.begin(), extension.end(), extension.begin(),
+                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+      animation = RenderAnimation(picture, index, extension == ".html" || extension == ".htm");
+    }
+  }
+  if (outputs.result_path.empty() || outputs.result_path == "-") {
     std::cout << text << std::flush;
     if (!std::cout) throw std::runtime_error("cannot write to standard output");
   } else {
-    WriteFileAtomically(output_path, text);
+    WriteFileAtomically(outputs.result_path, text);
   }
+  if (!svg.empty()) WriteFileAtomically(outputs.svg_path, svg);
+  if (!animation.empty()) WriteFileAtomically(outputs.animate_path, animation);
   return kExitOk;
 }
 
@@ -135,13 +237,23 @@ int Run(int argc, char** argv) {
   app.set_version_flag("--version", "linkfit 0.1.0");
   app.require_subcommand(1);
 
-  std::string task_path, output_path;
+  std::string task_path;
+  SolveOutputs outputs;
   CLI::App* solve = app.add_subcommand("solve", "Synthesize linkages for a task file.");
   solve->footer(kSolveFooter);
   solve->add_option("TASK", task_path, "task file: .json (one task) or .jsonl (one per line)")
       ->required();
-  solve->add_option("-o,--output", output_path,
+  solve->add_option("-o,--output", outputs.result_path,
                     "write the result to this file (written only on success; - for stdout)");
+  solve->add_option("--svg", outputs.svg_path,
+                    "draw the task and the listed mechanisms (one panel each, best first) to "
+                    "this SVG file");
+  solve->add_option("--animate", outputs.animate_path,
+                    "animate one mechanism through its cycle: an .svg (SMIL) or .html file");
+  solve
+      ->add_option("--mechanism", outputs.animate_index,
+                   "which listed mechanism --animate shows (1 = the first, the best ranked)")
+      ->check(CLI::PositiveNumber);
 
   try {
     app.parse(argc, argv);
@@ -152,7 +264,7 @@ int Run(int argc, char** argv) {
     PrintError("error", std::string(error.what()) + " (see 'linkfit --help')");
     return kExitBadInput;
   }
-  if (solve->parsed()) return Solve(task_path, output_path);
+  if (solve->parsed()) return Solve(task_path, outputs);
   return kExitBadInput;  // unreachable: a subcommand is required
 }
 

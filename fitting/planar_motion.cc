@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <limits>
 #include <string>
+
+#include "fitting/planar_burmester_curves.h"
+#include "lib/four_bar_motion.h"
 
 namespace linkfit {
 namespace {
@@ -21,32 +25,74 @@ bool DyadBefore(const DyadReport& a, const DyadReport& b) {
   return a.max_residual < b.max_residual;
 }
 
+// The better of two analyses of one dyad pair (input i or input j): fewer defects, then a
+// crank input, then a better worst transmission angle.
+bool BetterAnalysis(const FourBarAnalysis& a, const FourBarAnalysis& b) {
+  if (a.defects.size() != b.defects.size()) return a.defects.size() < b.defects.size();
+  if (a.input_rotates_fully != b.input_rotates_fully) return a.input_rotates_fully;
+  return a.transmission_min_deg.value_or(-1.0) > b.transmission_min_deg.value_or(-1.0);
+}
+
+MechanismReport AnalyzePair(const std::vector<DyadReport>& dyads, int i, int j,
+                            const std::vector<PlanarPose>& poses, double length) {
+  const PlanarDyad& a = dyads[i].dyad;
+  const PlanarDyad& b = dyads[j].dyad;
+  const FourBarAnalysis a_drives = AnalyzeFourBar(a, b, poses, length);
+  const FourBarAnalysis b_drives = AnalyzeFourBar(b, a, poses, length);
+  const bool swap = BetterAnalysis(b_drives, a_drives);
+  const FourBarAnalysis& chosen = swap ? b_drives : a_drives;
+  MechanismReport mechanism;
+  mechanism.input_dyad = swap ? j : i;
+  mechanism.output_dyad = swap ? i : j;
+  const PlanarDyad& input = swap ? b : a;
+  const PlanarDyad& output = swap ? a : b;
+  mechanism.type = ClassifyFourBar(input.type, output.type);
+  mechanism.max_pose_error = chosen.max_pose_error;
+  if (!mechanism.max_pose_error) {
+    mechanism.pose_error_note = "the mechanism does not assemble at the first task pose";
+  }
+  mechanism.grashof = GrashofType(input, output, length);
+  mechanism.defects = chosen.defects;
+  mechanism.input_rotates_fully = chosen.input_rotates_fully;
+  mechanism.output_rotates_fully = (swap ? a_drives : b_drives).input_rotates_fully;
+  mechanism.transmission_min_deg = chosen.transmission_min_deg;
+  mechanism.transmission_max_deg = chosen.transmission_max_deg;
+  mechanism.transmission_note = chosen.transmission_note;
+  mechanism.cycle = chosen.cycle;
+  return mechanism;
+}
+
+bool MechanismBefore(const MechanismReport& a, const MechanismReport& b) {
+  if (a.defects.empty() != b.defects.empty()) return a.defects.empty();
+  const double ta = a.transmission_min_deg.value_or(-1.0);
+  const double tb = b.transmission_min_deg.value_or(-1.0);
+  if (ta != tb) return ta > tb;
+  return a.max_pose_error.value_or(std::numeric_limits<double>::infinity()) <
+         b.max_pose_error.value_or(std::numeric_limits<double>::infinity());
+}
+
 }  // namespace
 
-PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions& options) {
-  const auto start = std::chrono::steady_clock::now();
-  PlanarMotionResult result;
+// Five poses (exact) or more (the algebraic least-squares seed).
+void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
+                          PlanarMotionResult* result) {
   const std::vector<PlanarPose>& poses = task.planar_poses;
-  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
-  result.scale = length;
-  result.method = poses.size() == 5 ? "exact" : "least-squares";
-
   std::vector<PlanarDyad> dyads;
   PlanarBurmesterSummary summary;
   SolvePlanarBurmester(poses, options.burmester, &dyads, &summary);
-  result.roots_total = summary.roots_total;
-  result.roots_real = summary.roots_real;
+  result->roots_total = summary.roots_total;
+  result->roots_real = summary.roots_real;
   if (summary.degenerate) {
-    result.notes.push_back(
+    result->notes.push_back(
         "the pose constraints are dependent (condition estimate " +
         Format("%.3g", summary.condition) +
         "): the poses admit a family of dyads, not isolated ones (e.g. all poses of one "
         "orientation)");
   }
-  for (const PlanarDyad& dyad : dyads) result.dyads.push_back({dyad, dyad.MaxResidual(poses)});
-  std::sort(result.dyads.begin(), result.dyads.end(), DyadBefore);
+  for (const PlanarDyad& dyad : dyads) result->dyads.push_back({dyad, dyad.MaxResidual(poses)});
+  std::sort(result->dyads.begin(), result->dyads.end(), DyadBefore);
   if (poses.size() > 5 && !summary.degenerate) {
-    result.notes.push_back(
+    result->notes.push_back(
         "more than five poses: the dyads are the algebraic least-squares seed (RMS algebraic "
         "residual " +
         Format("%.3g", summary.fit_residual) +
@@ -55,28 +101,99 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
   if (!summary.degenerate && summary.roots_total > 0) {
     const int complex_roots = summary.roots_total - summary.roots_real;
     if (complex_roots > 0) {
-      result.notes.push_back(std::to_string(complex_roots) + " of the " +
-                             std::to_string(summary.roots_total) +
-                             " Burmester roots are complex and were dropped");
+      result->notes.push_back(std::to_string(complex_roots) + " of the " +
+                              std::to_string(summary.roots_total) +
+                              " Burmester roots are complex and were dropped");
     }
+  }
+}
+
+// Three or four poses: the dyads of the chosen pivots (or, for three poses without pivots, of
+// default ones) and, for four poses, the Burmester curves.
+void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  std::string note;
+  PlanarDyad dyad;
+  auto add = [&](bool ok, const std::string& what) {
+    if (ok) result->dyads.push_back({dyad, dyad.MaxResidual(poses)});
+    if (!ok) result->notes.push_back(what + ": no dyad");
+    if (!note.empty()) result->notes.push_back(what + ": " + note);
+    note.clear();
+  };
+  for (size_t i = 0; i < task.moving_pivots.size(); ++i) {
+    add(DyadFromMovingPivot(poses, task.moving_pivots[i], &dyad, &note),
+        "moving_pivots[" + std::to_string(i) + "]");
+  }
+  for (size_t i = 0; i < task.fixed_pivots.size(); ++i) {
+    add(DyadFromFixedPivot(poses, task.fixed_pivots[i], &dyad, &note),
+        "fixed_pivots[" + std::to_string(i) + "]");
+  }
+  const bool pivots_given = !task.moving_pivots.empty() || !task.fixed_pivots.empty();
+  if (poses.size() == 3 && !pivots_given) {
+    Eigen::Vector2d pivots[2];
+    std::string explanation;
+    DefaultMovingPivots(poses, pivots, &explanation);
+    result->notes.push_back(explanation);
+    for (int i = 0; i < 2; ++i)
+      add(DyadFromMovingPivot(poses, pivots[i], &dyad, &note), "default pivot");
+  }
+  if (poses.size() == 4) {
+    BurmesterCurves curves;
+    SampleBurmesterCurves(poses, BurmesterCurveOptions(), &curves);
+    // A PR dyad's center point and an RP dyad's circle point are at infinity: the polylines
+    // break there.
+    for (const std::vector<PlanarDyad>& branch : curves.branches) {
+      std::vector<Eigen::Vector2d> centers, circles;
+      auto flush = [](std::vector<Eigen::Vector2d>* polyline,
+                      std::vector<std::vector<Eigen::Vector2d>>* out) {
+        if (polyline->size() > 1) out->push_back(*polyline);
+        polyline->clear();
+      };
+      for (const PlanarDyad& sample : branch) {
+        if (sample.type == DyadType::kRR) {
+          centers.push_back(sample.fixed_pivot);
+        } else {
+          flush(&centers, &result->center_point_curves);
+        }
+        if (sample.type != DyadType::kRP) {
+          circles.push_back(sample.moving_pivot);
+        } else {
+          flush(&circles, &result->circle_point_curves);
+        }
+      }
+      flush(&centers, &result->center_point_curves);
+      flush(&circles, &result->circle_point_curves);
+    }
+    if (!pivots_given) {
+      result->notes.push_back(
+          "four poses admit a one-parameter family of dyads (burmester_curves): give "
+          "\"moving_pivots\" on the circle-point curve (in the body frame) or \"fixed_pivots\" on "
+          "the center-point curve to get dyads and four-bars");
+    }
+  }
+}
+
+PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  PlanarMotionResult result;
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  result.scale = length;
+  result.method = poses.size() <= 5 ? "exact" : "least-squares";
+  if (poses.size() < 5) {
+    SolveFewPoses(task, &result);
+  } else {
+    SolveFivePosesOrMore(task, options, &result);
   }
 
   for (size_t i = 0; i < result.dyads.size(); ++i) {
     for (size_t j = i + 1; j < result.dyads.size(); ++j) {
-      MechanismReport mechanism;
-      mechanism.input_dyad = static_cast<int>(i);
-      mechanism.output_dyad = static_cast<int>(j);
-      const PlanarDyad& input = result.dyads[i].dyad;
-      const PlanarDyad& output = result.dyads[j].dyad;
-      mechanism.type = ClassifyFourBar(input.type, output.type);
-      mechanism.max_pose_error = MaxAssembledPoseError(input, output, poses, length);
-      if (!mechanism.max_pose_error) {
-        mechanism.pose_error_note = "the mechanism does not assemble at every task pose";
-      }
-      mechanism.grashof = GrashofType(input, output, length);
-      result.mechanisms.push_back(mechanism);
+      result.mechanisms.push_back(
+          AnalyzePair(result.dyads, static_cast<int>(i), static_cast<int>(j), poses, length));
     }
   }
+  // Defect-free first, then by worst transmission angle, then by pose error.
+  std::stable_sort(result.mechanisms.begin(), result.mechanisms.end(), MechanismBefore);
   if (result.dyads.empty() && result.notes.empty()) {
     result.notes.push_back("no real dyad guides the body through these poses");
   } else if (result.dyads.size() == 1) {

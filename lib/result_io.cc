@@ -69,6 +69,17 @@ Json MechanismToJson(const MechanismReport& report) {
         report.pose_error_note.empty() ? "not computed" : report.pose_error_note;
   }
   if (!report.grashof.empty()) object["grashof"] = report.grashof;
+  object["defects"] = report.defects;
+  object["full_rotation"] = {{"input", report.input_rotates_fully},
+                             {"output", report.output_rotates_fully}};
+  if (report.transmission_min_deg && report.transmission_max_deg &&
+      std::isfinite(*report.transmission_min_deg) && std::isfinite(*report.transmission_max_deg)) {
+    object["transmission_angle_deg"] =
+        Json::array({*report.transmission_min_deg, *report.transmission_max_deg});
+  } else {
+    object["transmission_angle_note"] =
+        report.transmission_note.empty() ? "not computed" : report.transmission_note;
+  }
   return object;
 }
 
@@ -130,7 +141,26 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   for (const MechanismReport& mechanism : result.mechanisms) {
     root["mechanisms"].push_back(MechanismToJson(mechanism));
   }
-  root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};
+  if (result.roots_total > 0) {
+    root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};
+  }
+  if (!result.center_point_curves.empty() || !result.circle_point_curves.empty()) {
+    Json curves;
+    for (const auto& [name, polylines] :
+         {std::pair{"center_points", &result.center_point_curves},
+          std::pair{"circle_points", &result.circle_point_curves}}) {
+      Json list = Json::array();
+      for (const std::vector<Eigen::Vector2d>& polyline : *polylines) {
+        Json points = Json::array();
+        for (const Eigen::Vector2d& point : polyline) {
+          if (point.allFinite()) points.push_back(Json::array({point.x(), point.y()}));
+        }
+        if (!points.empty()) list.push_back(points);
+      }
+      curves[name] = list;
+    }
+    root["burmester_curves"] = curves;
+  }
   if (!result.notes.empty()) root["notes"] = result.notes;
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
   // Notes are library text, but never let a stray byte turn into an exception here.

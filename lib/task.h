@@ -35,7 +35,10 @@ struct Task {
   std::vector<double> pose_weights;           // one per pose, default 1
   std::vector<bool> pose_exact;               // one per pose, default false
   std::vector<TimedPoint> points;             // path
-  std::optional<double> scale;                // characteristic length L, when given
+  // Planar motion with three or four poses: pivots chosen by the user, one dyad each.
+  std::vector<Eigen::Vector2d> moving_pivots;  // in E (on the circle-point curve for 4 poses)
+  std::vector<Eigen::Vector2d> fixed_pivots;   // in Sigma (on the center-point curve)
+  std::optional<double> scale;                 // characteristic length L, when given
   Effort effort = Effort::kBalanced;
 };
 

@@ -195,7 +195,9 @@ class TaskParser {
   Task Parse(const std::string& text) const {
     const Json root = ParseJson(text);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
-    CheckKeys(root, "", {"problem", "space", "poses", "points", "scale", "options"});
+    CheckKeys(root, "",
+              {"problem", "space", "poses", "points", "scale", "options", "moving_pivots",
+               "fixed_pivots"});
 
     Task task;
     task.problem =
@@ -217,10 +219,17 @@ class TaskParser {
     if (task.problem == ProblemKind::kMotion) {
       if (root.contains("points")) Fail("points", "not used by motion problems (give \"poses\")");
       const Json& poses = Items(
-          root, "poses", task.space == Space::kPlanar ? 5 : 1,
+          root, "poses", task.space == Space::kPlanar ? 3 : 1,
           task.space == Space::kPlanar ? "planar motion synthesis" : "spatial motion synthesis");
       if (task.space == Space::kPlanar) {
         ParsePlanarPoses(poses, &task);
+        task.moving_pivots = Pivots(root, "moving_pivots");
+        task.fixed_pivots = Pivots(root, "fixed_pivots");
+        if (task.planar_poses.size() >= 5 &&
+            !(task.moving_pivots.empty() && task.fixed_pivots.empty())) {
+          Fail(task.moving_pivots.empty() ? "fixed_pivots" : "moving_pivots",
+               "used with three or four poses only (five poses determine the dyads)");
+        }
       } else {
         ParseSpatialPoses(poses, &task);
       }
@@ -228,6 +237,11 @@ class TaskParser {
       if (task.space == Space::kSpatial) Fail("space", "path problems are planar only");
       if (root.contains("poses")) Fail("poses", "not used by path problems (give \"points\")");
       ParsePoints(Items(root, "points", 1, "path synthesis"), &task);
+    }
+    if (task.space != Space::kPlanar || task.problem != ProblemKind::kMotion) {
+      for (const char* key : {"moving_pivots", "fixed_pivots"}) {
+        if (root.contains(key)) Fail(key, "used by planar motion problems only");
+      }
     }
     return task;
   }
@@ -359,6 +373,18 @@ class TaskParser {
   bool Bool(const Json& value, const std::string& item) const {
     if (!value.is_boolean()) Fail(item, "expected true or false, got " + Describe(value));
     return value.get<bool>();
+  }
+
+  // An optional array of [x, y] points.
+  std::vector<Eigen::Vector2d> Pivots(const Json& root, const char* key) const {
+    std::vector<Eigen::Vector2d> pivots;
+    if (!root.contains(key)) return pivots;
+    const Json& value = root.at(key);
+    if (!value.is_array()) Fail(key, "expected an array of [x, y] points, got " + Describe(value));
+    if (value.size() > 16) Fail(key, "at most 16 pivots, got " + std::to_string(value.size()));
+    for (size_t i = 0; i < value.size(); ++i)
+      pivots.push_back(Vector<2>(value[i], IndexItem(key, i)));
+    return pivots;
   }
 
   template <int N>

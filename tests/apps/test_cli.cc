@@ -128,11 +128,11 @@ TEST_F(CliTest, TwoIdenticalPoses) {
   ExpectRejected(MotionTask(poses), "poses[4]: coincides with poses[1]");
 }
 
-TEST_F(CliTest, FourPoses) {
+TEST_F(CliTest, TwoPoses) {
   std::vector<std::string> poses = FivePoses();
-  poses.pop_back();
+  poses.resize(2);
   ExpectRejected(MotionTask(poses),
-                 "poses: 4 poses given, planar motion synthesis needs at least 5");
+                 "poses: 2 poses given, planar motion synthesis needs at least 3");
 }
 
 TEST_F(CliTest, UnknownField) {
@@ -154,7 +154,7 @@ TEST_F(CliTest, BadLineOfAJsonLinesFile) {
   const RunResult run = Run("solve '" + task + "' -o '" + output + "'");
   EXPECT_EQ(run.status, 2);
   EXPECT_EQ(run.err, "linkfit: error: " + task +
-                         ":3: poses: 1 pose given, planar motion synthesis needs at least 5\n");
+                         ":3: poses: 1 pose given, planar motion synthesis needs at least 3\n");
   EXPECT_FALSE(std::filesystem::exists(output));
 }
 
@@ -280,4 +280,40 @@ TEST_F(CliTest, SolvesAJsonLinesBatch) {
   ASSERT_EQ(results.size(), 2u);
   EXPECT_TRUE(HasRR(results[0], 100.0, 0.0, 87.5, 0.0, 75.0));
   EXPECT_TRUE(HasRR(results[1], 0.0, 0.0, 0.0, 0.0, 30.0));
+}
+
+// --svg and --animate draw the bundled four-bar: well-formed files that render, written along
+// with the result.
+TEST_F(CliTest, DrawsAndAnimatesTheBundledFourBar) {
+  const std::string svg = Path("four_bar.svg"), svg_png = Path("four_bar.png");
+  const std::string animation = Path("four_bar_animation.svg"), page = Path("four_bar.html");
+  const RunResult run =
+      Run("solve '" + DataPath("four_bar_5_poses.json") + "' -o '" + Path("result.json") +
+          "' --svg '" + svg + "' --animate '" + animation + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(std::filesystem::exists(Path("result.json")));
+  for (const std::string& file : {svg, animation}) {
+    ASSERT_TRUE(std::filesystem::exists(file)) << file;
+    EXPECT_EQ(std::system(("xmllint --noout '" + file + "'").c_str()), 0) << file;
+  }
+  EXPECT_NE(ReadFile(animation).find("<animate"), std::string::npos);
+  // The drawing names the best mechanism and renders to a picture of some substance.
+  EXPECT_NE(ReadFile(svg).find("crank-rocker"), std::string::npos);
+  ASSERT_EQ(std::system(("rsvg-convert -o '" + svg_png + "' '" + svg + "'").c_str()), 0);
+  EXPECT_GT(std::filesystem::file_size(svg_png), 10000u);
+  // An .html animation of the second mechanism.
+  const RunResult html = Run("solve '" + DataPath("four_bar_5_poses.json") + "' -o '" +
+                             Path("result.json") + "' --animate '" + page + "' --mechanism 2");
+  ASSERT_EQ(html.status, 0) << html.err;
+  EXPECT_NE(ReadFile(page).find("<script"), std::string::npos);
+}
+
+TEST_F(CliTest, AnimatingAMechanismThatIsNotListedWritesNothing) {
+  const std::string animation = Path("animation.svg");
+  const RunResult run = Run("solve '" + DataPath("four_bar_5_poses.json") + "' -o '" +
+                            Path("result.json") + "' --animate '" + animation + "' --mechanism 99");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("--mechanism 99"), std::string::npos) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(animation));
+  EXPECT_FALSE(std::filesystem::exists(Path("result.json")));
 }

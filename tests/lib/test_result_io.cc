@@ -117,7 +117,11 @@ TEST(ResultIo, RoundTrip) {
 
   const Json& mechanisms = json["mechanisms"];
   ASSERT_EQ(mechanisms.size(), 3u);
-  EXPECT_EQ(Keys(mechanisms[0]), (std::vector<std::string>{"type", "dyads", "max_pose_error"}));
+  EXPECT_EQ(Keys(mechanisms[0]),
+            (std::vector<std::string>{"type", "dyads", "max_pose_error", "defects", "full_rotation",
+                                      "transmission_angle_note"}));
+  EXPECT_EQ(mechanisms[0]["defects"], Json::array());
+  EXPECT_EQ(mechanisms[0]["full_rotation"], Json({{"input", false}, {"output", false}}));
   EXPECT_EQ(mechanisms[0]["type"], FourBarTypeName(FourBarType::kSliderCrank));
   EXPECT_EQ(mechanisms[0]["dyads"], Json({0, 1}));
   EXPECT_EQ(mechanisms[0]["max_pose_error"].get<double>(), 4e-9);
@@ -163,7 +167,8 @@ TEST(ResultIo, EmptyResult) {
   EXPECT_EQ(json["dyads"], Json::array());
   EXPECT_EQ(json["mechanisms"], Json::array());
   EXPECT_FALSE(json.contains("notes"));
-  EXPECT_EQ(json["roots"], Json({{"total", 0}, {"real", 0}}));
+  // No root system was solved (three or four poses, a degenerate task): no "roots".
+  EXPECT_FALSE(json.contains("roots"));
 
   result.notes = {"no real dyad"};
   EXPECT_EQ(Json::parse(ResultToJson(result, 2))["notes"], Json({"no real dyad"}));

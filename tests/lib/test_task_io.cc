@@ -252,14 +252,31 @@ TEST(TaskIoErrors, UnknownFieldsAreNamed) {
       << ErrorOf(json);
 }
 
+TEST(TaskIoErrors, Pivots) {
+  Json json = PlanarTaskJson();
+  json["poses"].erase(4);
+  json["moving_pivots"] = {{0.0, 1.0}, {2.0, "x"}};
+  EXPECT_EQ(ErrorOf(json), "task.json: moving_pivots[1][1]: expected a number, got a string");
+  json["moving_pivots"] = {{0.0, 1.0, 2.0}};
+  EXPECT_TRUE(StartsWith(ErrorOf(json), "task.json: moving_pivots[0]: expected an array of 2"))
+      << ErrorOf(json);
+  // Five poses determine the dyads: pivots are a mistake there.
+  json = PlanarTaskJson();
+  json["fixed_pivots"] = {{0.0, 1.0}};
+  EXPECT_TRUE(StartsWith(ErrorOf(json), "task.json: fixed_pivots: used with three or four poses"))
+      << ErrorOf(json);
+}
+
 TEST(TaskIoErrors, Counts) {
   Json json = PlanarTaskJson();
   json["poses"].erase(4);
+  json["poses"].erase(3);
+  json["poses"].erase(2);
   EXPECT_EQ(ErrorOf(json),
-            "task.json: poses: 4 poses given, planar motion synthesis needs at least 5");
+            "task.json: poses: 2 poses given, planar motion synthesis needs at least 3");
   json["poses"] = Json::array();
   EXPECT_EQ(ErrorOf(json),
-            "task.json: poses: 0 poses given, planar motion synthesis needs at least 5");
+            "task.json: poses: 0 poses given, planar motion synthesis needs at least 3");
 
   json = {{"space", "spatial"}, {"poses", Json::array()}};
   EXPECT_EQ(ErrorOf(json),
@@ -343,7 +360,7 @@ TEST(TaskIoErrors, DeepNestingIsRejectedWithoutCrash) {
   // 64 levels pass the depth check (and fail later for another reason).
   const std::string deep_ok = "{\"poses\": " + std::string(63, '[') + std::string(63, ']') + "}";
   EXPECT_EQ(ErrorOf(deep_ok),
-            "task.json: poses: 1 pose given, planar motion synthesis needs at least 5");
+            "task.json: poses: 1 pose given, planar motion synthesis needs at least 3");
 }
 
 TEST(TaskIoErrors, AllOriginsCoincide) {

@@ -50,24 +50,35 @@ bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, in
   task->output = RandomDyadAt(rng, output_type, start);
   task->poses.assign(1, start);
 
+  // The input advances by random steps between poses, in sub-steps of 1 degree (0.01 for a
+  // slider) along which the coupler is followed continuously (nearest configuration), so that
+  // the mechanism really moves from pose to pose on one branch, as a driven input would.
   const bool slider_input = input_type == DyadType::kPR;
   std::uniform_real_distribution<double> step_size(slider_input ? 0.15 : 15.0 * M_PI / 180.0,
                                                    slider_input ? 0.45 : 45.0 * M_PI / 180.0);
+  const double sub_step = slider_input ? 0.01 : M_PI / 180.0;
   const double direction = std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0;
   double value = InputValue(task->input, start);
+  PlanarPose current = start;
   std::vector<PlanarPose> candidates;
   while (static_cast<int>(task->poses.size()) < count) {
-    value += direction * step_size(rng);
-    if (AssembleFourBar(task->input, task->output, value, 0.0, &candidates) == 0) return false;
-    // Follow the branch: the configuration nearest the previous pose.
-    const PlanarPose& previous = task->poses.back();
-    const PlanarPose* nearest = &candidates[0];
-    for (const PlanarPose& candidate : candidates) {
-      if (PoseError(candidate, previous, 1.0) < PoseError(*nearest, previous, 1.0)) {
-        nearest = &candidate;
+    const double step = step_size(rng);
+    const int sub_steps = static_cast<int>(std::ceil(step / sub_step));
+    for (int s = 1; s <= sub_steps; ++s) {
+      if (AssembleFourBar(task->input, task->output, value + direction * step * s / sub_steps, 0.0,
+                          &candidates) == 0) {
+        return false;
       }
+      const PlanarPose* nearest = &candidates[0];
+      for (const PlanarPose& candidate : candidates) {
+        if (PoseError(candidate, current, 1.0) < PoseError(*nearest, current, 1.0)) {
+          nearest = &candidate;
+        }
+      }
+      current = *nearest;
     }
-    task->poses.push_back(*nearest);
+    value += direction * step;
+    task->poses.push_back(current);
   }
   const double length = CharacteristicLength(task->poses);
   if (!(length > 1e-3)) return false;

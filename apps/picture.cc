@@ -1,0 +1,1183 @@
+// SVG pictures of tasks and mechanisms (see picture.h).
+//
+// Every panel has its own view: a similarity from Sigma (y up) to the panel's plot area
+// (SVG pixels, y down) chosen to fit the task poses, the path points and whatever of the
+// mechanism lies within reach of them. Geometry is clipped against the view in Sigma before it
+// is written, so no coordinate in the document is far outside the drawing, whatever the input;
+// elements beyond the view get an arrow at the edge of the plot with their coordinates.
+// Non-finite input points are skipped.
+#include "apps/picture.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace linkfit {
+namespace {
+
+using Vec = Eigen::Vector2d;
+
+// Colours.
+constexpr const char* kTaskXColour = "#d62728";         // task frame x-axis
+constexpr const char* kTaskYColour = "#2ca02c";         // task frame y-axis
+constexpr const char* kCouplerCurveColour = "#1f77b4";  // path of E's origin
+constexpr const char* kCenterCurveColour = "#9467bd";   // center-point curves
+constexpr const char* kCircleCurveColour = "#ff7f0e";   // circle-point curves
+constexpr const char* kPathPointColour = "#c51b8a";     // path points
+constexpr const char* kLinkColour = "#333333";          // cranks, pivots, ground
+constexpr const char* kCouplerFill = "#bcbd22";         // coupler body
+constexpr const char* kCouplerStroke = "#6b6b12";
+constexpr const char* kBlockFill = "#d9d9d9";      // slider blocks
+constexpr const char* kOffViewColour = "#8b0000";  // arrows to elements beyond the view
+constexpr const char* kGridColour = "#ececec";
+constexpr const char* kGridTextColour = "#9a9a9a";
+
+// Layout, in SVG pixels.
+constexpr double kGap = 10.0;  // between panels and around the document
+constexpr double kPad = 10.0;  // inside a panel
+constexpr double kDocTitleHeight = 30.0;
+constexpr double kTitleLine = 18.0;  // panel title
+constexpr double kLabelLine = 14.0;  // each label line
+constexpr int kMaxLabelLines = 6;
+constexpr double kLegendLine = 18.0;
+constexpr double kLabelCharWidth = 6.3;  // average glyph width at 11 px
+constexpr double kPlotPadding = 30.0;    // between the fitted region and the plot's edge
+constexpr double kPivotRadius = 4.0;
+constexpr double kBlockLength = 28.0, kBlockWidth = 14.0;
+
+// Points farther than this (in any coordinate) are treated as invalid: their differences
+// would overflow.
+constexpr double kHuge = 1e150;
+// Elements within this many characteristic lengths of the task region enlarge the view.
+constexpr double kReach = 20.0;
+constexpr double kAnimationPeriodSeconds = 4.0;
+constexpr size_t kMaxAnimationFrames = 180;
+
+bool Ok(double v) { return std::isfinite(v) && std::abs(v) < kHuge; }
+bool Ok(const Vec& p) { return Ok(p.x()) && Ok(p.y()); }
+bool Ok(const PlanarPose& pose) { return Ok(pose.origin_in_fixed) && Ok(pose.theta); }
+
+std::string Format(const char* format, ...) __attribute__((format(printf, 1, 2)));
+std::string Format(const char* format, ...) {
+  char buffer[512];
+  va_list args;
+  va_start(args, format);
+  const int n = std::vsnprintf(buffer, sizeof buffer, format, args);
+  va_end(args);
+  if (n < 0) return "";
+  return std::string(buffer, std::min<size_t>(static_cast<size_t>(n), sizeof buffer - 1));
+}
+
+// A document coordinate: limited precision, never NaN or -0.
+std::string Num(double v) {
+  if (!std::isfinite(v) || std::abs(v) < 1e-9) return "0";
+  return Format("%.5g", v);
+}
+
+// A coordinate of Sigma, as written in labels.
+std::string Coord(double v) {
+  if (!std::isfinite(v)) return "?";
+  if (v == 0.0) return "0";
+  return Format("%.4g", v);
+}
+
+std::string Point(const Vec& p) { return Num(p.x()) + "," + Num(p.y()); }
+
+// Text for XML character data and attribute values: escapes markup characters, drops what XML
+// 1.0 forbids (control characters, invalid UTF-8 become '?' or a space), cuts at `max_chars`
+// code points with an ellipsis.
+std::string Escape(const std::string& text, size_t max_chars = 400) {
+  std::string out;
+  size_t chars = 0, i = 0;
+  while (i < text.size()) {
+    if (chars >= max_chars) {
+      out += "\xe2\x80\xa6";  // U+2026
+      break;
+    }
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    ++chars;
+    if (c < 0x80) {
+      ++i;
+      switch (c) {
+        case '&':
+          out += "&amp;";
+          break;
+        case '<':
+          out += "&lt;";
+          break;
+        case '>':
+          out += "&gt;";
+          break;
+        case '"':
+          out += "&quot;";
+          break;
+        case '\'':
+          out += "&#39;";
+          break;
+        default:
+          out += (c < 0x20 || c == 0x7f) ? ' ' : static_cast<char>(c);
+      }
+      continue;
+    }
+    // A multi-byte sequence: check its length, continuation bytes and code point.
+    size_t length = 0;
+    unsigned int code = 0;
+    if ((c & 0xe0) == 0xc0) {
+      length = 2;
+      code = c & 0x1f;
+    } else if ((c & 0xf0) == 0xe0) {
+      length = 3;
+      code = c & 0x0f;
+    } else if ((c & 0xf8) == 0xf0) {
+      length = 4;
+      code = c & 0x07;
+    }
+    bool valid = length > 0 && i + length <= text.size();
+    for (size_t k = 1; valid && k < length; ++k) {
+      const unsigned char next = static_cast<unsigned char>(text[i + k]);
+      valid = (next & 0xc0) == 0x80;
+      code = (code << 6) | (next & 0x3f);
+    }
+    static const unsigned int kMinimum[5] = {0, 0, 0x80, 0x800, 0x10000};
+    valid = valid && code >= kMinimum[length] && code <= 0x10ffff &&
+            !(code >= 0xd800 && code <= 0xdfff) && code != 0xfffe && code != 0xffff;
+    if (valid) {
+      out.append(text, i, length);
+      i += length;
+    } else {
+      out += '?';
+      ++i;
+    }
+  }
+  return out;
+}
+
+Vec SafeDirection(const Vec& d) {
+  if (!Ok(d)) return Vec::UnitX();
+  const double n = d.norm();
+  if (!(n > 1e-300) || !std::isfinite(n)) return Vec::UnitX();
+  return d / n;
+}
+
+Vec Perp(const Vec& v) { return Vec(-v.y(), v.x()); }
+
+struct Box {
+  double x0 = std::numeric_limits<double>::infinity();
+  double y0 = std::numeric_limits<double>::infinity();
+  double x1 = -std::numeric_limits<double>::infinity();
+  double y1 = -std::numeric_limits<double>::infinity();
+
+  bool Empty() const { return !(x0 <= x1 && y0 <= y1); }
+  void Add(const Vec& p) {
+    if (!Ok(p)) return;
+    x0 = std::min(x0, p.x());
+    y0 = std::min(y0, p.y());
+    x1 = std::max(x1, p.x());
+    y1 = std::max(y1, p.y());
+  }
+  double Width() const { return x1 - x0; }
+  double Height() const { return y1 - y0; }
+  Vec Center() const { return Vec(0.5 * (x0 + x1), 0.5 * (y0 + y1)); }
+  Box Expanded(double margin) const {
+    return Box{x0 - margin, y0 - margin, x1 + margin, y1 + margin};
+  }
+  bool Contains(const Vec& p) const {
+    return Ok(p) && p.x() >= x0 && p.x() <= x1 && p.y() >= y0 && p.y() <= y1;
+  }
+  double Distance(const Vec& p) const {
+    const double dx = std::max({x0 - p.x(), 0.0, p.x() - x1});
+    const double dy = std::max({y0 - p.y(), 0.0, p.y() - y1});
+    return std::hypot(dx, dy);
+  }
+};
+
+// Liang-Barsky: restricts [*t0, *t1] so that p + t d stays in `box`; false when nothing stays.
+bool ClipParameter(const Box& box, const Vec& p, const Vec& d, double* t0, double* t1) {
+  const double ps[4] = {-d.x(), d.x(), -d.y(), d.y()};
+  const double qs[4] = {p.x() - box.x0, box.x1 - p.x(), p.y() - box.y0, box.y1 - p.y()};
+  for (int k = 0; k < 4; ++k) {
+    if (ps[k] == 0.0) {
+      if (qs[k] < 0.0) return false;
+      continue;
+    }
+    const double r = qs[k] / ps[k];
+    if (ps[k] < 0.0) {
+      if (r > *t1) return false;
+      *t0 = std::max(*t0, r);
+    } else {
+      if (r < *t0) return false;
+      *t1 = std::min(*t1, r);
+    }
+  }
+  return *t0 <= *t1 && std::isfinite(*t0) && std::isfinite(*t1);
+}
+
+// Sutherland-Hodgman clipping of a polygon against a box.
+std::vector<Vec> ClipPolygon(const std::vector<Vec>& polygon, const Box& box) {
+  std::vector<Vec> current = polygon;
+  for (int edge = 0; edge < 4 && !current.empty(); ++edge) {
+    auto inside = [&](const Vec& p) {
+      switch (edge) {
+        case 0:
+          return p.x() >= box.x0;
+        case 1:
+          return p.x() <= box.x1;
+        case 2:
+          return p.y() >= box.y0;
+        default:
+          return p.y() <= box.y1;
+      }
+    };
+    auto cross = [&](const Vec& a, const Vec& b) {
+      double t = 0.0;
+      switch (edge) {
+        case 0:
+          t = (box.x0 - a.x()) / (b.x() - a.x());
+          break;
+        case 1:
+          t = (box.x1 - a.x()) / (b.x() - a.x());
+          break;
+        case 2:
+          t = (box.y0 - a.y()) / (b.y() - a.y());
+          break;
+        default:
+          t = (box.y1 - a.y()) / (b.y() - a.y());
+      }
+      return Vec(a + t * (b - a));
+    };
+    std::vector<Vec> next;
+    for (size_t i = 0; i < current.size(); ++i) {
+      const Vec& a = current[i];
+      const Vec& b = current[(i + 1) % current.size()];
+      if (inside(b)) {
+        if (!inside(a)) next.push_back(cross(a, b));
+        next.push_back(b);
+      } else if (inside(a)) {
+        next.push_back(cross(a, b));
+      }
+    }
+    current.swap(next);
+  }
+  return current;
+}
+
+// Convex hull (Andrew's monotone chain), counter-clockwise; duplicates removed.
+std::vector<Vec> ConvexHull(std::vector<Vec> points) {
+  std::sort(points.begin(), points.end(), [](const Vec& a, const Vec& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  points.erase(std::unique(points.begin(), points.end()), points.end());
+  if (points.size() < 3) return points;
+  auto turn = [](const Vec& o, const Vec& a, const Vec& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  std::vector<Vec> hull(2 * points.size());
+  size_t k = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  for (size_t i = points.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], points[i]) <= 0.0) --k;
+    hull[k++] = points[i];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+// "Nice" grid step near `raw`: 1, 2 or 5 times a power of ten.
+double NiceStep(double raw) {
+  if (!(raw > 0.0) || !std::isfinite(raw)) return 0.0;
+  const double power = std::pow(10.0, std::floor(std::log10(raw)));
+  const double m = raw / power;
+  return (m < 1.5 ? 1.0 : m < 3.5 ? 2.0 : m < 7.5 ? 5.0 : 10.0) * power;
+}
+
+// The map from Sigma to a plot area of the document.
+struct View {
+  Box world;           // the part of Sigma shown; exactly fills the plot area
+  double scale = 1.0;  // pixels per length unit
+  double left = 0.0, top = 0.0, width = 1.0, height = 1.0;  // plot area, in pixels
+  Box clip;  // `world` with a few pixels of margin, for clipping geometry
+
+  Vec Px(const Vec& p) const {
+    return Vec(left + (p.x() - world.x0) * scale, top + (world.y1 - p.y()) * scale);
+  }
+  // A unit direction of Sigma in pixels (y flipped).
+  static Vec PxDirection(const Vec& d) { return Vec(d.x(), -d.y()); }
+  bool Shows(const Vec& p) const { return world.Contains(p); }
+};
+
+View FitView(const Box& box, double left, double top, double width, double height) {
+  View view;
+  view.left = left;
+  view.top = top;
+  view.width = width;
+  view.height = height;
+  double w = box.Width(), h = box.Height();
+  const Vec center = box.Center();
+  const double extent = std::max({w, h, 1e-9 * (1.0 + center.norm()), 1e-300});
+  w = std::max(w, extent * 1e-3);
+  h = std::max(h, extent * 1e-3);
+  // Room at the edges for the symbols drawn around points (ground, blocks, labels).
+  const double padding = std::min(kPlotPadding, 0.2 * std::min(width, height));
+  view.scale = std::min((width - 2.0 * padding) / w, (height - 2.0 * padding) / h);
+  const double half_w = 0.5 * width / view.scale, half_h = 0.5 * height / view.scale;
+  view.world =
+      Box{center.x() - half_w, center.y() - half_h, center.x() + half_w, center.y() + half_h};
+  view.clip = view.world.Expanded(3.0 / view.scale);
+  return view;
+}
+
+// The characteristic length used for the sizes of marks and the reach of the view.
+double MarkLength(const Picture& picture) {
+  if (Ok(picture.length) && picture.length > 0.0) return picture.length;
+  std::vector<PlanarPose> poses;
+  for (const PlanarPose& pose : picture.task_poses) {
+    if (Ok(pose.origin_in_fixed)) poses.push_back(pose);
+  }
+  for (const Vec& p : picture.path_points) {
+    if (Ok(p)) poses.emplace_back(p.x(), p.y(), 0.0);
+  }
+  const double length = CharacteristicLength(poses);
+  return Ok(length) && length > 0.0 ? length : 1.0;
+}
+
+// The coupler curve of a mechanism: given, or the origins of its cycle.
+std::vector<Vec> CouplerCurve(const PictureMechanism& mechanism) {
+  if (!mechanism.coupler_curve.empty()) return mechanism.coupler_curve;
+  std::vector<Vec> curve;
+  for (const PlanarPose& pose : mechanism.cycle) curve.push_back(pose.origin_in_fixed);
+  return curve;
+}
+
+bool HasMovingPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kRP; }
+bool HasFixedPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kPR; }
+
+// The region of Sigma a panel shows: the task (poses, path points), and the elements of the
+// mechanism and the curves within reach of it, with a margin.
+Box PanelBox(const Picture& picture, const PictureMechanism* mechanism, double length,
+             bool with_cycle) {
+  Box core;
+  for (const PlanarPose& pose : picture.task_poses) core.Add(pose.origin_in_fixed);
+  for (const Vec& p : picture.path_points) core.Add(p);
+  if (core.Empty() && mechanism != nullptr) {
+    core.Add(mechanism->first_pose.origin_in_fixed);
+    for (const Vec& p : CouplerCurve(*mechanism)) {
+      if (core.Empty()) core.Add(p);
+    }
+  }
+  if (core.Empty()) core.Add(Vec::Zero());
+  const double size = std::max(core.Width(), core.Height());
+  const double reach = kReach * std::max(length, 0.5 * size);
+  Box box = core;
+  auto consider = [&](const Vec& p, double within) {
+    if (Ok(p) && core.Distance(p) <= within) box.Add(p);
+  };
+  if (mechanism != nullptr) {
+    std::vector<PlanarPose> poses = {mechanism->first_pose};
+    if (with_cycle) poses.insert(poses.end(), mechanism->cycle.begin(), mechanism->cycle.end());
+    for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
+      if (HasFixedPivot(*dyad)) consider(dyad->fixed_pivot, reach);
+    }
+    for (const PlanarPose& pose : poses) {
+      if (!Ok(pose)) continue;
+      consider(pose.origin_in_fixed, reach);
+      for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
+        if (HasMovingPivot(*dyad)) consider(pose.ToFixed(dyad->moving_pivot), reach);
+      }
+    }
+    for (const Vec& p : CouplerCurve(*mechanism)) consider(p, reach);
+  }
+  // The Burmester curves run off to infinity: only their part near the task counts.
+  for (const auto* curves : {&picture.center_point_curves, &picture.circle_point_curves}) {
+    for (const auto& curve : *curves) {
+      for (const Vec& p : curve) consider(p, 1.5 * length);
+    }
+  }
+  const double extent = std::max(box.Width(), box.Height());
+  return box.Expanded(std::max(0.03 * extent, 0.15 * length));
+}
+
+// Writes SVG elements into a string.
+class Svg {
+ public:
+  std::string& text() { return text_; }
+  void Raw(const std::string& s) { text_ += s; }
+
+  void Line(const Vec& a, const Vec& b, const std::string& style) {
+    text_ += "<line x1=\"" + Num(a.x()) + "\" y1=\"" + Num(a.y()) + "\" x2=\"" + Num(b.x()) +
+             "\" y2=\"" + Num(b.y()) + "\" " + style + "/>\n";
+  }
+  void Circle(const Vec& c, double r, const std::string& style) {
+    text_ += "<circle cx=\"" + Num(c.x()) + "\" cy=\"" + Num(c.y()) + "\" r=\"" + Num(r) + "\" " +
+             style + "/>\n";
+  }
+  void Polygon(const std::vector<Vec>& points, const std::string& style) {
+    if (points.empty()) return;
+    text_ += "<polygon points=\"";
+    for (size_t i = 0; i < points.size(); ++i) text_ += (i ? " " : "") + Point(points[i]);
+    text_ += "\" " + style + "/>\n";
+  }
+  void Path(const std::string& d, const std::string& style) {
+    if (!d.empty()) text_ += "<path d=\"" + d + "\" " + style + "/>\n";
+  }
+  void Rect(double x, double y, double w, double h, const std::string& style) {
+    text_ += "<rect x=\"" + Num(x) + "\" y=\"" + Num(y) + "\" width=\"" + Num(w) + "\" height=\"" +
+             Num(h) + "\" " + style + "/>\n";
+  }
+  // `text` is escaped here.
+  void Text(const Vec& at, const std::string& text, const std::string& style,
+            size_t max_chars = 400) {
+    text_ += "<text x=\"" + Num(at.x()) + "\" y=\"" + Num(at.y()) + "\" " + style + ">" +
+             Escape(text, max_chars) + "</text>\n";
+  }
+
+ private:
+  std::string text_;
+};
+
+// Text with a white halo, legible over lines.
+std::string Halo(const std::string& fill, double size, const std::string& extra = "") {
+  return "font-size=\"" + Num(size) + "\" fill=\"" + fill +
+         "\" stroke=\"#ffffff\" stroke-width=\"3\" stroke-linejoin=\"round\" "
+         "paint-order=\"stroke\"" +
+         (extra.empty() ? "" : " " + extra);
+}
+
+// Path data ("M x y L x y ...") of a polyline of Sigma clipped to the view; breaks at invalid
+// points.
+std::string PolylinePath(const View& view, const std::vector<Vec>& points, bool closed = false) {
+  std::string d;
+  bool open = false;
+  Vec last_px(0.0, 0.0);
+  const size_t n = points.size();
+  const size_t segments = closed && n > 2 ? n : (n > 0 ? n - 1 : 0);
+  for (size_t i = 0; i < segments; ++i) {
+    const Vec& a = points[i];
+    const Vec& b = points[(i + 1) % n];
+    if (!Ok(a) || !Ok(b)) {
+      open = false;
+      continue;
+    }
+    double t0 = 0.0, t1 = 1.0;
+    if (!ClipParameter(view.clip, a, b - a, &t0, &t1)) {
+      open = false;
+      continue;
+    }
+    const Vec pa = view.Px(a + t0 * (b - a)), pb = view.Px(a + t1 * (b - a));
+    if (!open || t0 > 0.0 || (pa - last_px).norm() > 0.5) {
+      d += (d.empty() ? "M" : " M") + Num(pa.x()) + " " + Num(pa.y());
+      last_px = pa;
+    }
+    if ((pb - last_px).norm() >= 0.3 || t1 < 1.0 || i + 1 == segments) {
+      d += " L" + Num(pb.x()) + " " + Num(pb.y());
+      last_px = pb;
+    }
+    open = t1 >= 1.0;
+  }
+  return d;
+}
+
+// A segment of Sigma clipped to the view, as a line element.
+void ClippedSegment(Svg* svg, const View& view, const Vec& a, const Vec& b,
+                    const std::string& style) {
+  if (!Ok(a) || !Ok(b)) return;
+  double t0 = 0.0, t1 = 1.0;
+  if (!ClipParameter(view.clip, a, b - a, &t0, &t1)) return;
+  svg->Line(view.Px(a + t0 * (b - a)), view.Px(a + t1 * (b - a)), style);
+}
+
+// An infinite line of Sigma clipped to the view; false when it misses the view.
+bool ClippedLine(Svg* svg, const View& view, const Vec& point, const Vec& direction,
+                 const std::string& style) {
+  if (!Ok(point)) return false;
+  const Vec d = SafeDirection(direction);
+  double t0 = -std::numeric_limits<double>::infinity();
+  double t1 = std::numeric_limits<double>::infinity();
+  if (!ClipParameter(view.clip, point, d, &t0, &t1)) return false;
+  svg->Line(view.Px(point + t0 * d), view.Px(point + t1 * d), style);
+  return true;
+}
+
+// An arrow of `length` pixels from `from` in pixel direction `dir` (unit), with a head.
+void Arrow(Svg* svg, const Vec& from, const Vec& dir, double length, const char* colour,
+           double width) {
+  const Vec tip = from + length * dir, n = Perp(dir);
+  const double head = std::min(7.0, 0.45 * length);
+  svg->Line(from, tip - 0.8 * head * dir,
+            "stroke=\"" + std::string(colour) + "\" stroke-width=\"" + Num(width) + "\"");
+  svg->Polygon({tip, tip - head * dir + 0.5 * head * n, tip - head * dir - 0.5 * head * n},
+               "fill=\"" + std::string(colour) + "\"");
+}
+
+// Ground symbol (triangle on a hatched base) with the pivot circle, apex at `p` (pixels).
+void Ground(Svg* svg, const Vec& p) {
+  const Vec base(0.0, 12.0);
+  svg->Polygon({p, p + base + Vec(-7.0, 0.0), p + base + Vec(7.0, 0.0)},
+               "fill=\"#ffffff\" stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"1.5\"");
+  std::string d = "M" + Num(p.x() - 11.0) + " " + Num(p.y() + 12.0) + " L" + Num(p.x() + 11.0) +
+                  " " + Num(p.y() + 12.0);
+  for (int k = 0; k < 5; ++k) {
+    const double x = p.x() - 9.0 + 5.0 * k;
+    d += " M" + Num(x) + " " + Num(p.y() + 12.0) + " L" + Num(x - 4.0) + " " + Num(p.y() + 17.0);
+  }
+  svg->Path(d, "fill=\"none\" stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"1.2\"");
+  svg->Circle(p, kPivotRadius,
+              "fill=\"#ffffff\" stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"1.5\"");
+}
+
+// A slider block centred at `p` (pixels) along pixel direction `dir`.
+void Block(Svg* svg, const Vec& p, const Vec& dir) {
+  const Vec u = 0.5 * kBlockLength * dir, v = 0.5 * kBlockWidth * Perp(dir);
+  svg->Polygon({p - u - v, p + u - v, p + u + v, p - u + v}, "fill=\"" + std::string(kBlockFill) +
+                                                                 "\" stroke=\"" + kLinkColour +
+                                                                 "\" stroke-width=\"1.5\"");
+}
+
+const char* DyadName(int which) { return which == 0 ? "A" : "B"; }
+
+// The parts of the mechanism that move, at coupler pose `pose`: cranks, the coupler body,
+// lines fixed in E (RP), slider blocks, moving pivots, E's origin.
+void DrawMovingParts(Svg* svg, const View& view, const PictureMechanism& mechanism,
+                     const PlanarPose& pose, double length) {
+  if (!Ok(pose)) return;
+  const PlanarDyad* dyads[2] = {&mechanism.input, &mechanism.output};
+  const Vec origin = pose.origin_in_fixed;
+  std::vector<Vec> body = {origin};
+  Vec moving[2];
+  for (int k = 0; k < 2; ++k) {
+    moving[k] = pose.ToFixed(dyads[k]->moving_pivot);
+    if (HasMovingPivot(*dyads[k]) && Ok(moving[k])) body.push_back(moving[k]);
+  }
+  // Lines fixed in E (RP): the coupler reaches them where its points project onto them.
+  struct Rod {
+    Vec point, direction;
+    double t0, t1;
+  };
+  std::vector<Rod> rods;
+  const std::vector<Vec> coupler_points = body;
+  for (int k = 0; k < 2; ++k) {
+    if (dyads[k]->type != DyadType::kRP) continue;
+    Rod rod;
+    rod.point = pose.ToFixed(dyads[k]->line_point);
+    rod.direction = SafeDirection(pose.DirectionToFixed(dyads[k]->line_direction));
+    if (!Ok(rod.point)) continue;
+    // Measure along the rod from the foot of E's origin (the line point may be far away).
+    rod.point += (origin - rod.point).dot(rod.direction) * rod.direction;
+    double lo = 0.0, hi = 0.0;
+    for (const Vec& p : coupler_points) {
+      const double t = (p - rod.point).dot(rod.direction);
+      lo = std::min(lo, t);
+      hi = std::max(hi, t);
+      body.push_back(rod.point + t * rod.direction);
+    }
+    if (Ok(dyads[k]->fixed_pivot)) {
+      const double t = (dyads[k]->fixed_pivot - rod.point).dot(rod.direction);
+      if (Ok(t)) {
+        lo = std::min(lo, t);
+        hi = std::max(hi, t);
+      }
+    }
+    rod.t0 = lo - 0.6 * length;
+    rod.t1 = hi + 0.6 * length;
+    rods.push_back(rod);
+  }
+  const std::string link =
+      "stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"3\" stroke-linecap=\"round\"";
+  for (int k = 0; k < 2; ++k) {
+    if (dyads[k]->type == DyadType::kRR) {
+      ClippedSegment(svg, view, dyads[k]->fixed_pivot, moving[k], link);
+    }
+  }
+  // The coupler body.
+  std::vector<Vec> hull = ConvexHull(body);
+  const std::string body_style = "fill=\"" + std::string(kCouplerFill) +
+                                 "\" fill-opacity=\"0.35\" stroke=\"" + kCouplerStroke +
+                                 "\" stroke-width=\"2\" stroke-linejoin=\"round\"";
+  if (hull.size() >= 3) {
+    std::vector<Vec> clipped = ClipPolygon(hull, view.clip);
+    for (Vec& p : clipped) p = view.Px(p);
+    svg->Polygon(clipped, body_style);
+  } else if (hull.size() == 2) {
+    ClippedSegment(svg, view, hull[0], hull[1],
+                   "stroke=\"" + std::string(kCouplerStroke) + "\" stroke-width=\"4\"");
+  }
+  for (const Rod& rod : rods) {
+    ClippedSegment(svg, view, rod.point + rod.t0 * rod.direction,
+                   rod.point + rod.t1 * rod.direction,
+                   "stroke=\"" + std::string(kCouplerStroke) +
+                       "\" stroke-width=\"3\" stroke-linecap=\"round\"");
+  }
+  // Blocks: PR at the moving pivot along the slider line, RP at the fixed pivot along the rod.
+  size_t rod_index = 0;
+  for (int k = 0; k < 2; ++k) {
+    if (dyads[k]->type == DyadType::kPR && view.Shows(moving[k])) {
+      Block(svg, view.Px(moving[k]), View::PxDirection(SafeDirection(dyads[k]->line_direction)));
+    } else if (dyads[k]->type == DyadType::kRP && rod_index < rods.size()) {
+      const Rod& rod = rods[rod_index++];
+      if (view.Shows(dyads[k]->fixed_pivot)) {
+        Block(svg, view.Px(dyads[k]->fixed_pivot), View::PxDirection(rod.direction));
+      }
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    if (HasMovingPivot(*dyads[k]) && view.Shows(moving[k])) {
+      const Vec p = view.Px(moving[k]);
+      svg->Circle(
+          p, kPivotRadius,
+          "fill=\"#ffffff\" stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"1.5\"");
+      svg->Text(p + Vec(7.0, -6.0), DyadName(k), Halo(kLinkColour, 11.0));
+    }
+  }
+  if (view.Shows(origin)) {
+    svg->Circle(view.Px(origin), 3.0, "fill=\"" + std::string(kCouplerCurveColour) + "\"");
+  }
+}
+
+// The parts that stay: slider lines (under everything else of the mechanism).
+void DrawFixedLines(Svg* svg, const View& view, const PictureMechanism& mechanism) {
+  for (const PlanarDyad* dyad : {&mechanism.input, &mechanism.output}) {
+    if (dyad->type == DyadType::kPR) {
+      ClippedLine(svg, view, dyad->line_point, dyad->line_direction,
+                  "stroke=\"#555555\" stroke-width=\"1.5\" stroke-dasharray=\"9 5\"");
+    }
+  }
+}
+
+// The parts that stay: ground symbols at the fixed pivots (over everything else).
+void DrawGround(Svg* svg, const View& view, const PictureMechanism& mechanism) {
+  const PlanarDyad* dyads[2] = {&mechanism.input, &mechanism.output};
+  for (int k = 0; k < 2; ++k) {
+    if (HasFixedPivot(*dyads[k]) && view.Shows(dyads[k]->fixed_pivot)) {
+      const Vec p = view.Px(dyads[k]->fixed_pivot);
+      Ground(svg, p);
+      svg->Text(p + Vec(9.0, 4.0), std::string(DyadName(k)) + "0", Halo(kLinkColour, 11.0));
+    }
+  }
+}
+
+// Arrows at the edge of the plot towards elements beyond the view.
+class OffViewMarkers {
+ public:
+  explicit OffViewMarkers(const View& view) : view_(view) {}
+
+  void Mark(Svg* svg, const Vec& target, const std::string& name) {
+    if (!Ok(target) || view_.Shows(target)) return;
+    const Vec center = view_.world.Center();
+    Vec d = target - center;
+    const double big = std::max(std::abs(d.x()), std::abs(d.y()));
+    if (!(big > 0.0)) return;
+    d /= big;
+    const Vec dir = SafeDirection(View::PxDirection(d));
+    const Vec center_px = view_.Px(center);
+    const double inset = 6.0;
+    const double half_w = 0.5 * view_.width - inset, half_h = 0.5 * view_.height - inset;
+    const double t = std::min(std::abs(dir.x()) > 1e-12 ? half_w / std::abs(dir.x()) : 1e300,
+                              std::abs(dir.y()) > 1e-12 ? half_h / std::abs(dir.y()) : 1e300);
+    const Vec tip = center_px + t * dir;
+    Arrow(svg, tip - 22.0 * dir, dir, 22.0, kOffViewColour, 2.0);
+    // The label, inside the plot next to the arrow's tail.
+    Vec at = tip - 28.0 * dir;
+    std::string anchor = "middle";
+    if (dir.x() > 0.35) anchor = "end";
+    if (dir.x() < -0.35) anchor = "start";
+    at.y() += dir.y() > 0.35 ? -4.0 : dir.y() < -0.35 ? 12.0 : 4.0;
+    const double step = dir.y() > 0.35 ? -13.0 : 13.0;
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (const Vec& placed : placed_) {
+        if ((placed - at).norm() < 12.0) {
+          at.y() += step;
+          moved = true;
+        }
+      }
+    }
+    placed_.push_back(at);
+    svg->Text(at, name + " (" + Coord(target.x()) + ", " + Coord(target.y()) + ")",
+              Halo(kOffViewColour, 10.0, "text-anchor=\"" + anchor + "\""));
+  }
+  bool any() const { return !placed_.empty(); }
+
+ private:
+  const View& view_;
+  std::vector<Vec> placed_;
+};
+
+// Which kinds of elements a document shows, for its legend.
+struct Shown {
+  bool task = false, coupler_curve = false, center_curves = false, circle_curves = false;
+  bool path_points = false, mechanism = false, slider = false, off_view = false;
+};
+
+// Light grid with values at the left and bottom edges; the frame Sigma when in view and
+// `sigma_axes`.
+void DrawGrid(Svg* svg, const View& view, bool sigma_axes) {
+  const Box& w = view.world;
+  const double step = NiceStep(std::max(w.Width(), w.Height()) / 7.0);
+  if (!(step > 0.0)) return;
+  const double kx0 = std::ceil(w.x0 / step), kx1 = std::floor(w.x1 / step);
+  const double ky0 = std::ceil(w.y0 / step), ky1 = std::floor(w.y1 / step);
+  if (!(kx1 - kx0 < 60.0 && ky1 - ky0 < 60.0)) return;
+  std::string d;
+  Svg text;
+  const std::string grid_text = "font-size=\"9\" fill=\"" + std::string(kGridTextColour) + "\"";
+  for (double k = kx0; k <= kx1; k += 1.0) {
+    const double x = view.Px(Vec(k * step, 0.0)).x();
+    d += " M" + Num(x) + " " + Num(view.top) + " V" + Num(view.top + view.height);
+    if (x < view.left + 28.0) continue;  // the corner belongs to the y values
+    text.Text(Vec(x + 2.0, view.top + view.height - 3.0), Format("%.6g", k * step + 0.0),
+              grid_text);
+  }
+  for (double k = ky0; k <= ky1; k += 1.0) {
+    const double y = view.Px(Vec(0.0, k * step)).y();
+    d += " M" + Num(view.left) + " " + Num(y) + " H" + Num(view.left + view.width);
+    if (y > view.top + view.height - 14.0 || y < view.top + 10.0) continue;
+    text.Text(Vec(view.left + 2.0, y - 2.0), Format("%.6g", k * step + 0.0), grid_text);
+  }
+  svg->Path(d.substr(1), "fill=\"none\" stroke=\"" + std::string(kGridColour) + "\"");
+  svg->Raw(text.text());
+  if (sigma_axes && view.world.Expanded(-12.0 / view.scale).Contains(Vec::Zero())) {
+    const Vec o = view.Px(Vec::Zero());
+    Arrow(svg, o, Vec(1.0, 0.0), 22.0, "#b0b0b0", 1.2);
+    Arrow(svg, o, Vec(0.0, -1.0), 22.0, "#b0b0b0", 1.2);
+    svg->Text(o + Vec(-12.0, 12.0), "\xce\xa3", "font-size=\"10\" fill=\"#a0a0a0\"");
+  }
+}
+
+// Task poses as small frames, numbered from 1; path points as numbered crosses.
+void DrawTask(Svg* svg, const View& view, const Picture& picture, double length) {
+  const double arrow = std::clamp(0.25 * length * view.scale, 14.0, 45.0);
+  for (size_t i = 0; i < picture.task_poses.size(); ++i) {
+    const PlanarPose& pose = picture.task_poses[i];
+    if (!Ok(pose.origin_in_fixed) || !view.Shows(pose.origin_in_fixed)) continue;
+    const Vec o = view.Px(pose.origin_in_fixed);
+    Vec label_dir(-1.0, 1.0);
+    if (Ok(pose.theta)) {
+      const Vec x_dir = View::PxDirection(Vec(std::cos(pose.theta), std::sin(pose.theta)));
+      const Vec y_dir = View::PxDirection(Vec(-std::sin(pose.theta), std::cos(pose.theta)));
+      Arrow(svg, o, x_dir, arrow, kTaskXColour, 2.0);
+      Arrow(svg, o, y_dir, arrow, kTaskYColour, 2.0);
+      label_dir = -(x_dir + y_dir);
+    }
+    svg->Circle(o, 2.2, "fill=\"#222222\"");
+    svg->Text(o + 11.0 * SafeDirection(label_dir) + Vec(0.0, 4.0), std::to_string(i + 1),
+              Halo("#222222", 11.0, "font-weight=\"bold\" text-anchor=\"middle\""));
+  }
+  const std::string cross = "stroke=\"" + std::string(kPathPointColour) + "\" stroke-width=\"2\"";
+  for (size_t i = 0; i < picture.path_points.size(); ++i) {
+    const Vec& p = picture.path_points[i];
+    if (!view.Shows(p)) continue;
+    const Vec o = view.Px(p);
+    svg->Line(o + Vec(-5.0, -5.0), o + Vec(5.0, 5.0), cross);
+    svg->Line(o + Vec(-5.0, 5.0), o + Vec(5.0, -5.0), cross);
+    svg->Text(o + Vec(7.0, 13.0), std::to_string(i + 1),
+              Halo(kPathPointColour, 11.0, "font-weight=\"bold\""));
+  }
+}
+
+void DrawCurves(Svg* svg, const View& view, const std::vector<std::vector<Vec>>& curves,
+                const char* colour, const std::string& dash) {
+  for (const auto& curve : curves) {
+    svg->Path(PolylinePath(view, curve),
+              "fill=\"none\" stroke=\"" + std::string(colour) + "\" stroke-width=\"1.6\"" + dash);
+  }
+}
+
+// Everything of a panel inside its plot area except the moving parts of the mechanism; the
+// moving parts are drawn by `moving` between the slider lines and the ground symbols.
+template <typename MovingParts>
+void DrawPlot(Svg* svg, const View& view, const Picture& picture, const PictureMechanism* mechanism,
+              double length, int clip_id, Shown* shown, MovingParts moving) {
+  const std::string clip = "clip" + std::to_string(clip_id);
+  svg->Raw("<clipPath id=\"" + clip + "\"><rect x=\"" + Num(view.left) + "\" y=\"" + Num(view.top) +
+           "\" width=\"" + Num(view.width) + "\" height=\"" + Num(view.height) +
+           "\"/></clipPath>\n");
+  svg->Rect(view.left, view.top, view.width, view.height, "fill=\"#ffffff\" stroke=\"#d0d0d0\"");
+  svg->Raw("<g clip-path=\"url(#" + clip + ")\">\n");
+  // The axes of Sigma, unless a ground symbol sits on its origin.
+  bool sigma_axes = true;
+  if (mechanism != nullptr) {
+    for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
+      if (HasFixedPivot(*dyad) && Ok(dyad->fixed_pivot) &&
+          dyad->fixed_pivot.norm() * view.scale < 30.0) {
+        sigma_axes = false;
+      }
+    }
+  }
+  DrawGrid(svg, view, sigma_axes);
+  DrawCurves(svg, view, picture.center_point_curves, kCenterCurveColour, "");
+  DrawCurves(svg, view, picture.circle_point_curves, kCircleCurveColour,
+             " stroke-dasharray=\"6 3\"");
+  shown->center_curves |= !picture.center_point_curves.empty();
+  shown->circle_curves |= !picture.circle_point_curves.empty();
+  if (mechanism != nullptr) {
+    const std::vector<Vec> curve = CouplerCurve(*mechanism);
+    svg->Path(PolylinePath(view, curve), "fill=\"none\" stroke=\"" +
+                                             std::string(kCouplerCurveColour) +
+                                             "\" stroke-width=\"2\" stroke-linejoin=\"round\"");
+    shown->coupler_curve |= curve.size() > 1;
+  }
+  DrawTask(svg, view, picture, length);
+  shown->task |= !picture.task_poses.empty();
+  shown->path_points |= !picture.path_points.empty();
+  if (mechanism != nullptr) {
+    shown->mechanism = true;
+    for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
+      shown->slider |= dyad->type != DyadType::kRR;
+    }
+    DrawFixedLines(svg, view, *mechanism);
+    moving(svg);
+    DrawGround(svg, view, *mechanism);
+  } else {
+    moving(svg);
+  }
+  svg->Raw("</g>\n");
+  // Elements beyond the view.
+  if (mechanism != nullptr) {
+    OffViewMarkers markers(view);
+    const PlanarDyad* dyads[2] = {&mechanism->input, &mechanism->output};
+    for (int k = 0; k < 2; ++k) {
+      if (HasFixedPivot(*dyads[k])) {
+        markers.Mark(svg, dyads[k]->fixed_pivot, std::string(DyadName(k)) + "0");
+      }
+    }
+    if (Ok(mechanism->first_pose)) {
+      for (int k = 0; k < 2; ++k) {
+        if (HasMovingPivot(*dyads[k])) {
+          markers.Mark(svg, mechanism->first_pose.ToFixed(dyads[k]->moving_pivot), DyadName(k));
+        }
+      }
+      markers.Mark(svg, mechanism->first_pose.origin_in_fixed, "E");
+    }
+    for (int k = 0; k < 2; ++k) {
+      if (dyads[k]->type != DyadType::kPR || !Ok(dyads[k]->line_point)) continue;
+      const Vec d = SafeDirection(dyads[k]->line_direction);
+      double t0 = -std::numeric_limits<double>::infinity();
+      double t1 = std::numeric_limits<double>::infinity();
+      if (!ClipParameter(view.world, dyads[k]->line_point, d, &t0, &t1)) {
+        const Vec c = view.world.Center();
+        const Vec foot = dyads[k]->line_point + (c - dyads[k]->line_point).dot(d) * d;
+        markers.Mark(svg, foot, std::string("slider line ") + DyadName(k));
+      }
+    }
+    shown->off_view |= markers.any();
+  }
+}
+
+// The legend: one line (wrapped when needed) of symbols and names; returns its height.
+double DrawLegend(Svg* svg, const Shown& shown, double left, double top, double width) {
+  struct Item {
+    std::string name;
+    int symbol;
+  };
+  std::vector<Item> items;
+  if (shown.task) items.push_back({"task pose n (x, y axes)", 0});
+  if (shown.path_points) items.push_back({"path point n", 1});
+  if (shown.coupler_curve) items.push_back({"coupler curve (E origin)", 2});
+  if (shown.center_curves) items.push_back({"center-point curve", 3});
+  if (shown.circle_curves) items.push_back({"circle-point curve", 4});
+  if (shown.mechanism) {
+    items.push_back({"fixed pivot A0, B0", 5});
+    items.push_back({"moving pivot A, B", 6});
+    items.push_back({"coupler", 7});
+  }
+  if (shown.slider) items.push_back({"slider", 8});
+  if (shown.off_view) items.push_back({"beyond the view", 9});
+  if (items.empty()) items.push_back({"empty task", -1});
+  double x = left, y = top + 12.0;
+  const double x_end = left + width;
+  for (const Item& item : items) {
+    const double item_width = 34.0 + kLabelCharWidth * static_cast<double>(item.name.size());
+    if (x + item_width > x_end && x > left) {
+      x = left;
+      y += kLegendLine;
+    }
+    const Vec s(x + 12.0, y - 4.0);
+    switch (item.symbol) {
+      case 0:
+        Arrow(svg, s + Vec(-8.0, 5.0), Vec(1.0, 0.0), 18.0, kTaskXColour, 2.0);
+        Arrow(svg, s + Vec(-8.0, 5.0), Vec(0.0, -1.0), 12.0, kTaskYColour, 2.0);
+        break;
+      case 1:
+        svg->Line(s + Vec(-5.0, -5.0), s + Vec(5.0, 5.0),
+                  "stroke=\"" + std::string(kPathPointColour) + "\" stroke-width=\"2\"");
+        svg->Line(s + Vec(-5.0, 5.0), s + Vec(5.0, -5.0),
+                  "stroke=\"" + std::string(kPathPointColour) + "\" stroke-width=\"2\"");
+        break;
+      case 2:
+      case 3:
+      case 4: {
+        const char* colour = item.symbol == 2   ? kCouplerCurveColour
+                             : item.symbol == 3 ? kCenterCurveColour
+                                                : kCircleCurveColour;
+        svg->Line(s + Vec(-10.0, 0.0), s + Vec(10.0, 0.0),
+                  "stroke=\"" + std::string(colour) + "\" stroke-width=\"2\"" +
+                      (item.symbol == 4 ? " stroke-dasharray=\"6 3\"" : ""));
+        break;
+      }
+      case 5:
+        Ground(svg, s + Vec(0.0, -6.0));
+        break;
+      case 6:
+        svg->Circle(
+            s, kPivotRadius,
+            "fill=\"#ffffff\" stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"1.5\"");
+        break;
+      case 7:
+        svg->Polygon({s + Vec(-10.0, 5.0), s + Vec(10.0, 5.0), s + Vec(2.0, -6.0)},
+                     "fill=\"" + std::string(kCouplerFill) + "\" fill-opacity=\"0.35\" stroke=\"" +
+                         kCouplerStroke + "\" stroke-width=\"1.5\"");
+        break;
+      case 8:
+        svg->Line(s + Vec(-12.0, 0.0), s + Vec(12.0, 0.0),
+                  "stroke=\"#555555\" stroke-width=\"1.5\" stroke-dasharray=\"5 3\"");
+        svg->Rect(s.x() - 7.0, s.y() - 5.0, 14.0, 10.0,
+                  "fill=\"" + std::string(kBlockFill) + "\" stroke=\"" + kLinkColour + "\"");
+        break;
+      case 9:
+        Arrow(svg, s + Vec(-10.0, 0.0), Vec(1.0, 0.0), 20.0, kOffViewColour, 2.0);
+        break;
+      default:
+        break;
+    }
+    svg->Text(Vec(x + 28.0, y), item.name, "font-size=\"11\" fill=\"#333333\"");
+    x += item_width;
+  }
+  return y - top + 8.0;
+}
+
+std::string SvgOpen(double width, double height, bool xml_declaration, const std::string& id) {
+  std::string s = xml_declaration ? "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n" : "";
+  s += "<svg xmlns=\"http://www.w3.org/2000/svg\"" +
+       (id.empty() ? std::string() : " id=\"" + id + "\"") + " width=\"" + Num(width) +
+       "\" height=\"" + Num(height) + "\" viewBox=\"0 0 " + Num(width) + " " + Num(height) +
+       "\" font-family=\"DejaVu Sans, Verdana, Arial, sans-serif\">\n";
+  return s;
+}
+
+// Title and label lines at the top of a panel; returns nothing, the caller reserves the space.
+void DrawPanelHeader(Svg* svg, double left, double top, double width, const std::string& title,
+                     const std::vector<std::string>& labels, int label_lines) {
+  const size_t title_chars = static_cast<size_t>(std::max(8.0, width / 7.6));
+  const size_t label_chars = static_cast<size_t>(std::max(8.0, width / kLabelCharWidth));
+  svg->Text(Vec(left, top + 14.0), title, "font-size=\"13\" font-weight=\"bold\" fill=\"#222222\"",
+            title_chars);
+  const size_t shown = std::min(labels.size(), static_cast<size_t>(label_lines));
+  for (size_t i = 0; i < shown; ++i) {
+    std::string text = labels[i];
+    if (i + 1 == shown && labels.size() > shown) {
+      text = "\xe2\x80\xa6 and " + std::to_string(labels.size() - shown + 1) + " more";
+    }
+    svg->Text(Vec(left, top + kTitleLine + kLabelLine * static_cast<double>(i + 1) - 2.0), text,
+              "font-size=\"11\" fill=\"#a0302a\"", label_chars);
+  }
+}
+
+// Frames of a cycle to animate: all of them, or an evenly spaced subset.
+std::vector<size_t> AnimationFrames(size_t count) {
+  std::vector<size_t> frames;
+  if (count <= kMaxAnimationFrames) {
+    for (size_t i = 0; i < count; ++i) frames.push_back(i);
+  } else {
+    for (size_t i = 0; i < kMaxAnimationFrames; ++i)
+      frames.push_back(i * count / kMaxAnimationFrames);
+  }
+  return frames;
+}
+
+}  // namespace
+
+std::string RenderSvg(const Picture& picture) {
+  const double length = MarkLength(picture);
+  const size_t panels = std::max<size_t>(1, picture.mechanisms.size());
+  const size_t columns = panels == 1 ? 1 : (panels == 2 || panels == 4) ? 2 : 3;
+  const size_t rows = (panels + columns - 1) / columns;
+  const double plot_w = panels == 1 ? 640.0 : 440.0;
+  const double plot_h = panels == 1 ? 480.0 : 360.0;
+  size_t most_labels = 0;
+  for (const PictureMechanism& m : picture.mechanisms)
+    most_labels = std::max(most_labels, m.labels.size());
+  const int label_lines = static_cast<int>(std::min<size_t>(most_labels, kMaxLabelLines));
+  const double header = kTitleLine + kLabelLine * label_lines + 6.0;
+  const double panel_w = plot_w + 2.0 * kPad;
+  const double panel_h = kPad + header + plot_h + kPad;
+  const double width = kGap + static_cast<double>(columns) * (panel_w + kGap);
+  const double panels_bottom = kDocTitleHeight + static_cast<double>(rows) * (panel_h + kGap);
+
+  Svg body;
+  Shown shown;
+  for (size_t i = 0; i < panels; ++i) {
+    const PictureMechanism* mechanism =
+        picture.mechanisms.empty() ? nullptr : &picture.mechanisms[i];
+    const double left = kGap + static_cast<double>(i % columns) * (panel_w + kGap);
+    const double top = kDocTitleHeight + static_cast<double>(i / columns) * (panel_h + kGap);
+    body.Rect(left, top, panel_w, panel_h, "rx=\"4\" fill=\"#fafafa\" stroke=\"#c8c8c8\"");
+    DrawPanelHeader(&body, left + kPad, top + kPad, plot_w,
+                    mechanism ? mechanism->title : std::string("task"),
+                    mechanism ? mechanism->labels : std::vector<std::string>(), label_lines);
+    const View view = FitView(PanelBox(picture, mechanism, length, false), left + kPad,
+                              top + kPad + header, plot_w, plot_h);
+    DrawPlot(&body, view, picture, mechanism, length, static_cast<int>(i), &shown, [&](Svg* svg) {
+      if (mechanism != nullptr) {
+        DrawMovingParts(svg, view, *mechanism, mechanism->first_pose, length);
+      }
+    });
+  }
+  Svg legend;
+  const double legend_h = DrawLegend(&legend, shown, kGap, panels_bottom, width - 2.0 * kGap);
+  const double height = panels_bottom + legend_h + kGap;
+
+  std::string out = SvgOpen(width, height, true, "");
+  out += "<title>" + Escape(picture.title.empty() ? "linkfit" : picture.title) + "</title>\n";
+  out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
+  Svg title;
+  title.Text(Vec(kGap, 21.0), picture.title.empty() ? "linkfit" : picture.title,
+             "font-size=\"16\" font-weight=\"bold\" fill=\"#111111\"",
+             static_cast<size_t>(width / 9.0));
+  out += title.text() + body.text() + legend.text() + "</svg>\n";
+  return out;
+}
+
+std::string RenderAnimation(const Picture& picture, size_t index, bool html) {
+  const double length = MarkLength(picture);
+  const PictureMechanism* mechanism =
+      index < picture.mechanisms.size() ? &picture.mechanisms[index] : nullptr;
+  const double plot_w = 640.0, plot_h = 480.0;
+  const double header = kTitleLine + kLabelLine + 6.0;
+  const double panel_w = plot_w + 2.0 * kPad;
+  const double panel_h = kPad + header + plot_h + kPad;
+  const double width = panel_w + 2.0 * kGap;
+  const double left = kGap, top = kDocTitleHeight;
+
+  std::vector<size_t> frames;
+  if (mechanism != nullptr) frames = AnimationFrames(mechanism->cycle.size());
+  std::string note;
+  if (mechanism == nullptr) {
+    note = "no mechanism " + std::to_string(index + 1) + " to animate (" +
+           std::to_string(picture.mechanisms.size()) + " in the picture)";
+  } else if (frames.empty()) {
+    note = "no cycle to animate: drawn at its first pose";
+  } else {
+    note = "cycle of " + std::to_string(mechanism->cycle.size()) + " coupler poses, " +
+           Format("%g", kAnimationPeriodSeconds) + " s per turn" +
+           (frames.size() < mechanism->cycle.size()
+                ? " (" + std::to_string(frames.size()) + " frames shown)"
+                : "");
+  }
+
+  Svg body;
+  Shown shown;
+  body.Rect(left, top, panel_w, panel_h, "rx=\"4\" fill=\"#fafafa\" stroke=\"#c8c8c8\"");
+  DrawPanelHeader(&body, left + kPad, top + kPad, plot_w,
+                  mechanism ? mechanism->title : std::string("task"), {note}, 1);
+  const View view = FitView(PanelBox(picture, mechanism, length, true), left + kPad,
+                            top + kPad + header, plot_w, plot_h);
+  const std::string period = Format("%gs", kAnimationPeriodSeconds);
+  DrawPlot(&body, view, picture, mechanism, length, 0, &shown, [&](Svg* svg) {
+    if (mechanism == nullptr) return;
+    if (frames.empty()) {
+      DrawMovingParts(svg, view, *mechanism, mechanism->first_pose, length);
+      return;
+    }
+    const double n = static_cast<double>(frames.size());
+    for (size_t k = 0; k < frames.size(); ++k) {
+      // Frame 0 is visible without animation (static renderers show it).
+      svg->Raw("<g class=\"frame\" id=\"frame" + std::to_string(k) + "\" visibility=\"" +
+               (k == 0 ? "visible" : "hidden") + "\">\n");
+      if (!html && frames.size() > 1) {
+        const std::string begin = Format("%.6g", static_cast<double>(k) / n);
+        const std::string end = Format("%.6g", static_cast<double>(k + 1) / n);
+        std::string values, times;
+        if (k == 0) {
+          values = "visible;hidden";
+          times = "0;" + end;
+        } else if (k + 1 == frames.size()) {
+          values = "hidden;visible";
+          times = "0;" + begin;
+        } else {
+          values = "hidden;visible;hidden";
+          times = "0;" + begin + ";" + end;
+        }
+        svg->Raw("<animate attributeName=\"visibility\" values=\"" + values + "\" keyTimes=\"" +
+                 times + "\" calcMode=\"discrete\" dur=\"" + period +
+                 "\" repeatCount=\"indefinite\"/>\n");
+      }
+      DrawMovingParts(svg, view, *mechanism, mechanism->cycle[frames[k]], length);
+      svg->Raw("</g>\n");
+    }
+  });
+  Svg legend;
+  const double panels_bottom = top + panel_h + kGap;
+  const double legend_h = DrawLegend(&legend, shown, kGap, panels_bottom, width - 2.0 * kGap);
+  const double height = panels_bottom + legend_h + kGap;
+  std::string doc_title = picture.title.empty() ? "linkfit" : picture.title;
+  if (mechanism != nullptr && !mechanism->title.empty())
+    doc_title += " \xe2\x80\x94 " + mechanism->title;
+
+  std::string svg = SvgOpen(width, height, !html, html ? "drawing" : "");
+  if (!html) svg += "<title>" + Escape(doc_title) + "</title>\n";
+  svg += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
+  Svg title;
+  title.Text(Vec(kGap, 21.0), doc_title, "font-size=\"16\" font-weight=\"bold\" fill=\"#111111\"",
+             static_cast<size_t>(width / 9.0));
+  svg += title.text() + body.text() + legend.text() + "</svg>\n";
+  if (!html) return svg;
+
+  const std::string count = std::to_string(frames.size());
+  const int interval_ms =
+      frames.empty()
+          ? 1000
+          : std::max(10, static_cast<int>(std::lround(1000.0 * kAnimationPeriodSeconds /
+                                                      static_cast<double>(frames.size()))));
+  std::string page =
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+      Escape(doc_title) +
+      "</title>\n<style>\nbody { font-family: sans-serif; margin: 16px; color: #222; }\n"
+      "#controls { margin: 8px 0; display: flex; gap: 10px; align-items: center; }\n"
+      "#controls input { width: 320px; }\n</style>\n</head>\n<body>\n"
+      "<div id=\"controls\">\n<button id=\"play\" type=\"button\">pause</button>\n"
+      "<input id=\"step\" type=\"range\" min=\"0\" max=\"" +
+      std::to_string(frames.empty() ? 0 : frames.size() - 1) +
+      "\" value=\"0\" aria-label=\"frame\">\n<span id=\"counter\">" +
+      (frames.empty() ? std::string("no frames") : "1 / " + count) + "</span>\n</div>\n";
+  page += svg;
+  page +=
+      "<script>\n"
+      "// Steps through the frames of the drawing: one <g class=\"frame\"> visible at a time.\n"
+      "(function () {\n"
+      "  var frames = document.querySelectorAll('#drawing g.frame');\n"
+      "  var play = document.getElementById('play');\n"
+      "  var step = document.getElementById('step');\n"
+      "  var counter = document.getElementById('counter');\n"
+      "  var current = 0, playing = true;\n"
+      "  if (frames.length === 0) { play.disabled = true; step.disabled = true; return; }\n"
+      "  function show(k) {\n"
+      "    frames[current].setAttribute('visibility', 'hidden');\n"
+      "    current = ((k % frames.length) + frames.length) % frames.length;\n"
+      "    frames[current].setAttribute('visibility', 'visible');\n"
+      "    step.value = current;\n"
+      "    counter.textContent = (current + 1) + ' / ' + frames.length;\n"
+      "  }\n"
+      "  play.addEventListener('click', function () {\n"
+      "    playing = !playing;\n"
+      "    play.textContent = playing ? 'pause' : 'play';\n"
+      "  });\n"
+      "  step.addEventListener('input', function () {\n"
+      "    playing = false;\n"
+      "    play.textContent = 'play';\n"
+      "    show(parseInt(step.value, 10));\n"
+      "  });\n"
+      "  setInterval(function () { if (playing) show(current + 1); }, " +
+      std::to_string(interval_ms) +
+      ");\n"
+      "})();\n"
+      "</script>\n</body>\n</html>\n";
+  return page;
+}
+
+}  // namespace linkfit

@@ -1,0 +1,378 @@
+#include "lib/four_bar_motion.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "lib/mechanism.h"
+
+namespace linkfit {
+namespace {
+
+constexpr double kTwoPi = 2.0 * M_PI;
+
+bool IsAngleInput(const PlanarDyad& input) { return input.type != DyadType::kPR; }
+
+// Angle in [0, 2 pi).
+double PositiveAngle(double angle) {
+  double wrapped = std::fmod(angle, kTwoPi);
+  if (wrapped < 0.0) wrapped += kTwoPi;
+  return wrapped;
+}
+
+// The sampled input values: a full turn [-pi, pi) for angle inputs, or the task's slider range
+// widened by the margin.
+std::vector<double> InputSamples(const PlanarDyad& input, const std::vector<PlanarPose>& poses,
+                                 double length, const FourBarMotionOptions& options) {
+  std::vector<double> values(options.samples);
+  if (IsAngleInput(input)) {
+    for (int k = 0; k < options.samples; ++k) values[k] = -M_PI + kTwoPi * k / options.samples;
+    return values;
+  }
+  double lo = 0.0, hi = 0.0;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const double value = InputValue(input, poses[j]);
+    lo = j == 0 ? value : std::min(lo, value);
+    hi = j == 0 ? value : std::max(hi, value);
+  }
+  const double margin = options.slider_margin * std::max(hi - lo, length);
+  lo -= margin;
+  hi += margin;
+  for (int k = 0; k < options.samples; ++k) {
+    values[k] = lo + (hi - lo) * k / (options.samples - 1);
+  }
+  return values;
+}
+
+// Configurations at every sample, by label (label 1 may be absent for dyad pairs whose
+// assembly is linear).
+struct Sampled {
+  std::vector<double> inputs;
+  std::vector<int> count;  // configurations per sample: 0, 1 or 2
+  std::vector<PlanarPose> label[2];
+};
+
+Sampled SampleConfigurations(const PlanarDyad& input, const PlanarDyad& output,
+                             const std::vector<double>& inputs) {
+  Sampled sampled;
+  sampled.inputs = inputs;
+  sampled.count.resize(inputs.size());
+  sampled.label[0].resize(inputs.size());
+  sampled.label[1].resize(inputs.size());
+  std::vector<PlanarPose> configurations;
+  for (size_t k = 0; k < inputs.size(); ++k) {
+    sampled.count[k] = AssembleFourBar(input, output, inputs[k], 0.0, &configurations);
+    for (int l = 0; l < sampled.count[k]; ++l) sampled.label[l][k] = configurations[l];
+  }
+  return sampled;
+}
+
+// Maximal runs [first, last] of samples that assemble; for angle inputs a run may wrap around
+// (first > last), and a run covering every sample is the full turn.
+struct Run {
+  int first = 0;
+  int last = 0;
+  bool full = false;
+  bool open_start = false;  // slider inputs: the run reaches the sampled range's end
+  bool open_end = false;
+};
+
+std::vector<Run> FindRuns(const Sampled& sampled, bool periodic) {
+  const int n = static_cast<int>(sampled.count.size());
+  std::vector<Run> runs;
+  int start = -1;
+  for (int k = 0; k < n; ++k) {
+    if (sampled.count[k] > 0 && start < 0) start = k;
+    if ((sampled.count[k] == 0 || k == n - 1) && start >= 0) {
+      Run run;
+      run.first = start;
+      run.last = sampled.count[k] > 0 ? k : k - 1;
+      runs.push_back(run);
+      start = -1;
+    }
+  }
+  if (periodic && !runs.empty()) {
+    if (runs.size() == 1 && runs[0].first == 0 && runs[0].last == n - 1) {
+      runs[0].full = true;
+    } else if (runs.size() > 1 && runs.front().first == 0 && runs.back().last == n - 1) {
+      // The first and last runs join across -pi.
+      runs.front().first = runs.back().first;
+      runs.pop_back();
+    }
+  } else {
+    for (Run& run : runs) {
+      run.open_start = run.first == 0;
+      run.open_end = run.last == n - 1;
+    }
+  }
+  return runs;
+}
+
+// Sample indices of a run in increasing input order (wrapping for angle inputs).
+std::vector<int> RunIndices(const Run& run, int n) {
+  std::vector<int> indices;
+  int k = run.first;
+  while (true) {
+    indices.push_back(k);
+    if (k == run.last) break;
+    k = (k + 1) % n;
+    if (static_cast<int>(indices.size()) > n) break;
+  }
+  return indices;
+}
+
+// The two configurations at `value` with their labels, and the errors against `pose`.
+int Assemble(const PlanarDyad& input, const PlanarDyad& output, double value, double length,
+             std::vector<PlanarPose>* configurations) {
+  return AssembleFourBar(input, output, value, 1e-9 * length, configurations);
+}
+
+}  // namespace
+
+std::optional<double> TransmissionAngleDeg(const PlanarDyad& input, const PlanarDyad& output,
+                                           const PlanarPose& coupler) {
+  if (input.type == DyadType::kRP || output.type == DyadType::kRP) return std::nullopt;
+  const Eigen::Vector2d input_pin = coupler.ToFixed(input.moving_pivot);
+  const Eigen::Vector2d output_pin = coupler.ToFixed(output.moving_pivot);
+  const Eigen::Vector2d coupler_line = output_pin - input_pin;
+  Eigen::Vector2d path;  // direction in which the output pin can move
+  if (output.type == DyadType::kRR) {
+    const Eigen::Vector2d arm = output_pin - output.fixed_pivot;
+    path = Eigen::Vector2d(-arm.y(), arm.x());
+  } else {
+    path = output.line_direction;
+  }
+  const double norms = coupler_line.norm() * path.norm();
+  if (!(norms > 0.0)) return std::nullopt;
+  const double deviation = std::acos(std::min(1.0, std::abs(coupler_line.dot(path)) / norms));
+  return 90.0 - deviation * 180.0 / M_PI;
+}
+
+bool FourBarCircuit::Spans(double value, bool angle_input) const {
+  if (input_rotates_fully) return true;
+  // The input's true limit lies within one step beyond the last sample that assembled.
+  if (angle_input)
+    return PositiveAngle(value - input_start + input_step) <= input_extent + 2.0 * input_step;
+  return value >= input_start - input_step && value <= input_start + input_extent + input_step;
+}
+
+FourBarMotion TraceFourBar(const PlanarDyad& input, const PlanarDyad& output,
+                           const std::vector<PlanarPose>& poses, double length,
+                           const FourBarMotionOptions& options) {
+  const bool periodic = IsAngleInput(input);
+  const Sampled sampled =
+      SampleConfigurations(input, output, InputSamples(input, poses, length, options));
+  const int n = static_cast<int>(sampled.inputs.size());
+  FourBarMotion motion;
+  const std::vector<Run> runs = FindRuns(sampled, periodic);
+  for (const Run& run : runs) {
+    const std::vector<int> indices = RunIndices(run, n);
+    // Two labels exist where the assembly is quadratic; check on the run's samples.
+    bool two_labels = true;
+    for (int k : indices) two_labels = two_labels && sampled.count[k] == 2;
+    auto circuit_of_label = [&](int label, int branch, bool reverse, FourBarCircuit* circuit) {
+      for (size_t i = 0; i < indices.size(); ++i) {
+        const int k = indices[reverse ? indices.size() - 1 - i : i];
+        circuit->samples.push_back({sampled.inputs[k], sampled.label[label][k], branch});
+      }
+    };
+    const double step = std::abs(sampled.inputs[1] - sampled.inputs[0]);
+    const double start = sampled.inputs[run.first];
+    const double extent =
+        periodic ? (run.full ? kTwoPi : PositiveAngle(sampled.inputs[run.last] - start))
+                 : sampled.inputs[run.last] - start;
+    auto describe = [&](FourBarCircuit* circuit) {
+      circuit->input_start = start;
+      circuit->input_extent = extent;
+      circuit->input_step = step;
+    };
+    const bool joined_at_start = !run.full && !run.open_start;
+    const bool joined_at_end = !run.full && !run.open_end;
+    if (!two_labels || run.full || (!joined_at_start && !joined_at_end)) {
+      // Each label is a circuit of its own (a crank, a linear assembly, or a slider range whose
+      // limits were not reached).
+      for (int label = 0; label < (two_labels ? 2 : 1); ++label) {
+        FourBarCircuit circuit;
+        describe(&circuit);
+        circuit.label = label;
+        circuit.input_rotates_fully = run.full && periodic;
+        circuit_of_label(label, 0, false, &circuit);
+        motion.circuits.push_back(std::move(circuit));
+      }
+    } else {
+      // A limited input: forward on label 0, back on label 1; the labels meet at the input's
+      // limits, the stationary configurations that separate the two branches.
+      FourBarCircuit circuit;
+      describe(&circuit);
+      circuit.label = -1;
+      circuit.branches = 2;
+      circuit_of_label(0, 0, false, &circuit);
+      circuit_of_label(1, 1, true, &circuit);
+      motion.circuits.push_back(std::move(circuit));
+    }
+  }
+  return motion;
+}
+
+FourBarLocation LocatePose(const FourBarMotion& motion, const PlanarDyad& input,
+                           const PlanarDyad& output, const PlanarPose& pose, double length) {
+  FourBarLocation location;
+  location.input = InputValue(input, pose);
+  std::vector<PlanarPose> configurations;
+  const int count = Assemble(input, output, location.input, length, &configurations);
+  if (count == 0) return location;
+  int label = 0;
+  for (int l = 1; l < count; ++l) {
+    if (PoseError(configurations[l], pose, length) <
+        PoseError(configurations[label], pose, length)) {
+      label = l;
+    }
+  }
+  location.pose_error = PoseError(configurations[label], pose, length);
+  // The circuit: the one of this label (or of both labels) that spans the input value; failing
+  // that (a value beyond the sampled range), the one whose nearest sample is nearest the pose.
+  const bool angle_input = IsAngleInput(input);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (size_t c = 0; c < motion.circuits.size(); ++c) {
+    const FourBarCircuit& circuit = motion.circuits[c];
+    if (circuit.label >= 0 && circuit.label != label) continue;
+    double distance = 0.0;
+    if (!circuit.Spans(location.input, angle_input)) {
+      distance = std::numeric_limits<double>::infinity();
+      for (const FourBarSample& sample : circuit.samples) {
+        distance = std::min(distance, PoseError(sample.coupler, pose, length));
+      }
+    }
+    if (distance < nearest) {
+      nearest = distance;
+      location.circuit = static_cast<int>(c);
+      location.branch = circuit.label >= 0 ? 0 : label;
+    }
+  }
+  return location;
+}
+
+FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output,
+                               const std::vector<PlanarPose>& poses, double length,
+                               const FourBarMotionOptions& options) {
+  FourBarAnalysis analysis;
+  const FourBarMotion motion = TraceFourBar(input, output, poses, length, options);
+  for (const PlanarPose& pose : poses) {
+    analysis.locations.push_back(LocatePose(motion, input, output, pose, length));
+  }
+  if (poses.empty() || analysis.locations[0].circuit < 0) return analysis;
+  const int circuit_index = analysis.locations[0].circuit;
+  const FourBarCircuit& circuit = motion.circuits[circuit_index];
+  analysis.circuit = circuit_index;
+  analysis.input_rotates_fully = circuit.input_rotates_fully;
+  for (const FourBarSample& sample : circuit.samples) analysis.cycle.push_back(sample.coupler);
+
+  // Defects.
+  bool one_circuit = true, one_branch = true;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    one_circuit = one_circuit && analysis.locations[j].circuit == circuit_index;
+    if (j > 0 && analysis.locations[j].branch != analysis.locations[j - 1].branch) {
+      one_branch = false;
+    }
+  }
+  if (!one_circuit) analysis.defects.push_back("circuit");
+  if (one_circuit && !one_branch) analysis.defects.push_back("branch");
+  // Order: on one branch the input must run monotonically through the poses' input values,
+  // in either direction (angles measured around the circuit from its first sample).
+  bool increasing = true, decreasing = true;
+  if (one_circuit && one_branch && poses.size() > 1) {
+    const bool periodic = IsAngleInput(input);
+    // Measured from one step before the circuit's first sample: a pose may lie between that
+    // sample and the input's true limit.
+    const double origin = circuit.input_start - circuit.input_step;
+    auto position = [&](double value) {
+      return periodic && !circuit.input_rotates_fully ? PositiveAngle(value - origin) : value;
+    };
+    if (circuit.input_rotates_fully) {
+      // Around a full turn: the forward (or backward) increments between consecutive poses
+      // must add up to less than one turn.
+      double forward = 0.0, backward = 0.0;
+      for (size_t j = 1; j < poses.size(); ++j) {
+        const double step =
+            PositiveAngle(analysis.locations[j].input - analysis.locations[j - 1].input);
+        forward += step;
+        backward += step == 0.0 ? 0.0 : kTwoPi - step;
+      }
+      increasing = forward < kTwoPi;
+      decreasing = backward < kTwoPi;
+    } else {
+      for (size_t j = 1; j < poses.size(); ++j) {
+        const double a = position(analysis.locations[j - 1].input);
+        const double b = position(analysis.locations[j].input);
+        increasing = increasing && b > a;
+        decreasing = decreasing && b < a;
+      }
+    }
+    if (!increasing && !decreasing) analysis.defects.push_back("order");
+  }
+
+  // Pose error on the one circuit.
+  double worst = 0.0;
+  std::vector<PlanarPose> configurations;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const FourBarLocation& location = analysis.locations[j];
+    double error = std::numeric_limits<double>::infinity();
+    if (location.circuit == circuit_index) {
+      error = location.pose_error;
+    } else {
+      // Not reachable on this circuit at its input value: the nearest configuration of the
+      // circuit, or at the same input the configuration of the circuit's label.
+      const int count = Assemble(input, output, location.input, length, &configurations);
+      if (circuit.label >= 0 && circuit.label < count) {
+        error = PoseError(configurations[circuit.label], poses[j], length);
+      }
+      for (const FourBarSample& sample : circuit.samples) {
+        error = std::min(error, PoseError(sample.coupler, poses[j], length));
+      }
+    }
+    worst = std::max(worst, error);
+  }
+  analysis.max_pose_error = worst;
+
+  // Transmission angle over the motion from the first to the last pose, along the branch.
+  if (input.type == DyadType::kRP || output.type == DyadType::kRP) {
+    analysis.transmission_note = "defined for dyads that both pin the coupler (no RP dyad)";
+  } else if (!analysis.defects.empty() && analysis.defects.front() != "order") {
+    analysis.transmission_note = "the poses are not on one branch";
+  } else {
+    const double start = analysis.locations.front().input;
+    const double end = analysis.locations.back().input;
+    const bool periodic = IsAngleInput(input);
+    // Direction and extent: for a full turn, the direction that visits the poses in order;
+    // otherwise straight from the first to the last value.
+    double extent = end - start;
+    if (periodic) {
+      extent =
+          circuit.input_rotates_fully && !increasing && decreasing
+              ? -PositiveAngle(start - end)
+              : (circuit.input_rotates_fully ? PositiveAngle(end - start) : WrapAngle(end - start));
+    }
+    const int steps = 180;
+    double low = 90.0, high = 0.0;
+    const int label = analysis.locations.front().branch >= 0 && circuit.label < 0
+                          ? analysis.locations.front().branch
+                          : std::max(circuit.label, 0);
+    for (int s = 0; s <= steps; ++s) {
+      const double value = start + extent * s / steps;
+      const int count = Assemble(input, output, value, length, &configurations);
+      if (count == 0) continue;
+      const PlanarPose& coupler = configurations[std::min(label, count - 1)];
+      const std::optional<double> angle = TransmissionAngleDeg(input, output, coupler);
+      if (!angle) continue;
+      low = std::min(low, *angle);
+      high = std::max(high, *angle);
+    }
+    if (low <= high) {
+      analysis.transmission_min_deg = low;
+      analysis.transmission_max_deg = high;
+    }
+  }
+  return analysis;
+}
+
+}  // namespace linkfit

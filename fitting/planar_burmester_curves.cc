@@ -50,7 +50,7 @@ constexpr double kSliderTolerance = 1e-9;
 // Largest residual (normalized units) of a sampled dyad; worse samples are dropped.
 constexpr double kSampleResidual = 1e-10;
 // Residual (normalized units) above which a sample is polished on its geometric equations.
-constexpr double kPolishResidual = 1e-13;
+constexpr double kPolishResidual = 1e-11;
 // Pivots farther than this (normalized units) from the centroid: the sample is dropped.
 constexpr double kFarPivot = 1e3;
 // Two real points of one plane closer than this (projective distance) are one.
@@ -64,6 +64,10 @@ constexpr double kMinStep = 1e-13;
 constexpr int kMaxTraceSteps = 200000;
 constexpr double kMinTangentCosine = 0.99;
 constexpr double kCoverDistance = 0.01;
+// Steps are at most this fraction of the Jacobian's smallest singular value (Separation), but
+// need not be shorter than kMinSafeStep.
+constexpr double kSeparationStep = 0.1;
+constexpr double kMinSafeStep = 1e-7;
 // Candidate lines tried for the pencil's axis (seeded, deterministic).
 constexpr int kAxisCandidates = 64;
 constexpr uint64_t kAxisSeed = 20240613;
@@ -465,7 +469,8 @@ class CurveSampler {
     const Eigen::Vector4d start = seed.point;
     const Eigen::Vector4d start_tangent = Tangent(start);
     Eigen::Vector4d tangent = start_tangent;
-    double step = 0.25 * kMaxStep;
+    double step =
+        std::min(0.25 * kMaxStep, std::max(kSeparationStep * Separation(start), kMinSafeStep));
     const double key_step = options_.refine_step;
     auto controlled = [](const Sample& a, const Sample& b) {
       return a.refinable && b.refinable && (a.inside || b.inside);
@@ -510,6 +515,7 @@ class CurveSampler {
       } else {
         step *= 2.0;
       }
+      step = std::min(step, std::max(kSeparationStep * Separation(next.point), kMinSafeStep));
       step = std::min(step, kMaxStep);
       tangent = next_tangent;
       path->push_back(next);
@@ -517,7 +523,19 @@ class CurveSampler {
     return false;
   }
 
- public:
+ private:
+  // The smallest singular value of the Jacobian of (Q1, Q2) on the unit sphere at w: small
+  // where two strands of the curve come close (near a node), which the step must not jump.
+  double Separation(const Eigen::Vector4d& w) const {
+    Eigen::Matrix<double, 2, 4> jacobian;
+    jacobian.row(0) = 2.0 * (a1_ * w).transpose();
+    jacobian.row(1) = 2.0 * (a2_ * w).transpose();
+    const Eigen::Matrix2d gram = jacobian * jacobian.transpose();
+    const double half_trace = 0.5 * gram.trace();
+    const double root = std::sqrt(std::max(0.0, half_trace * half_trace - gram.determinant()));
+    return std::sqrt(std::max(0.0, half_trace - root));
+  }
+
   // The unit vector orthogonal to w, A1 w and A2 w (the curve's tangent at w).
   Eigen::Vector4d Tangent(const Eigen::Vector4d& w) const {
     Eigen::Matrix<double, 4, 3> normals;
@@ -882,24 +900,33 @@ int SampleBurmesterCurves(const std::vector<PlanarPose>& poses,
   std::vector<std::vector<char>> covered(planes);
   for (int k = 0; k < planes; ++k) covered[k].assign(seeds[k].size(), 0);
 
-  // Marks the seeds that the step from a to b passes (the planes it crosses, at the point
-  // interpolated on the chord).
+  // Marks the seeds that the step from a to b passes: those of the planes it crosses that lie
+  // within kCoverDistance of the chord. (A step that turns the plane by much passes close to
+  // the axis; then every plane is checked.)
   auto cover = [&](const Eigen::Vector4d& a, Eigen::Vector4d b) {
     if (a.dot(b) < 0.0) b = -b;
+    const Eigen::Vector4d chord = b - a;
+    auto mark = [&](int plane) {
+      for (size_t i = 0; i < seeds[plane].size(); ++i) {
+        if (covered[plane][i]) continue;
+        Eigen::Vector4d seed = seeds[plane][i].point;
+        if (seed.dot(a) < 0.0) seed = -seed;
+        const double t = std::clamp((seed - a).dot(chord) / chord.squaredNorm(), 0.0, 1.0);
+        if ((seed - a - t * chord).norm() < kCoverDistance) covered[plane][i] = 1;
+      }
+    };
     const double phi_a = sampler.PlaneAngle(a);
     double delta = sampler.PlaneAngle(b) - phi_a;
     if (delta > 0.5 * M_PI) delta -= M_PI;
     if (delta <= -0.5 * M_PI) delta += M_PI;
+    if (!(chord.squaredNorm() > 0.0)) return;
+    if (std::abs(delta) > 0.1) {
+      for (int plane = 0; plane < planes; ++plane) mark(plane);
+      return;
+    }
     const double lo = std::min(phi_a, phi_a + delta), hi = std::max(phi_a, phi_a + delta);
     for (long k = static_cast<long>(std::ceil(lo / h)); k * h <= hi; ++k) {
-      const double t = delta != 0.0 ? (k * h - phi_a) / delta : 0.0;
-      const Eigen::Vector4d crossing = ((1.0 - t) * a + t * b).normalized();
-      const int plane = static_cast<int>(((k % planes) + planes) % planes);
-      for (size_t i = 0; i < seeds[plane].size(); ++i) {
-        if (ProjectiveDistance(seeds[plane][i].point, crossing) < kCoverDistance) {
-          covered[plane][i] = 1;
-        }
-      }
+      mark(static_cast<int>(((k % planes) + planes) % planes));
     }
   };
 
@@ -921,6 +948,10 @@ int SampleBurmesterCurves(const std::vector<PlanarPose>& poses,
         cover(trace.path[j].point, trace.path[j + 1].point);
       }
       if (trace.closed) cover(trace.path.back().point, trace.path.front().point);
+#ifdef LINKFIT_CURVES_DEBUG
+      std::fprintf(stderr, "trace plane %d seed %zu len %zu closed %d\n", k, i, trace.path.size(),
+                   int(trace.closed));
+#endif
       traces.push_back(std::move(trace));
     }
   }

@@ -3,11 +3,13 @@
 // What each part implements:
 // - SampleBurmesterCurves: the dyads of four poses as the curve Q1 = Q2 = 0 in the projective
 //   3-space of the null space of the four constraint rows (planar_burmester.h, after seed 001
-//   eqs 6 and 9 and seed 000's constraint space), sampled by a pencil of planes through a line
-//   of the slider plane z0 = K0 = 0 (so one plane of the pencil holds exactly the PR and RP
-//   dyads), each plane cut by IntersectConstraintConics. Samples are linked plane to plane,
-//   joined at the folds where two real points of a plane merge, and refined by bisection of
-//   the plane angle where they are sparse.
+//   eqs 6 and 9 and seed 000's constraint space). A pencil of planes through a line of the
+//   slider plane z0 = K0 = 0 (so that one plane of the pencil holds exactly the PR and RP
+//   dyads) is swept, each plane cut by IntersectConstraintConics; its real points seed a
+//   predictor-corrector continuation along the curve (tangent orthogonal to w, A1 w, A2 w;
+//   Newton's method on the two quadrics), which orders the samples into branches and keeps
+//   consecutive dyads within a set distance however fast they move with the plane. Each
+//   component is traced once: sweep points that a trace passes are not traced again.
 // - DyadFromMovingPivot: the centre of the circle through (three poses) or best fitting
 //   (more: algebraic fit, then Gauss-Newton on the geometric distance) the pivot's positions
 //   R_j m + d_j; for four poses the pivot is first projected onto the circle-point curve, the
@@ -62,6 +64,7 @@ constexpr int kPolishIterations = 4;
 constexpr double kMaxStep = 0.005;
 constexpr double kMinStep = 1e-13;
 constexpr int kMaxTraceSteps = 200000;
+constexpr int kMaxTotalSteps = 400000;  // over all traces of one call (a guard, not a limit)
 constexpr double kMinTangentCosine = 0.99;
 constexpr double kCoverDistance = 0.01;
 // Steps are at most this fraction of the Jacobian's smallest singular value (Separation), but
@@ -249,25 +252,24 @@ int ChooseReading(const Reading readings[3], int count) {
   return best;
 }
 
-// Gauss-Newton on a dyad's geometric equations (residual_j = signed distance of the
-// constrained point from its circle or line) with the minimum-norm step, for any number of
-// poses: with four poses an RR dyad has one more parameter than equations, and the step moves
-// it to the nearest dyad of the curve. Parameters: RR (F, m, r); PR (m, normal angle, offset);
-// RP (F, normal angle in E, offset). Returns the polished dyad when it fits at least as well.
+// Gauss-Newton on a dyad's geometric equations at four poses (residual_j = signed distance of
+// the constrained point from its circle or line) with the minimum-norm step J^T (J J^T)^-1 r:
+// an RR dyad has one parameter more than equations, and the step moves it to the nearest dyad
+// of the curve. Parameters: RR (F, m, r); PR (m, normal angle, offset); RP (F, normal angle in
+// E, offset). Returns the polished dyad when it fits at least as well.
 PlanarDyad PolishDyad(const PlanarDyad& dyad, const std::vector<Frame>& frames, int iterations) {
+  using Parameters = Eigen::Matrix<double, 5, 1>;
   const bool rr = dyad.type == DyadType::kRR;
   const bool slider = dyad.type == DyadType::kPR;
-  const int parameters = rr ? 5 : 4;
-  const int rows = static_cast<int>(frames.size());
-  Eigen::VectorXd x(parameters);
+  Parameters x = Parameters::Zero();
   if (rr) {
     x << dyad.fixed_pivot, dyad.moving_pivot, dyad.radius;
   } else {
     const Eigen::Vector2d normal(-dyad.line_direction.y(), dyad.line_direction.x());
-    x << (slider ? dyad.moving_pivot : dyad.fixed_pivot), std::atan2(normal.y(), normal.x()),
-        normal.dot(dyad.line_point);
+    x.head<4>() << (slider ? dyad.moving_pivot : dyad.fixed_pivot),
+        std::atan2(normal.y(), normal.x()), normal.dot(dyad.line_point);
   }
-  auto make = [&](const Eigen::VectorXd& p) {
+  auto make = [&](const Parameters& p) {
     if (rr) return PlanarDyad::RR(p.segment<2>(0), p.segment<2>(2), p[4]);
     const Eigen::Vector2d normal(std::cos(p[2]), std::sin(p[2]));
     const Eigen::Vector2d direction(-normal.y(), normal.x());
@@ -276,10 +278,11 @@ PlanarDyad PolishDyad(const PlanarDyad& dyad, const std::vector<Frame>& frames, 
   };
   PlanarDyad best = dyad;
   double best_residual = MaxResidual(dyad, frames);
-  Eigen::MatrixXd jacobian(rows, parameters);
-  Eigen::VectorXd residual(rows);
+  // Rows of the Jacobian over the used parameters (the fifth column is zero for sliders).
+  Eigen::Matrix<double, 4, 5> jacobian = Eigen::Matrix<double, 4, 5>::Zero();
+  Eigen::Vector4d residual;
   for (int iteration = 0; iteration < iterations && best_residual > 0.0; ++iteration) {
-    for (int j = 0; j < rows; ++j) {
+    for (int j = 0; j < 4; ++j) {
       const Eigen::Matrix2d& rotation = frames[j].rotation;
       const Eigen::Vector2d& origin = frames[j].origin;
       if (rr) {
@@ -303,7 +306,8 @@ PlanarDyad PolishDyad(const PlanarDyad& dyad, const std::vector<Frame>& frames, 
         jacobian(j, 3) = -1.0;
       }
     }
-    const Eigen::VectorXd step = jacobian.completeOrthogonalDecomposition().solve(residual);
+    const Eigen::Matrix4d gram = jacobian * jacobian.transpose();
+    const Parameters step = jacobian.transpose() * gram.partialPivLu().solve(residual);
     if (!step.allFinite()) break;
     x -= step;
     const PlanarDyad candidate = make(x);
@@ -464,7 +468,7 @@ class CurveSampler {
   // where the dyads lie inside the refine radius, as long as keeps consecutive dyads within
   // the refine step. Returns true when the trace came back to the seed (a closed component);
   // `path` holds the samples from the seed on.
-  bool Trace(const Sample& seed, std::vector<Sample>* path) const {
+  bool Trace(const Sample& seed, int* budget, std::vector<Sample>* path) const {
     path->assign(1, seed);
     const Eigen::Vector4d start = seed.point;
     const Eigen::Vector4d start_tangent = Tangent(start);
@@ -481,7 +485,7 @@ class CurveSampler {
       Eigen::Vector4d next_tangent;
       double taken = 0.0;
       while (true) {
-        if (!(step >= kMinStep)) return false;
+        if (!(step >= kMinStep) || --*budget < 0) return false;
         const Eigen::Vector4d predicted = (current.point + step * tangent).normalized();
         Eigen::Vector4d w = predicted;
         bool ok = Correct(tangent, &w) && ProjectiveDistance(w, predicted) <= 0.1 * step;
@@ -536,13 +540,22 @@ class CurveSampler {
     return std::sqrt(std::max(0.0, half_trace - root));
   }
 
-  // The unit vector orthogonal to w, A1 w and A2 w (the curve's tangent at w).
+  // The unit vector orthogonal to w, A1 w and A2 w (the curve's tangent at w): the
+  // generalized cross product of the three, by cofactors.
   Eigen::Vector4d Tangent(const Eigen::Vector4d& w) const {
-    Eigen::Matrix<double, 4, 3> normals;
-    normals << w, a1_ * w, a2_ * w;
-    const Eigen::HouseholderQR<Eigen::Matrix<double, 4, 3>> qr(normals);
-    const Eigen::Matrix4d q = qr.householderQ();
-    return q.col(3);
+    Eigen::Matrix<double, 3, 4> rows;
+    rows.row(0) = w.transpose();
+    rows.row(1) = (a1_ * w).transpose();
+    rows.row(2) = (a2_ * w).transpose();
+    Eigen::Vector4d tangent;
+    for (int i = 0; i < 4; ++i) {
+      Eigen::Matrix3d minor;
+      for (int c = 0, cc = 0; c < 4; ++c) {
+        if (c != i) minor.col(cc++) = rows.col(c);
+      }
+      tangent[i] = (i % 2 ? -1.0 : 1.0) * minor.determinant();
+    }
+    return tangent.normalized();
   }
 
   // Newton's method on w^T A1 w = w^T A2 w = 0 with the step orthogonal to `tangent` and to
@@ -937,21 +950,18 @@ int SampleBurmesterCurves(const std::vector<PlanarPose>& poses,
     bool closed = false;
   };
   std::vector<Trace> traces;
-  for (int pass = 0; pass < planes; ++pass) {
+  int budget = kMaxTotalSteps;
+  for (int pass = 0; pass < planes && budget > 0; ++pass) {
     const int k = (pass + 1) % planes;
     for (size_t i = 0; i < seeds[k].size(); ++i) {
       if (covered[k][i]) continue;
       covered[k][i] = 1;
       Trace trace;
-      trace.closed = sampler.Trace(seeds[k][i], &trace.path);
+      trace.closed = sampler.Trace(seeds[k][i], &budget, &trace.path);
       for (size_t j = 0; j + 1 < trace.path.size(); ++j) {
         cover(trace.path[j].point, trace.path[j + 1].point);
       }
       if (trace.closed) cover(trace.path.back().point, trace.path.front().point);
-#ifdef LINKFIT_CURVES_DEBUG
-      std::fprintf(stderr, "trace plane %d seed %zu len %zu closed %d\n", k, i, trace.path.size(),
-                   int(trace.closed));
-#endif
       traces.push_back(std::move(trace));
     }
   }
@@ -1050,6 +1060,7 @@ void DefaultMovingPivots(const std::vector<PlanarPose>& poses, Eigen::Vector2d p
     Eigen::Vector2d point;
     double score;
     double radius;
+    Eigen::Vector2d fixed_pivot;
   };
   std::vector<Candidate> candidates;
   for (int i = 0; i < kGrid; ++i) {
@@ -1067,18 +1078,25 @@ void DefaultMovingPivots(const std::vector<PlanarPose>& poses, Eigen::Vector2d p
       const double r = fit.radius, f = fit.center.norm(), m = p.norm();
       const double score =
           altitude / ((1.0 + 0.25 * r * r) * (1.0 + f * f / 9.0) * (1.0 + m * m / 9.0));
-      candidates.push_back({p, score, r});
+      candidates.push_back({p, score, r, fit.center});
     }
   }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& x, const Candidate& y) { return x.score > y.score; });
+  // The second pivot at least L from the first, and so its fixed pivot (a ground link of
+  // some length), if the grid has one.
   const Candidate* second = nullptr;
-  for (const Candidate& candidate : candidates) {
-    if ((candidate.point - candidates[0].point).norm() >= 1.0) {
-      second = &candidate;
-      break;
+  int pass = 0;
+  for (; pass < 2 && second == nullptr; ++pass) {
+    for (const Candidate& candidate : candidates) {
+      if ((candidate.point - candidates[0].point).norm() >= 1.0 &&
+          (pass == 1 || (candidate.fixed_pivot - candidates[0].fixed_pivot).norm() >= 1.0)) {
+        second = &candidate;
+        break;
+      }
     }
   }
+  const bool ground_link_apart = pass == 1;
   if (candidates.empty() || second == nullptr) {
     return fallback("no grid point moves on a well-conditioned circle");
   }
@@ -1088,11 +1106,13 @@ void DefaultMovingPivots(const std::vector<PlanarPose>& poses, Eigen::Vector2d p
     char buffer[512];
     std::snprintf(buffer, sizeof(buffer),
                   "moving pivots chosen at (%.4g, %.4g) and (%.4g, %.4g) in E (no pivots given): "
-                  "the best pair at least L apart on a %d x %d grid within 2 L of E's origin, "
-                  "scored by how well their three positions fix a circle against crank length "
-                  "(radii %.4g and %.4g)",
+                  "the best pair of a %d x %d grid within 2 L of E's origin, scored by how well "
+                  "their three positions fix a circle against crank length, with %s L apart "
+                  "(radii %.4g and %.4g, ground link %.4g)",
                   pivots[0].x(), pivots[0].y(), pivots[1].x(), pivots[1].y(), kGrid, kGrid,
-                  candidates[0].radius * length, second->radius * length);
+                  ground_link_apart ? "moving and fixed pivots" : "the moving pivots",
+                  candidates[0].radius * length, second->radius * length,
+                  (candidates[0].fixed_pivot - second->fixed_pivot).norm() * length);
     *explanation = buffer;
   }
 }

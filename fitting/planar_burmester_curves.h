@@ -5,9 +5,10 @@
 // a projective 3-space in which the two quadric relations Q1 = Q2 = 0 cut a curve: the
 // Burmester curve. Every point of it is a dyad (RR, or PR/RP where the curve passes through
 // the slider points); its fixed pivots trace the center-point curve (in Sigma) and its moving
-// pivots the circle-point curve (in E). The curve is sampled by sweeping a pencil of planes
+// pivots the circle-point curve (in E). The curve is found by sweeping a pencil of planes
 // through the 3-space; each plane meets it in the 4 points of a two-conic problem, solved by
-// IntersectConstraintConics.
+// IntersectConstraintConics. From these points each component is traced by continuation, so
+// that the samples come ordered along the curve and densely where the dyads move fast.
 #ifndef LINKFIT_FITTING_PLANAR_BURMESTER_CURVES_H_
 #define LINKFIT_FITTING_PLANAR_BURMESTER_CURVES_H_
 
@@ -21,7 +22,9 @@
 namespace linkfit {
 
 struct BurmesterCurveOptions {
-  // Planes of the sweeping pencil (each contributes up to 4 curve points).
+  // Planes of the sweeping pencil that finds the curve's components: each meets the curve in
+  // up to 4 real points, from which the components are traced (a component that lies wholly
+  // between two planes is missed).
   int planes = 720;
   // Consecutive samples farther apart than this (relative to L) start a new polyline, so that
   // branches through infinity are not joined across the picture.
@@ -37,13 +40,15 @@ struct BurmesterCurveOptions {
 };
 
 // The sampled Burmester curve of exactly four poses: polylines of dyads, each continuous.
-// Center points are the dyads' fixed pivots (RR) and circle points their moving pivots.
+// Center points are the dyads' fixed pivots (RR) and circle points their moving pivots. A closed
+// branch repeats its first dyad at its end; the PR and RP dyads of the curve (at most one each
+// for a general task) are branches of one dyad. Dyads with a pivot beyond 1000 L are left out.
 struct BurmesterCurves {
   std::vector<std::vector<PlanarDyad>> branches;
 };
 
-// Samples the curve; returns the number of dyads sampled (0 for fewer or more than four poses
-// or a degenerate task).
+// Samples the curve; returns the number of dyads sampled, each counted once (0 for fewer or
+// more than four poses or a degenerate task). Every dyad fits the four poses to 1e-10 L.
 int SampleBurmesterCurves(const std::vector<PlanarPose>& poses,
                           const BurmesterCurveOptions& options, BurmesterCurves* curves);
 

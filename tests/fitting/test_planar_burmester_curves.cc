@@ -334,6 +334,43 @@ TEST(BurmesterCurves, SliderCrankHasItsSliderOnTheCurve) {
   }
 }
 
+TEST(BurmesterCurves, InvariantToUnitsAndPlacement) {
+  // The same curve in other units, with the fixed and moving frames moved: still exact dyads,
+  // still through the (transformed) generating dyads.
+  const uint64_t seed = 207;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (int trial = 0; trial < 10; ++trial) {
+    SCOPED_TRACE(Trace(seed, trial));
+    const GeneratedTask task = RandomTask(rng, DyadType::kRR, DyadType::kRR, 4);
+    for (double scale : {1e-3, 1e3}) {
+      Similarity2 sigma, epsilon;
+      sigma.scale = epsilon.scale = scale;
+      sigma.angle = M_PI * uniform(rng);
+      sigma.translation = scale * Eigen::Vector2d(5.0 * uniform(rng), 5.0 * uniform(rng));
+      epsilon.angle = M_PI * uniform(rng);
+      epsilon.translation = scale * Eigen::Vector2d(uniform(rng), uniform(rng));
+      std::vector<PlanarPose> moved;
+      for (const PlanarPose& pose : task.poses)
+        moved.push_back(TransformPose(pose, sigma, epsilon));
+      const double length = CharacteristicLength(moved);
+      BurmesterCurves curves;
+      EXPECT_GT(SampleBurmesterCurves(moved, BurmesterCurveOptions(), &curves), 1000);
+      const std::vector<PlanarDyad> all = AllSamples(curves);
+      for (const PlanarDyad& dyad : all) {
+        ASSERT_LE(dyad.MaxResidual(moved), kResidualTolerance * length);
+      }
+      for (const PlanarDyad& generating : {task.input, task.output}) {
+        const PlanarDyad expected = TransformDyad(generating, sigma, epsilon);
+        if (PivotReach(expected, moved) <= BurmesterCurveOptions().refine_radius) {
+          EXPECT_LE(NearestDyadDistance(all, expected, length), kDensityTolerance)
+              << "scale " << scale;
+        }
+      }
+    }
+  }
+}
+
 TEST(BurmesterCurves, OtherPoseCountsGiveNothing) {
   std::mt19937_64 rng(205);
   for (int count : {3, 5}) {

@@ -8,9 +8,18 @@
 // 99th-percentile time of one solve (SolvePlanarBurmester; and of the whole SolvePlanarMotion,
 // which adds the mechanism assembly checks) on one core.
 //
-//   linkfit_bench [--tasks N] [--seed S]
+// Then the seven-pose spatial solver (seed 000) on random tasks: the share of tasks whose 20
+// roots are all found and verified (20 distinct roots, each with a polished residual below
+// 1e-11 on the bilinear equations), the worst residual of a returned dyad over L, real roots and
+// the median and 99th-percentile time of SolveSpatialBurmester; the share of planted SS/PS dyads
+// recovered (relative error <= 1e-8); and least-squares tasks (10 and 30 noisy poses on planted
+// dyads): the RMS residual of the planted dyads' seeds before and after the Ceres refinement,
+// and the end-to-end time of SolveSpatialTask (seed, refinement, platform).
+//
+//   linkfit_bench [--tasks N] [--spatial-tasks M] [--seed S] [--only planar|spatial]
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -21,7 +30,10 @@
 
 #include "fitting/planar_burmester.h"
 #include "fitting/planar_motion.h"
+#include "fitting/spatial_burmester.h"
+#include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
+#include "tests/support/random_spatial.h"
 
 namespace {
 
@@ -121,20 +133,175 @@ void RunFamily(const Family& family, int tasks, uint64_t seed) {
               Percentile(solve_us, 0.99), Percentile(motion_us, 0.5));
 }
 
+using linkfit::DualQuaternion;
+using linkfit::SpatialDyad;
+using linkfit::SpatialDyadType;
+
+double MicrosecondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+// Random seven-pose tasks: every root found and verified?
+void RunSpatialRandom(int tasks, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<double> solve_us;
+  int complete = 0, degenerate = 0;
+  long real_roots = 0;
+  double worst_residual = 0.0;
+  std::vector<SpatialDyad> dyads;
+  const linkfit::SpatialBurmesterOptions options;
+  for (int t = 0; t < tasks; ++t) {
+    std::vector<DualQuaternion> poses;
+    for (int j = 0; j < 7; ++j) poses.push_back(linkfit::testing::RandomSpatialPose(rng));
+    linkfit::SpatialBurmesterSummary summary;
+    const auto start = std::chrono::steady_clock::now();
+    linkfit::SolveSpatialBurmester(poses, {}, options, &dyads, &summary);
+    solve_us.push_back(MicrosecondsSince(start));
+    complete += summary.roots_total == 20 && summary.roots_verified == 20;
+    degenerate += summary.degenerate;
+    real_roots += summary.roots_real;
+    double sum = 0.0;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const DualQuaternion& pose : poses) centroid += pose.Translation() / 7.0;
+    for (const DualQuaternion& pose : poses) sum += (pose.Translation() - centroid).squaredNorm();
+    const double length = std::sqrt(sum / 7.0);
+    for (const SpatialDyad& dyad : dyads) {
+      worst_residual = std::max(worst_residual, dyad.MaxResidual(poses) / length);
+    }
+  }
+  std::printf("%-30s %8d %11.3f%% %11.3f%% %12.2e %6.2f %10.1f %8.1f\n", "7 random poses", tasks,
+              100.0 * complete / tasks, 100.0 * degenerate / tasks, worst_residual,
+              static_cast<double>(real_roots) / tasks, Percentile(solve_us, 0.5),
+              Percentile(solve_us, 0.99));
+}
+
+// Seven poses built on three SS and one PS dyad: are they recovered?
+void RunSpatialPlanted(int tasks, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<double> solve_us;
+  int recovered = 0;
+  double worst_error = 0.0;
+  std::vector<SpatialDyad> dyads;
+  for (int t = 0; t < tasks; ++t) {
+    const DualQuaternion start = linkfit::testing::RandomSpatialPose(rng);
+    const std::vector<SpatialDyad> planted = linkfit::testing::DyadsThroughPose(
+        rng, start,
+        {SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kPS});
+    const std::vector<DualQuaternion> poses =
+        linkfit::testing::PosesOnDyads(rng, planted, start, 7);
+    const auto begin = std::chrono::steady_clock::now();
+    linkfit::SolveSpatialBurmester(poses, {}, {}, &dyads);
+    solve_us.push_back(MicrosecondsSince(begin));
+    double error = 0.0;
+    for (const SpatialDyad& expected : planted) {
+      error = std::max(error, linkfit::testing::NearestSpatialDyadDistance(dyads, expected));
+    }
+    worst_error = std::max(worst_error, error);
+    recovered += error <= 1e-8;
+  }
+  std::printf("%-30s %8d %11.3f%% %12.2e %10.1f %8.1f\n", "7 poses on 3 SS + 1 PS", tasks,
+              100.0 * recovered / tasks, worst_error, Percentile(solve_us, 0.5),
+              Percentile(solve_us, 0.99));
+}
+
+// Least squares: `count` poses on planted dyads, perturbed by noise; the planted dyads' seeds
+// (nearest returned seed) before and after refinement, and the whole task's time.
+void RunSpatialLeastSquares(int tasks, int count, double noise, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> normal;
+  std::vector<double> e2e_us, before, after, planted_rms;
+  for (int t = 0; t < tasks; ++t) {
+    const DualQuaternion start = linkfit::testing::RandomSpatialPose(rng);
+    const std::vector<SpatialDyad> planted = linkfit::testing::DyadsThroughPose(
+        rng, start, {SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kSS});
+    std::vector<DualQuaternion> poses = linkfit::testing::PosesOnDyads(rng, planted, start, count);
+    for (DualQuaternion& pose : poses) {
+      const Eigen::Vector3d w(normal(rng), normal(rng), normal(rng));
+      const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
+      pose = linkfit::DualQuaternion::FromAxisAngle(w, noise * w.norm(), noise * v) * pose;
+    }
+    linkfit::Task task;
+    task.space = linkfit::Space::kSpatial;
+    task.spatial_poses = poses;
+    task.pose_weights.assign(poses.size(), 1.0);
+    task.pose_exact.assign(poses.size(), false);
+    const auto begin = std::chrono::steady_clock::now();
+    const linkfit::SpatialMotionResult result = linkfit::SolveSpatialTask(task);
+    e2e_us.push_back(MicrosecondsSince(begin));
+    // The refined dyad nearest each planted one.
+    for (const SpatialDyad& expected : planted) {
+      double best = std::numeric_limits<double>::infinity();
+      const linkfit::SpatialDyadReport* nearest = nullptr;
+      for (const linkfit::SpatialDyadReport& report : result.dyads) {
+        const double distance = linkfit::testing::SpatialDyadDistance(report.dyad, expected);
+        if (distance < best) {
+          best = distance;
+          nearest = &report;
+        }
+      }
+      if (nearest == nullptr || !nearest->rms_residual) continue;
+      before.push_back(*nearest->seed_rms_residual / result.scale);
+      after.push_back(*nearest->rms_residual / result.scale);
+      double sum = 0.0;
+      for (const DualQuaternion& pose : poses) sum += std::pow(expected.Residual(pose), 2);
+      planted_rms.push_back(std::sqrt(sum / count) / result.scale);
+    }
+  }
+  char name[64];
+  std::snprintf(name, sizeof(name), "%d poses, noise %.0e L", count, noise);
+  std::printf("%-30s %8d %13.2e %13.2e %13.2e %10.1f %8.1f\n", name, tasks, Percentile(before, 0.5),
+              Percentile(after, 0.5), Percentile(planted_rms, 0.5), Percentile(e2e_us, 0.5),
+              Percentile(e2e_us, 0.99));
+}
+
+void RunSpatial(int tasks, uint64_t seed) {
+  std::printf("\nseven-pose spatial Burmester solver (seed 000), %d random tasks\n", tasks);
+  std::printf("%-30s %8s %12s %12s %12s %6s %10s %8s\n", "family", "tasks", "all_20_ok",
+              "degenerate", "worst_res/L", "real", "median_us", "p99_us");
+  RunSpatialRandom(tasks, seed);
+  std::printf("%-30s %8s %12s %12s %10s %8s\n", "family", "tasks", "recovered", "worst_err",
+              "median_us", "p99_us");
+  RunSpatialPlanted(tasks / 10, seed + 1);
+  std::printf(
+      "least squares on planted SS dyads: median RMS residual / L of the planted dyads' "
+      "seeds before and after refinement, of the planted dyads themselves, and the "
+      "end-to-end time (seed + refinement + platform)\n");
+  std::printf("%-30s %8s %13s %13s %13s %10s %8s\n", "family", "tasks", "seed_rms", "refined_rms",
+              "planted_rms", "e2e_med_us", "p99_us");
+  for (int count : {10, 30}) {
+    for (double noise : {1e-3, 1e-2}) {
+      RunSpatialLeastSquares(std::max(1, tasks / 20), count, noise, seed + count);
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int tasks = 100000;
+  int spatial_tasks = 10000;
   uint64_t seed = 2026;
+  std::string only;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--spatial-tasks") && i + 1 < argc) {
+      spatial_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--seed") && i + 1 < argc) {
       seed = std::strtoull(argv[++i], nullptr, 10);
+    } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+      only = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: linkfit_bench [--tasks N] [--seed S]\n");
+      std::fprintf(stderr,
+                   "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--seed S] "
+                   "[--only planar|spatial]\n");
       return 2;
     }
+  }
+  if (only == "spatial") {
+    RunSpatial(spatial_tasks, seed);
+    return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
               static_cast<unsigned long long>(seed));
@@ -148,5 +315,6 @@ int main(int argc, char** argv) {
       {"RPRP (PR+RP)", DyadType::kPR, DyadType::kRP},
   };
   for (const Family& family : families) RunFamily(family, tasks, seed++);
+  if (only != "planar") RunSpatial(spatial_tasks, seed);
   return 0;
 }

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "apps/picture.h"
-#include "fitting/planar_motion.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
+#include "optimizers/task_solver.h"
 
 namespace linkfit {
 namespace {
@@ -67,10 +67,14 @@ constexpr const char* kSolveFooter =
     "  moving_pivots, fixed_pivots\n"
     "            planar motion with 3 or 4 poses: [[x, y], ...] pivots in the body frame (on the\n"
     "            circle-point curve) or in the fixed frame (on the center-point curve), one\n"
-    "            dyad each; three poses without pivots get a default pair\n"
+    "            dyad each; three poses without pivots get a default pair.\n"
+    "            Spatial motion with 4 to 6 poses: [[x, y, z], ...], one SS dyad each\n"
+    "  platform  spatial motion: five dyad indices for the platform (default: the five\n"
+    "            dyads of smallest radius)\n"
     "  options   {\"effort\": \"fast\" | \"balanced\" (default) | \"thorough\"}\n"
-    "Poses are (x, y, theta): the body frame's origin in the fixed frame and its\n"
-    "counter-clockwise turn. Coincident poses, non-unit quaternions and unknown fields are\n"
+    "Planar poses are (x, y, theta): the body frame's origin in the fixed frame and its\n"
+    "counter-clockwise turn. Spatial: a body point c is at R c + d. Coincident poses, non-unit "
+    "quaternions and unknown fields are\n"
     "errors (exit 2).";
 
 // Bad output path: like bad input, exit 2.
@@ -181,11 +185,28 @@ Picture MakePicture(const std::string& title, const Task& task, const PlanarMoti
 }
 
 struct SolveOutputs {
-  std::string result_path;   // -o; empty or "-" for stdout
-  std::string svg_path;      // --svg
-  std::string animate_path;  // --animate (.svg or .html)
-  int animate_index = 1;     // --mechanism: which mechanism to animate (1 = the first listed)
+  std::string result_path;    // -o; empty or "-" for stdout
+  std::string svg_path;       // --svg
+  std::string animate_path;   // --animate (.svg or .html)
+  int animate_index = 1;      // --mechanism: which mechanism to animate (1 = the first listed)
+  std::vector<int> platform;  // --platform: five dyad indices (spatial motion)
 };
+
+// The planar view of a result: a planar result, or the planar synthesis of planar data in a
+// spatial task (with the task's poses in the plane). Null for a spatial result.
+const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
+                                     Task* planar_task) {
+  if (const auto* planar = std::get_if<PlanarMotionResult>(&result)) {
+    *planar_task = task;
+    return planar;
+  }
+  const SpatialMotionResult& spatial = std::get<SpatialMotionResult>(result);
+  if (!spatial.planar || !spatial.plane) return nullptr;
+  *planar_task = task;
+  planar_task->space = Space::kPlanar;
+  planar_task->planar_poses = spatial.plane->poses;
+  return &*spatial.planar;
+}
 
 // `linkfit solve`: every task is read and validated before anything is solved or written.
 int Solve(const std::string& task_path, const SolveOutputs& outputs) {
@@ -196,8 +217,14 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   }
   const int indent = batch ? -1 : 2;
   std::string text;
-  std::vector<PlanarMotionResult> results;
-  for (const Task& task : tasks) {
+  std::vector<TaskResult> results;
+  for (Task task : tasks) {
+    if (!outputs.platform.empty()) {
+      if (task.space != Space::kSpatial) {
+        throw InputError(task_path + ": --platform: used by spatial motion problems only");
+      }
+      task.platform = outputs.platform;
+    }
     results.push_back(SolveTask(task));
     text += ResultToJson(results.back(), indent) + "\n";
   }
@@ -205,9 +232,16 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   std::string svg, animation;
   if (!outputs.svg_path.empty() || !outputs.animate_path.empty()) {
     const std::string title = std::filesystem::path(task_path).filename().string();
-    if (!outputs.svg_path.empty()) svg = RenderSvg(MakePicture(title, tasks[0], results[0], 12));
+    Task planar_task;
+    const PlanarMotionResult* planar = PlanarView(results[0], tasks[0], &planar_task);
+    if (planar == nullptr) {
+      throw InputError(task_path +
+                       ": --svg and --animate draw planar mechanisms; this task's "
+                       "result is a spatial platform");
+    }
+    if (!outputs.svg_path.empty()) svg = RenderSvg(MakePicture(title, planar_task, *planar, 12));
     if (!outputs.animate_path.empty()) {
-      const Picture picture = MakePicture(title, tasks[0], results[0], 64);
+      const Picture picture = MakePicture(title, planar_task, *planar, 64);
       const size_t index = static_cast<size_t>(outputs.animate_index - 1);
       if (index >= picture.mechanisms.size()) {
         throw InputError(task_path + ": --mechanism " + std::to_string(outputs.animate_index) +
@@ -254,6 +288,13 @@ int Run(int argc, char** argv) {
       ->add_option("--mechanism", outputs.animate_index,
                    "which listed mechanism --animate shows (1 = the first, the best ranked)")
       ->check(CLI::PositiveNumber);
+  solve
+      ->add_option("--platform", outputs.platform,
+                   "spatial motion: the five dyads (indices in the result) to build the platform "
+                   "from, e.g. --platform 0,1,2,3,5")
+      ->delimiter(',')
+      ->expected(5)
+      ->check(CLI::NonNegativeNumber);
 
   try {
     app.parse(argc, argv);

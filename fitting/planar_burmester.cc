@@ -5,50 +5,30 @@
 #include <cmath>
 #include <limits>
 
+#include "fitting/planar_constraint_space.h"
 #include "fitting/polynomial.h"
 #include "lib/kinematic_mapping.h"
 
 namespace linkfit {
 namespace {
 
+using internal::ChooseReading;
+using internal::ConicFill;
+using internal::DyadReading;
+using internal::MakeFrames;
+using internal::MaxResidual;
+using internal::Normalize;
+using internal::NormalizedMotion;
+using internal::PolishDyad;
+using internal::PolishRealRoot;
+using internal::PoseFrame;
+using internal::ReadingsOf;
+using internal::RestrictedConics;
+
 using Complex = std::complex<double>;
 using Vector3c = Eigen::Matrix<Complex, 3, 1>;
 using Matrix3c = Eigen::Matrix<Complex, 3, 3>;
 using NullBasis = Eigen::Matrix<double, 8, 3>;
-
-// A pose with its rotation matrix evaluated once (residuals are evaluated many times).
-struct PoseFrame {
-  Eigen::Matrix2d rotation;
-  Eigen::Vector2d origin;
-};
-
-std::vector<PoseFrame> MakeFrames(const std::vector<PlanarPose>& poses) {
-  std::vector<PoseFrame> frames(poses.size());
-  for (size_t j = 0; j < poses.size(); ++j) {
-    frames[j].rotation = Rotation2(poses[j].theta);
-    frames[j].origin = poses[j].origin_in_fixed;
-  }
-  return frames;
-}
-
-double MaxResidual(const PlanarDyad& dyad, const std::vector<PoseFrame>& frames) {
-  double worst = 0.0;
-  for (const PoseFrame& frame : frames) {
-    worst = std::max(worst, std::abs(dyad.Residual(frame.rotation, frame.origin)));
-  }
-  return worst;
-}
-
-// Symmetric bilinear forms of the two quadric relations (file comment):
-//   Q1(z) = z0 z5 - z1 z3 - z2 z4,   Q2(z) = z0 z6 - z1 z4 + z2 z3.
-template <typename U, typename V>
-auto BilinearQ1(const U& u, const V& v) {
-  return 0.5 * (u[0] * v[5] + u[5] * v[0] - u[1] * v[3] - u[3] * v[1] - u[2] * v[4] - u[4] * v[2]);
-}
-template <typename U, typename V>
-auto BilinearQ2(const U& u, const V& v) {
-  return 0.5 * (u[0] * v[6] + u[6] * v[0] - u[1] * v[4] - u[4] * v[1] + u[2] * v[3] + u[3] * v[2]);
-}
 
 Eigen::Matrix3d Adjugate(const Eigen::Matrix3d& m) {
   Eigen::Matrix3d adj;
@@ -62,16 +42,6 @@ Eigen::Matrix3d Adjugate(const Eigen::Matrix3d& m) {
   adj(2, 1) = m(0, 1) * m(2, 0) - m(0, 0) * m(2, 1);
   adj(2, 2) = m(0, 0) * m(1, 1) - m(0, 1) * m(1, 0);
   return adj;
-}
-
-// The two quadric relations restricted to the span of `basis`: a^T M1 a = Q1(basis a).
-void RestrictedConics(const NullBasis& basis, Eigen::Matrix3d* m1, Eigen::Matrix3d* m2) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      (*m1)(i, j) = BilinearQ1(basis.col(i), basis.col(j));
-      (*m2)(i, j) = BilinearQ2(basis.col(i), basis.col(j));
-    }
-  }
 }
 
 // Splits a degenerate real symmetric conic D = g h^T + h g^T into its two (possibly complex
@@ -176,226 +146,8 @@ int IntersectConics(const NullBasis& basis, Eigen::Matrix3d m1, Eigen::Matrix3d 
   return static_cast<int>(roots->size());
 }
 
-// Newton's method in real arithmetic on a^T M1 a = a^T M2 a = 0 in the chart a0 . a = a0 . a0.
-// Returns the final relative equation residual.
-double PolishRealRoot(const Eigen::Matrix3d& m1, const Eigen::Matrix3d& m2, int iterations,
-                      Eigen::Vector3d* a) {
-  const Eigen::Vector3d a0 = a->normalized();
-  *a = a0;
-  const double scale1 = m1.norm(), scale2 = m2.norm();
-  auto residual = [&](const Eigen::Vector3d& x) {
-    return std::hypot(x.dot(m1 * x) / scale1, x.dot(m2 * x) / scale2) / x.squaredNorm();
-  };
-  double current = residual(*a);
-  for (int iteration = 0; iteration < iterations && current > 1e-16; ++iteration) {
-    Eigen::Matrix3d jacobian;
-    jacobian.row(0) = 2.0 * (m1 * *a).transpose() / scale1;
-    jacobian.row(1) = 2.0 * (m2 * *a).transpose() / scale2;
-    jacobian.row(2) = a0.transpose();
-    const Eigen::Vector3d f(a->dot(m1 * *a) / scale1, a->dot(m2 * *a) / scale2, 0.0);
-    const Eigen::Vector3d step = jacobian.partialPivLu().solve(f);
-    if (!step.allFinite()) break;
-    const Eigen::Vector3d next = *a - step;
-    const double next_residual = residual(next);
-    if (!(next_residual < current)) break;
-    *a = next;
-    current = next_residual;
-  }
-  *a = a->normalized();
-  return current;
-}
-
-// Gauss-Newton on a five-pose dyad (Newton for RR: 5 equations, 5 unknowns) on the
-// dyad's own geometric equations, residual_j = signed distance of the constrained point from
-// its circle or line (the design's residual). The projective root fixes the dyad; its reading
-// in pivot coordinates, e.g. F = -K/K0, loses digits when the pivots are far from the pose
-// origins (K0 small against |z|), which this polish in the dyad's own parameters restores to
-// rounding level. Parameters: RR (F, m, r); PR (m, line normal angle, offset); RP (F, line
-// normal angle in E, offset). Returns the polished dyad when it fits at least as well.
-template <int kParameters>
-PlanarDyad PolishDyadFixed(const PlanarDyad& dyad, const std::vector<PoseFrame>& poses,
-                           int iterations) {
-  using Parameters = Eigen::Matrix<double, kParameters, 1>;
-  Parameters x;
-  if constexpr (kParameters == 5) {
-    x << dyad.fixed_pivot, dyad.moving_pivot, dyad.radius;
-  } else {
-    const Eigen::Vector2d normal(-dyad.line_direction.y(), dyad.line_direction.x());
-    const Eigen::Vector2d point = dyad.type == DyadType::kPR ? dyad.moving_pivot : dyad.fixed_pivot;
-    x << point, std::atan2(normal.y(), normal.x()), normal.dot(dyad.line_point);
-  }
-  auto make = [&](const Parameters& p) {
-    if constexpr (kParameters == 5) {
-      return PlanarDyad::RR(p.template segment<2>(0), p.template segment<2>(2), p[4]);
-    } else {
-      const Eigen::Vector2d normal(std::cos(p[2]), std::sin(p[2]));
-      const Eigen::Vector2d direction(-normal.y(), normal.x());
-      return dyad.type == DyadType::kPR
-                 ? PlanarDyad::PR(p.template head<2>(), p[3] * normal, direction)
-                 : PlanarDyad::RP(p.template head<2>(), p[3] * normal, direction);
-    }
-  };
-  PlanarDyad best = dyad;
-  double best_residual = MaxResidual(dyad, poses);
-  Eigen::Matrix<double, 5, kParameters> jacobian;
-  Eigen::Matrix<double, 5, 1> residual;
-  for (int iteration = 0; iteration < iterations && best_residual > 0.0; ++iteration) {
-    for (int j = 0; j < 5; ++j) {
-      const Eigen::Matrix2d& rotation = poses[j].rotation;
-      const Eigen::Vector2d& origin = poses[j].origin;
-      if constexpr (kParameters == 5) {
-        // |R m + d - F| - r; u the unit vector from F to the moving pivot.
-        const Eigen::Vector2d arm =
-            rotation * x.template segment<2>(2) + origin - x.template head<2>();
-        const double distance = arm.norm();
-        const Eigen::Vector2d u = arm / distance;
-        residual[j] = distance - x[4];
-        jacobian.template block<1, 2>(j, 0) = -u.transpose();
-        jacobian.template block<1, 2>(j, 2) = u.transpose() * rotation;
-        jacobian(j, 4) = -1.0;
-      } else {
-        const Eigen::Vector2d normal(std::cos(x[2]), std::sin(x[2]));
-        const Eigen::Vector2d normal_rate(-normal.y(), normal.x());
-        // PR: the moving pivot in Sigma on n . P = h; RP: the fixed pivot in E on n . p = h.
-        const bool slider = dyad.type == DyadType::kPR;
-        const Eigen::Vector2d point =
-            slider ? Eigen::Vector2d(rotation * x.template head<2>() + origin)
-                   : Eigen::Vector2d(rotation.transpose() * (x.template head<2>() - origin));
-        residual[j] = normal.dot(point) - x[3];
-        jacobian.template block<1, 2>(j, 0) =
-            slider ? Eigen::RowVector2d(normal.transpose() * rotation)
-                   : Eigen::RowVector2d((rotation * normal).transpose());
-        jacobian(j, 2) = normal_rate.dot(point);
-        jacobian(j, 3) = -1.0;
-      }
-    }
-    Parameters step;
-    if constexpr (kParameters == 5) {
-      step = jacobian.partialPivLu().solve(residual);
-    } else {
-      step = jacobian.householderQr().solve(residual);
-    }
-    if (!step.allFinite()) break;
-    x -= step;
-    const PlanarDyad candidate = make(x);
-    const double candidate_residual = MaxResidual(candidate, poses);
-    if (!(candidate_residual <= best_residual)) break;
-    best = candidate;
-    best_residual = candidate_residual;
-  }
-  return best;
-}
-
-PlanarDyad PolishDyad(const PlanarDyad& dyad, const std::vector<PoseFrame>& poses, int iterations) {
-  return dyad.type == DyadType::kRR ? PolishDyadFixed<5>(dyad, poses, iterations)
-                                    : PolishDyadFixed<4>(dyad, poses, iterations);
-}
-
-// A real root read as a dyad in the normalized frames.
-struct ReadRoot {
-  PlanarDyad dyad;
-  double max_residual = std::numeric_limits<double>::infinity();
-};
-
-// The readings of a real root z as a dyad, sliders first. Three readings exist (file
-// comment): PR (K0 := 0, seed 001 eq. 13), RP (K0 := 0 and K := 0: the limit of an RR dyad
-// whose moving pivot runs to infinity along n, z -> (0, n, 0, 0, -F . n, Fx ny - Fy nx, 2h),
-// i.e. the fixed pivot F stays on the line n . p_E = h of E) and RR (K0 != 0). Returns the
-// count.
-int ReadingsOf(const ConstraintVector& z, const std::vector<PoseFrame>& poses,
-               ReadRoot readings[3]) {
-  const double k0 = z[0];
-  const Eigen::Vector2d k(z[3], z[4]);
-  const Eigen::Vector2d n(z[1], z[2]);
-  int count = 0;
-  auto add = [&](const PlanarDyad& dyad) {
-    readings[count].dyad = dyad;
-    readings[count].max_residual = MaxResidual(dyad, poses);
-    ++count;
-  };
-  if (k.norm() > 0.0) {
-    // PR: the line 2 K . P + K3 = 0, K3 = z7; moving pivot from [[K1, K2], [K2, -K1]] m =
-    // (z5, z6).
-    Eigen::Matrix2d kmat;
-    kmat << k.x(), k.y(), k.y(), -k.x();
-    const Eigen::Vector2d moving_pivot = kmat * Eigen::Vector2d(z[5], z[6]) / k.squaredNorm();
-    const Eigen::Vector2d normal = k.normalized();
-    add(PlanarDyad::PR(moving_pivot, (-z[7] / (2.0 * k.norm())) * normal,
-                       Eigen::Vector2d(-normal.y(), normal.x())));
-  }
-  if (n.norm() > 0.0) {
-    // RP: (z5, z6) = (-F . n, Fx ny - Fy nx) = [[-nx, -ny], [ny, -nx]] F, whose inverse is
-    // its transpose over |n|^2; the line of E is n . p = z7 / 2.
-    Eigen::Matrix2d nmat;
-    nmat << -n.x(), n.y(), -n.y(), -n.x();
-    const Eigen::Vector2d fixed_pivot = nmat * Eigen::Vector2d(z[5], z[6]) / n.squaredNorm();
-    const Eigen::Vector2d normal = n.normalized();
-    add(PlanarDyad::RP(fixed_pivot, (0.5 * z[7] / n.norm()) * normal,
-                       Eigen::Vector2d(-normal.y(), normal.x())));
-  }
-  if (k0 != 0.0) {
-    // RR: fixed pivot -K/K0 (seed 001 eq. 10); moving pivot from the least-squares
-    // combination of z0 m = (z1, z2) and [[K1, K2], [K2, -K1]] m = (z5, z6), exact at a root
-    // and well conditioned whether the fixed pivot is near (|K0| large) or far (|K| large).
-    // The radius is the mean pivot distance over the poses (equal at every pose for an exact
-    // root), free of the cancellation in |F|^2 - K3/K0.
-    Eigen::Matrix2d kmat;
-    kmat << k.x(), k.y(), k.y(), -k.x();
-    const Eigen::Vector2d moving_pivot =
-        (k0 * n + kmat * Eigen::Vector2d(z[5], z[6])) / (k0 * k0 + k.squaredNorm());
-    const Eigen::Vector2d fixed_pivot = -k / k0;
-    double radius = 0.0;
-    for (const PoseFrame& pose : poses) {
-      radius += (pose.rotation * moving_pivot + pose.origin - fixed_pivot).norm();
-    }
-    radius /= static_cast<double>(poses.size());
-    add(PlanarDyad::RR(fixed_pivot, moving_pivot, radius));
-  }
-  return count;
-}
-
-// The typing rule: a slider reading (listed first) is taken when it fits the poses within
-// `slider_tolerance` or at least as well as the circle reading, so that a radius beyond what
-// rounding can tell from infinity is reported as a slider, consistently in both directions.
-int ChooseReading(const ReadRoot readings[3], int count, double slider_tolerance) {
-  int best = -1;
-  for (int i = 0; i < count; ++i) {
-    if (best < 0 || (readings[i].max_residual < readings[best].max_residual &&
-                     readings[best].max_residual > slider_tolerance)) {
-      best = i;
-    }
-  }
-  return best;
-}
-
-// Centres and scales a motion: the fixed frame by its pose-origin centroid and L, the moving
-// frame by L. `to_original_*` map the normalized frames back.
-struct NormalizedMotion {
-  std::vector<PlanarPose> poses;
-  Similarity2 to_original_fixed;
-  Similarity2 to_original_moving;
-};
-
-NormalizedMotion Normalize(const std::vector<PlanarPose>& poses) {
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  for (const PlanarPose& pose : poses) centroid += pose.origin_in_fixed;
-  centroid /= static_cast<double>(poses.size());
-  double length = CharacteristicLength(poses);
-  if (!(length > 0.0)) length = 1.0;
-  NormalizedMotion out;
-  out.to_original_fixed.scale = length;
-  out.to_original_fixed.translation = centroid;
-  out.to_original_moving.scale = length;
-  const Similarity2 to_fixed = out.to_original_fixed.Inverse();
-  const Similarity2 to_moving = out.to_original_moving.Inverse();
-  out.poses.reserve(poses.size());
-  for (const PlanarPose& pose : poses)
-    out.poses.push_back(TransformPose(pose, to_fixed, to_moving));
-  return out;
-}
-
 struct CoreResult {
-  std::vector<ReadRoot> roots;  // real roots, read, without duplicates
+  std::vector<DyadReading> roots;  // real roots, read, without duplicates
   int roots_total = 0;
   int roots_real = 0;
   double condition = 0.0;
@@ -438,7 +190,7 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
 
   std::vector<ComplexConstraintVector> complex_roots;
   Eigen::Matrix3d m1, m2;
-  RestrictedConics(basis, &m1, &m2);
+  RestrictedConics(basis, ConicFill::kEvaluateAll, &m1, &m2);
   result->roots_total = IntersectConics(basis, m1, m2, &complex_roots);
   if (result->roots_total < 0) {
     // The two conics share a component: a curve of dyads (e.g. the Cardan motion of an
@@ -462,30 +214,30 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     if (!(residual <= 1e-9)) continue;
     ++result->roots_real;
     const ConstraintVector z_real = basis * a_real;
-    ReadRoot readings[3];
-    const int count = ReadingsOf(z_real, frames, readings);
+    DyadReading readings[3];
+    const int count = ReadingsOf(z_real, frames, /*sliders=*/true, readings);
     if (count == 0) continue;
     int chosen = ChooseReading(readings, count, options.slider_tolerance);
     if (n == 5) {
       // Polish the chosen reading on its geometric equations. Near a double root (a slider
       // next to a huge-radius circle) the unpolished residuals can mislead the typing: then
       // polish every reading and type again on the polished ones.
-      ReadRoot& first = readings[chosen];
-      first.dyad = PolishDyad(first.dyad, frames, options.newton_iterations);
+      DyadReading& first = readings[chosen];
+      first.dyad = PolishDyad<5>(first.dyad, frames, options.newton_iterations);
       first.max_residual = MaxResidual(first.dyad, frames);
       if (first.max_residual > options.slider_tolerance) {
         for (int i = 0; i < count; ++i) {
           if (i == chosen) continue;
-          readings[i].dyad = PolishDyad(readings[i].dyad, frames, options.newton_iterations);
+          readings[i].dyad = PolishDyad<5>(readings[i].dyad, frames, options.newton_iterations);
           readings[i].max_residual = MaxResidual(readings[i].dyad, frames);
         }
         chosen = ChooseReading(readings, count, options.slider_tolerance);
       }
     }
     // Two complex-conjugate roots near a real double root polish to the same point: keep one.
-    const ReadRoot& read = readings[chosen];
+    const DyadReading& read = readings[chosen];
     bool duplicate = false;
-    for (const ReadRoot& previous : result->roots) {
+    for (const DyadReading& previous : result->roots) {
       if (previous.dyad.type == read.dyad.type &&
           (previous.dyad.moving_pivot - read.dyad.moving_pivot).norm() < 1e-7 &&
           (previous.dyad.fixed_pivot - read.dyad.fixed_pivot).norm() < 1e-7 &&
@@ -520,7 +272,7 @@ ConstraintVector ConstraintRow(const PlanarPose& pose) {
 int IntersectConstraintConics(const Eigen::Matrix<double, 8, 3>& basis,
                               std::vector<ComplexConstraintVector>* roots) {
   Eigen::Matrix3d m1, m2;
-  RestrictedConics(basis, &m1, &m2);
+  RestrictedConics(basis, ConicFill::kEvaluateAll, &m1, &m2);
   return IntersectConics(basis, m1, m2, roots);
 }
 
@@ -541,7 +293,7 @@ int SolvePlanarBurmester(const std::vector<PlanarPose>& poses,
   local_summary.condition = core.condition;
   local_summary.fit_residual = core.fit_residual;
   local_summary.degenerate = core.degenerate;
-  for (const ReadRoot& root : core.roots) {
+  for (const DyadReading& root : core.roots) {
     dyads->push_back(TransformDyad(root.dyad, direct.to_original_fixed, direct.to_original_moving));
   }
   if (summary) *summary = local_summary;

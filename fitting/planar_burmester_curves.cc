@@ -17,9 +17,9 @@
 //   the gradient and then the foot-point iteration. Collinear positions make a PR dyad.
 // - DyadFromFixedPivot: the same on the inverted motion (center-point curve), inverted back.
 // - DefaultMovingPivots: a grid search for two well-conditioned moving pivots.
-// The readings of a constraint vector z as RR/PR/RP dyads and the typing rule follow
-// ReadingsOf and ChooseReading of planar_burmester.cc (reimplemented here, as they are local to
-// that file).
+// The constraint-space pieces (pose frames, normalization, the restricted conics, the readings
+// of z as RR/PR/RP dyads, the typing rule and the geometric polish of a dyad) are shared with
+// planar_burmester.cc through planar_constraint_space.h.
 #include "fitting/planar_burmester_curves.h"
 
 #include <Eigen/Dense>
@@ -33,9 +33,23 @@
 #include <utility>
 
 #include "fitting/planar_burmester.h"
+#include "fitting/planar_constraint_space.h"
 
 namespace linkfit {
 namespace {
+
+using internal::ChooseReading;
+using internal::ConicFill;
+using internal::DyadReading;
+using internal::MakeFrames;
+using internal::MaxResidual;
+using internal::Normalize;
+using internal::NormalizedMotion;
+using internal::PolishDyad;
+using internal::PolishRealRoot;
+using internal::PoseFrame;
+using internal::ReadingsOf;
+using internal::RestrictedConics;
 
 using Complex = std::complex<double>;
 using Vector3c = Eigen::Matrix<Complex, 3, 1>;
@@ -85,240 +99,6 @@ constexpr double kOnCurve = 1e-11;
 // A pivot moved by less than this (relative to L) onto the curve is reported as not moved.
 constexpr double kMoveNoteThreshold = 1e-9;
 
-// A pose with its rotation evaluated once.
-struct Frame {
-  Eigen::Matrix2d rotation;
-  Eigen::Vector2d origin;
-};
-
-std::vector<Frame> MakeFrames(const std::vector<PlanarPose>& poses) {
-  std::vector<Frame> frames(poses.size());
-  for (size_t j = 0; j < poses.size(); ++j) {
-    frames[j].rotation = Rotation2(poses[j].theta);
-    frames[j].origin = poses[j].origin_in_fixed;
-  }
-  return frames;
-}
-
-double MaxResidual(const PlanarDyad& dyad, const std::vector<Frame>& frames) {
-  double worst = 0.0;
-  for (const Frame& frame : frames) {
-    worst = std::max(worst, std::abs(dyad.Residual(frame.rotation, frame.origin)));
-  }
-  return worst;
-}
-
-// Centres and scales a motion as Normalize in planar_burmester.cc: the fixed frame by its
-// pose-origin centroid and L, the moving frame by L.
-struct NormalizedMotion {
-  std::vector<PlanarPose> poses;
-  Similarity2 to_original_fixed;
-  Similarity2 to_original_moving;
-  double length = 1.0;
-};
-
-NormalizedMotion Normalize(const std::vector<PlanarPose>& poses) {
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  for (const PlanarPose& pose : poses) centroid += pose.origin_in_fixed;
-  centroid /= static_cast<double>(poses.size());
-  double length = CharacteristicLength(poses);
-  if (!(length > 0.0)) length = 1.0;
-  NormalizedMotion out;
-  out.length = length;
-  out.to_original_fixed.scale = length;
-  out.to_original_fixed.translation = centroid;
-  out.to_original_moving.scale = length;
-  const Similarity2 to_fixed = out.to_original_fixed.Inverse();
-  const Similarity2 to_moving = out.to_original_moving.Inverse();
-  out.poses.reserve(poses.size());
-  for (const PlanarPose& pose : poses)
-    out.poses.push_back(TransformPose(pose, to_fixed, to_moving));
-  return out;
-}
-
-// ---------------------------------------------------------------------------------------------
-// Constraint-space pieces (planar_burmester.h file comment).
-
-// Symmetric bilinear forms of Q1(z) = z0 z5 - z1 z3 - z2 z4 and Q2(z) = z0 z6 - z1 z4 + z2 z3.
-template <typename U, typename V>
-double BilinearQ1(const U& u, const V& v) {
-  return 0.5 * (u[0] * v[5] + u[5] * v[0] - u[1] * v[3] - u[3] * v[1] - u[2] * v[4] - u[4] * v[2]);
-}
-template <typename U, typename V>
-double BilinearQ2(const U& u, const V& v) {
-  return 0.5 * (u[0] * v[6] + u[6] * v[0] - u[1] * v[4] - u[4] * v[1] + u[2] * v[3] + u[3] * v[2]);
-}
-
-void RestrictedConics(const PlaneBasis& basis, Eigen::Matrix3d* m1, Eigen::Matrix3d* m2) {
-  for (int i = 0; i < 3; ++i) {
-    for (int j = i; j < 3; ++j) {
-      (*m1)(i, j) = (*m1)(j, i) = BilinearQ1(basis.col(i), basis.col(j));
-      (*m2)(i, j) = (*m2)(j, i) = BilinearQ2(basis.col(i), basis.col(j));
-    }
-  }
-}
-
-// Newton's method in real arithmetic on a^T M1 a = a^T M2 a = 0 in the chart a0 . a = 1
-// (as PolishRealRoot in planar_burmester.cc). Returns the final relative conic residual.
-double PolishRealRoot(const Eigen::Matrix3d& m1, const Eigen::Matrix3d& m2, Eigen::Vector3d* a) {
-  const Eigen::Vector3d a0 = a->normalized();
-  *a = a0;
-  const double scale1 = m1.norm(), scale2 = m2.norm();
-  if (!(scale1 > 0.0) || !(scale2 > 0.0)) return std::numeric_limits<double>::infinity();
-  auto residual = [&](const Eigen::Vector3d& x) {
-    return std::hypot(x.dot(m1 * x) / scale1, x.dot(m2 * x) / scale2) / x.squaredNorm();
-  };
-  double current = residual(*a);
-  for (int iteration = 0; iteration < kPolishIterations && current > 1e-16; ++iteration) {
-    Eigen::Matrix3d jacobian;
-    jacobian.row(0) = 2.0 * (m1 * *a).transpose() / scale1;
-    jacobian.row(1) = 2.0 * (m2 * *a).transpose() / scale2;
-    jacobian.row(2) = a0.transpose();
-    const Eigen::Vector3d f(a->dot(m1 * *a) / scale1, a->dot(m2 * *a) / scale2, 0.0);
-    const Eigen::Vector3d step = jacobian.partialPivLu().solve(f);
-    if (!step.allFinite()) break;
-    const Eigen::Vector3d next = *a - step;
-    const double next_residual = residual(next);
-    if (!(next_residual < current)) break;
-    *a = next;
-    current = next_residual;
-  }
-  *a = a->normalized();
-  return current;
-}
-
-struct Reading {
-  PlanarDyad dyad;
-  double max_residual = std::numeric_limits<double>::infinity();
-};
-
-// The readings of a real constraint vector z as PR, RP and RR dyads, sliders first (as
-// ReadingsOf in planar_burmester.cc); without `sliders` only the RR reading. Returns the count.
-int ReadingsOf(const ConstraintVector& z, const std::vector<Frame>& frames, bool sliders,
-               Reading readings[3]) {
-  const double k0 = z[0];
-  const Eigen::Vector2d k(z[3], z[4]);
-  const Eigen::Vector2d n(z[1], z[2]);
-  int count = 0;
-  auto add = [&](const PlanarDyad& dyad) {
-    readings[count].dyad = dyad;
-    readings[count].max_residual = MaxResidual(dyad, frames);
-    ++count;
-  };
-  Eigen::Matrix2d kmat;
-  kmat << k.x(), k.y(), k.y(), -k.x();
-  if (sliders && k.norm() > 0.0) {
-    // PR: the line 2 K . P + K3 = 0; moving pivot from [[K1, K2], [K2, -K1]] m = (z5, z6).
-    const Eigen::Vector2d moving_pivot = kmat * Eigen::Vector2d(z[5], z[6]) / k.squaredNorm();
-    const Eigen::Vector2d normal = k.normalized();
-    add(PlanarDyad::PR(moving_pivot, (-z[7] / (2.0 * k.norm())) * normal,
-                       Eigen::Vector2d(-normal.y(), normal.x())));
-  }
-  if (sliders && n.norm() > 0.0) {
-    // RP: (z5, z6) = [[-nx, -ny], [ny, -nx]] F; the line of E is n . p = z7 / 2.
-    Eigen::Matrix2d nmat;
-    nmat << -n.x(), n.y(), -n.y(), -n.x();
-    const Eigen::Vector2d fixed_pivot = nmat * Eigen::Vector2d(z[5], z[6]) / n.squaredNorm();
-    const Eigen::Vector2d normal = n.normalized();
-    add(PlanarDyad::RP(fixed_pivot, (0.5 * z[7] / n.norm()) * normal,
-                       Eigen::Vector2d(-normal.y(), normal.x())));
-  }
-  if (k0 != 0.0) {
-    // RR: fixed pivot -K/K0 (seed 001 eq. 10), moving pivot from the least-squares combination
-    // of z0 m = (z1, z2) and kmat m = (z5, z6), radius the mean pivot distance.
-    const Eigen::Vector2d moving_pivot =
-        (k0 * n + kmat * Eigen::Vector2d(z[5], z[6])) / (k0 * k0 + k.squaredNorm());
-    const Eigen::Vector2d fixed_pivot = -k / k0;
-    double radius = 0.0;
-    for (const Frame& frame : frames) {
-      radius += (frame.rotation * moving_pivot + frame.origin - fixed_pivot).norm();
-    }
-    radius /= static_cast<double>(frames.size());
-    add(PlanarDyad::RR(fixed_pivot, moving_pivot, radius));
-  }
-  return count;
-}
-
-// A slider reading (listed first) is taken when it fits within kSliderTolerance or at least as
-// well as the circle reading (ChooseReading in planar_burmester.cc).
-int ChooseReading(const Reading readings[3], int count) {
-  int best = -1;
-  for (int i = 0; i < count; ++i) {
-    if (best < 0 || (readings[i].max_residual < readings[best].max_residual &&
-                     readings[best].max_residual > kSliderTolerance)) {
-      best = i;
-    }
-  }
-  return best;
-}
-
-// Gauss-Newton on a dyad's geometric equations at four poses (residual_j = signed distance of
-// the constrained point from its circle or line) with the minimum-norm step J^T (J J^T)^-1 r:
-// an RR dyad has one parameter more than equations, and the step moves it to the nearest dyad
-// of the curve. Parameters: RR (F, m, r); PR (m, normal angle, offset); RP (F, normal angle in
-// E, offset). Returns the polished dyad when it fits at least as well.
-PlanarDyad PolishDyad(const PlanarDyad& dyad, const std::vector<Frame>& frames, int iterations) {
-  using Parameters = Eigen::Matrix<double, 5, 1>;
-  const bool rr = dyad.type == DyadType::kRR;
-  const bool slider = dyad.type == DyadType::kPR;
-  Parameters x = Parameters::Zero();
-  if (rr) {
-    x << dyad.fixed_pivot, dyad.moving_pivot, dyad.radius;
-  } else {
-    const Eigen::Vector2d normal(-dyad.line_direction.y(), dyad.line_direction.x());
-    x.head<4>() << (slider ? dyad.moving_pivot : dyad.fixed_pivot),
-        std::atan2(normal.y(), normal.x()), normal.dot(dyad.line_point);
-  }
-  auto make = [&](const Parameters& p) {
-    if (rr) return PlanarDyad::RR(p.segment<2>(0), p.segment<2>(2), p[4]);
-    const Eigen::Vector2d normal(std::cos(p[2]), std::sin(p[2]));
-    const Eigen::Vector2d direction(-normal.y(), normal.x());
-    return slider ? PlanarDyad::PR(p.head<2>(), p[3] * normal, direction)
-                  : PlanarDyad::RP(p.head<2>(), p[3] * normal, direction);
-  };
-  PlanarDyad best = dyad;
-  double best_residual = MaxResidual(dyad, frames);
-  // Rows of the Jacobian over the used parameters (the fifth column is zero for sliders).
-  Eigen::Matrix<double, 4, 5> jacobian = Eigen::Matrix<double, 4, 5>::Zero();
-  Eigen::Vector4d residual;
-  for (int iteration = 0; iteration < iterations && best_residual > 0.0; ++iteration) {
-    for (int j = 0; j < 4; ++j) {
-      const Eigen::Matrix2d& rotation = frames[j].rotation;
-      const Eigen::Vector2d& origin = frames[j].origin;
-      if (rr) {
-        const Eigen::Vector2d arm = rotation * x.segment<2>(2) + origin - x.head<2>();
-        const double distance = arm.norm();
-        const Eigen::Vector2d u = arm / distance;
-        residual[j] = distance - x[4];
-        jacobian.block<1, 2>(j, 0) = -u.transpose();
-        jacobian.block<1, 2>(j, 2) = u.transpose() * rotation;
-        jacobian(j, 4) = -1.0;
-      } else {
-        const Eigen::Vector2d normal(std::cos(x[2]), std::sin(x[2]));
-        const Eigen::Vector2d normal_rate(-normal.y(), normal.x());
-        const Eigen::Vector2d point =
-            slider ? Eigen::Vector2d(rotation * x.head<2>() + origin)
-                   : Eigen::Vector2d(rotation.transpose() * (x.head<2>() - origin));
-        residual[j] = normal.dot(point) - x[3];
-        jacobian.block<1, 2>(j, 0) = slider ? Eigen::RowVector2d(normal.transpose() * rotation)
-                                            : Eigen::RowVector2d((rotation * normal).transpose());
-        jacobian(j, 2) = normal_rate.dot(point);
-        jacobian(j, 3) = -1.0;
-      }
-    }
-    const Eigen::Matrix4d gram = jacobian * jacobian.transpose();
-    const Parameters step = jacobian.transpose() * gram.partialPivLu().solve(residual);
-    if (!step.allFinite()) break;
-    x -= step;
-    const PlanarDyad candidate = make(x);
-    const double candidate_residual = MaxResidual(candidate, frames);
-    if (!(candidate_residual <= best_residual)) break;
-    best = candidate;
-    best_residual = candidate_residual;
-  }
-  return best;
-}
-
 // ---------------------------------------------------------------------------------------------
 // Curve sampling.
 
@@ -364,12 +144,7 @@ class CurveSampler {
     if (!(r_last > 1e-10 * r_first)) return false;
     const Eigen::Matrix<double, 8, 8> q = qr.householderQ();
     null_ = q.rightCols<4>();
-    for (int i = 0; i < 4; ++i) {
-      for (int j = i; j < 4; ++j) {
-        a1_(i, j) = a1_(j, i) = BilinearQ1(null_.col(i), null_.col(j));
-        a2_(i, j) = a2_(j, i) = BilinearQ2(null_.col(i), null_.col(j));
-      }
-    }
+    RestrictedConics(null_, ConicFill::kMirrorUpper, &a1_, &a2_);
     if (!(a1_.norm() > 0.0) || !(a2_.norm() > 0.0)) return false;
     a1_ /= a1_.norm();
     a2_ /= a2_.norm();
@@ -433,7 +208,7 @@ class CurveSampler {
     std::vector<ComplexConstraintVector> roots;
     if (IntersectConstraintConics(basis, &roots) <= 0) return out;
     Eigen::Matrix3d m1, m2;
-    RestrictedConics(basis, &m1, &m2);
+    RestrictedConics(basis, ConicFill::kMirrorUpper, &m1, &m2);
     for (const ComplexConstraintVector& z : roots) {
       Vector3c a = basis.transpose().cast<Complex>() * z;
       int k = 0;
@@ -442,7 +217,7 @@ class CurveSampler {
       a /= a[k];
       if (!(a.imag().norm() <= kRealTolerance * a.real().norm())) continue;
       Eigen::Vector3d a_real = a.real();
-      if (!(PolishRealRoot(m1, m2, &a_real) <= kConicTolerance)) continue;
+      if (!(PolishRealRoot(m1, m2, kPolishIterations, &a_real) <= kConicTolerance)) continue;
       const Sample sample = ReadPoint((null_.transpose() * (basis * a_real)).normalized());
       bool duplicate = false;
       for (const Sample& previous : out) {
@@ -588,13 +363,13 @@ class CurveSampler {
     // A slider reading fits only where K0 vanishes: with |K0| > 1e-3 |z| its residual is of
     // the order of K0 |P|^2 / |K| >> kSliderTolerance, and the RR reading is not far.
     const bool sliders = std::abs(z[0]) <= 1e-3 * z.norm();
-    Reading readings[3];
+    DyadReading readings[3];
     const int count = ReadingsOf(z, frames_, sliders, readings);
     if (count == 0) return sample;
-    PlanarDyad dyad = readings[ChooseReading(readings, count)].dyad;
+    PlanarDyad dyad = readings[ChooseReading(readings, count, kSliderTolerance)].dyad;
     if (dyad.type == DyadType::kRR && Far(dyad)) return sample;
     if (MaxResidual(dyad, frames_) > kPolishResidual) {
-      dyad = PolishDyad(dyad, frames_, kPolishIterations);
+      dyad = PolishDyad<4>(dyad, frames_, kPolishIterations);
     }
     if (!(MaxResidual(dyad, frames_) <= kSampleResidual)) return sample;
     if (dyad.type == DyadType::kRR && Far(dyad)) return sample;
@@ -625,7 +400,7 @@ class CurveSampler {
   }
   bool Far(const PlanarDyad& dyad) const { return !(PivotDistance(dyad) <= kFarPivot); }
 
-  std::vector<Frame> frames_;
+  std::vector<PoseFrame> frames_;
   BurmesterCurveOptions options_;
   NullBasis4 null_;
   Eigen::Matrix4d a1_, a2_;
@@ -732,7 +507,7 @@ CircleFit FitCircle(const std::vector<Eigen::Vector2d>& points, double length) {
 
 // g(m) = det [|P_j|^2, P_jx, P_jy, 1] over four poses, P_j = R_j m + d_j (zero on the
 // circle-point curve), and its gradient by the cofactor expansion of d det.
-double ConcyclicCondition(const std::vector<Frame>& frames, const Eigen::Vector2d& m,
+double ConcyclicCondition(const std::vector<PoseFrame>& frames, const Eigen::Vector2d& m,
                           Eigen::Vector2d* gradient) {
   // The determinant is unchanged by a translation of the four positions (column operations),
   // so they are taken about their centroid (held fixed for the derivative), against rounding.
@@ -773,7 +548,7 @@ double ConcyclicCondition(const std::vector<Frame>& frames, const Eigen::Vector2
 // Moves m0 onto the circle-point curve of four (normalized) poses: Newton along the gradient
 // onto the curve, then the foot-point iteration m = m0 - t grad g(m) towards the nearest
 // point. Returns false when it does not converge.
-bool ProjectOntoCirclePointCurve(const std::vector<Frame>& frames, const Eigen::Vector2d& m0,
+bool ProjectOntoCirclePointCurve(const std::vector<PoseFrame>& frames, const Eigen::Vector2d& m0,
                                  Eigen::Vector2d* m) {
   // The first-order distance |g| / |grad g| from the curve (normalized units).
   auto distance = [&](const Eigen::Vector2d& x) {
@@ -845,7 +620,7 @@ bool PivotDyad(const std::vector<PlanarPose>& poses, const Eigen::Vector2d& pivo
     return false;
   }
   const NormalizedMotion motion = Normalize(poses);
-  const std::vector<Frame> frames = MakeFrames(motion.poses);
+  const std::vector<PoseFrame> frames = MakeFrames(motion.poses);
   const Eigen::Vector2d m0 = motion.to_original_moving.Inverse().Apply(pivot);
   Eigen::Vector2d m = m0;
   if (poses.size() == 4) {
@@ -864,7 +639,7 @@ bool PivotDyad(const std::vector<PlanarPose>& poses, const Eigen::Vector2d& pivo
     }
   }
   std::vector<Eigen::Vector2d> positions;
-  for (const Frame& frame : frames) positions.push_back(frame.rotation * m + frame.origin);
+  for (const PoseFrame& frame : frames) positions.push_back(frame.rotation * m + frame.origin);
   const CircleFit fit = FitCircle(positions, 1.0);
   PlanarDyad local;
   switch (fit.kind) {
@@ -1052,8 +827,8 @@ void DefaultMovingPivots(const std::vector<PlanarPose>& poses, Eigen::Vector2d p
   // its longest side (how well the positions fix the circle: a pivot error e moves the centre
   // by about e / altitude), discounted for long cranks, far fixed pivots and far moving pivots.
   const NormalizedMotion motion = Normalize(poses);
-  const std::vector<Frame> frames = MakeFrames(motion.poses);
-  const Frame* three[3] = {&frames.front(), &frames[frames.size() / 2], &frames.back()};
+  const std::vector<PoseFrame> frames = MakeFrames(motion.poses);
+  const PoseFrame* three[3] = {&frames.front(), &frames[frames.size() / 2], &frames.back()};
   constexpr int kGrid = 17;
   constexpr double kHalfWidth = 2.0;
   struct Candidate {
@@ -1068,7 +843,7 @@ void DefaultMovingPivots(const std::vector<PlanarPose>& poses, Eigen::Vector2d p
       const Eigen::Vector2d p(-kHalfWidth + 2.0 * kHalfWidth * i / (kGrid - 1),
                               -kHalfWidth + 2.0 * kHalfWidth * j / (kGrid - 1));
       std::vector<Eigen::Vector2d> q;
-      for (const Frame* frame : three) q.push_back(frame->rotation * p + frame->origin);
+      for (const PoseFrame* frame : three) q.push_back(frame->rotation * p + frame->origin);
       const Eigen::Vector2d a = q[1] - q[0], b = q[2] - q[0], c = q[2] - q[1];
       const double longest = std::max({a.norm(), b.norm(), c.norm()});
       const double altitude = std::abs(a.x() * b.y() - a.y() * b.x()) / longest;

@@ -204,19 +204,4 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
   return result;
 }
 
-PlanarMotionResult SolveTask(const Task& task, const PlanarMotionOptions& options) {
-  if (task.problem == ProblemKind::kMotion && task.space == Space::kPlanar) {
-    return SolvePlanarMotion(task, options);
-  }
-  PlanarMotionResult result;
-  result.problem = task.problem;
-  result.space = task.space;
-  result.method = "exact";
-  if (task.scale) result.scale = *task.scale;
-  result.notes.push_back(task.problem == ProblemKind::kPath
-                             ? "path synthesis with timed points is not available in this version"
-                             : "spatial motion synthesis is not available in this version");
-  return result;
-}
-
 }  // namespace linkfit

@@ -18,10 +18,6 @@ struct PlanarMotionOptions {
 // trouble: what could not be done is said in result.notes.
 PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions& options = {});
 
-// Solves any validated task: planar motion as above; kinds not yet supported return an empty
-// result with a note.
-PlanarMotionResult SolveTask(const Task& task, const PlanarMotionOptions& options = {});
-
 }  // namespace linkfit
 
 #endif  // LINKFIT_FITTING_PLANAR_MOTION_H_

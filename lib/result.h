@@ -4,10 +4,12 @@
 
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "lib/dyad.h"
 #include "lib/mechanism.h"
+#include "lib/spatial_dyad.h"
 #include "lib/task.h"
 
 namespace linkfit {
@@ -51,6 +53,59 @@ struct PlanarMotionResult {
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
 };
+
+struct SpatialDyadReport {
+  SpatialDyad dyad;
+  double max_residual = 0.0;  // over the task poses, length units
+  // More than seven poses, after refinement: the seed's largest and RMS residual, and the RMS
+  // after refinement (the refined design's largest is max_residual).
+  std::optional<double> seed_max_residual;
+  std::optional<double> seed_rms_residual;
+  std::optional<double> rms_residual;
+};
+
+// A 5-SS (or mixed SS/PS) platform: five dyads acting on one body, one degree of freedom.
+struct PlatformReport {
+  std::vector<int> dyads;   // five indices into the result's dyads
+  bool assembles = false;   // the first task pose satisfies every dyad
+  bool one_branch = false;  // every task pose is met on the motion through the first pose
+  bool closed = false;      // that motion is a closed loop
+  std::optional<double> max_pose_error;  // over the task poses, along the traced motion
+  std::vector<int> order;                // task poses in the order the motion meets them
+  std::string note;                      // why something is false
+  std::vector<DualQuaternion> path;      // sampled motion (pictures; not written)
+};
+
+// Planar data in a spatial task: the plane of motion, and the planar synthesis in it.
+struct PlanarEmbedding {
+  // The plane frame in Sigma: origin, in-plane axes and the normal (the common rotation axis).
+  Eigen::Vector3d origin_in_fixed = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d axes_in_fixed = Eigen::Matrix3d::Identity();  // columns u1, u2, n
+  // The matching frame in E: origin at E's origin, axes R_1^T (u1, u2, n).
+  Eigen::Matrix3d axes_in_moving = Eigen::Matrix3d::Identity();
+  double planarity = 0.0;         // largest out-of-plane deviation found, length units
+  std::vector<PlanarPose> poses;  // the task poses in the plane frames
+};
+
+struct SpatialMotionResult {
+  std::string method = "exact";   // "exact" | "least-squares"
+  double scale = 1.0;             // the characteristic length L used
+  std::string model = "spatial";  // "spatial" | "planar" (the data lie in a plane)
+  std::vector<SpatialDyadReport> dyads;
+  std::vector<PlatformReport> mechanisms;
+  int roots_total = 0;     // complex roots of the bilinear system (20 when generic)
+  int roots_real = 0;      // of which real
+  double condition = 0.0;  // sigma_1 / sigma_6 of the centered constraint rows
+  // Planar data: the plane and the planar result (dyads in plane coordinates).
+  std::optional<PlanarEmbedding> plane;
+  std::optional<PlanarMotionResult> planar;
+  std::vector<std::string> notes;
+  double solve_seconds = 0.0;
+  double refine_seconds = 0.0;  // Ceres refinement (more than seven poses)
+};
+
+// What `linkfit solve` returns for one task.
+using TaskResult = std::variant<PlanarMotionResult, SpatialMotionResult>;
 
 }  // namespace linkfit
 

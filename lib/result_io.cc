@@ -31,6 +31,82 @@ void PutPoint(Json* object, const std::string& key, const Eigen::Vector2d& point
   }
 }
 
+void PutPoint3(Json* object, const std::string& key, const Eigen::Vector3d& point) {
+  if (point.allFinite()) {
+    (*object)[key] = Json::array({point.x() + 0.0, point.y() + 0.0, point.z() + 0.0});
+  } else {
+    (*object)[key + "_note"] = kNotFinite;
+  }
+}
+
+Json SpatialDyadToJson(const SpatialDyadReport& report) {
+  const SpatialDyad& dyad = report.dyad;
+  Json object;
+  object["type"] = SpatialDyadTypeName(dyad.type);
+  switch (dyad.type) {
+    case SpatialDyadType::kSS:
+      PutPoint3(&object, "fixed", dyad.fixed_pivot);
+      PutPoint3(&object, "moving", dyad.moving_pivot);
+      PutNumber(&object, "radius", dyad.radius);
+      break;
+    case SpatialDyadType::kPS:
+      PutPoint3(&object, "moving", dyad.moving_pivot);
+      PutPoint3(&object, "plane_normal", dyad.plane_normal);
+      PutNumber(&object, "plane_offset", dyad.plane_offset);
+      break;
+    case SpatialDyadType::kSP:
+      // The plane n . x = h lives in E.
+      PutPoint3(&object, "fixed", dyad.fixed_pivot);
+      PutPoint3(&object, "plane_normal_in_moving", dyad.plane_normal);
+      PutNumber(&object, "plane_offset_in_moving", dyad.plane_offset);
+      break;
+  }
+  PutNumber(&object, "max_residual", report.max_residual);
+  if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
+  if (report.seed_max_residual) {
+    Json seed;
+    PutNumber(&seed, "max_residual", *report.seed_max_residual);
+    if (report.seed_rms_residual) PutNumber(&seed, "rms_residual", *report.seed_rms_residual);
+    object["before_refinement"] = seed;
+  }
+  return object;
+}
+
+// A planar dyad of planar data in a spatial task, in spatial coordinates: pivots on the plane
+// of motion (Sigma) and on E's matching plane; the joint axes are the plane normal.
+Json EmbeddedDyadToJson(const DyadReport& report, const PlanarEmbedding& plane) {
+  const PlanarDyad& dyad = report.dyad;
+  const auto fixed = [&](const Eigen::Vector2d& p) {
+    return Eigen::Vector3d(plane.origin_in_fixed + plane.axes_in_fixed.leftCols<2>() * p);
+  };
+  const auto moving = [&](const Eigen::Vector2d& p) {
+    return Eigen::Vector3d(plane.axes_in_moving.leftCols<2>() * p);
+  };
+  Json object;
+  object["type"] = DyadTypeName(dyad.type);
+  switch (dyad.type) {
+    case DyadType::kRR:
+      PutPoint3(&object, "fixed", fixed(dyad.fixed_pivot));
+      PutPoint3(&object, "moving", moving(dyad.moving_pivot));
+      PutNumber(&object, "radius", dyad.radius);
+      PutPoint3(&object, "axis", plane.axes_in_fixed.col(2));
+      break;
+    case DyadType::kPR:
+      PutPoint3(&object, "moving", moving(dyad.moving_pivot));
+      PutPoint3(&object, "line_point", fixed(dyad.LineFoot()));
+      PutPoint3(&object, "line_direction", plane.axes_in_fixed.leftCols<2>() * dyad.line_direction);
+      break;
+    case DyadType::kRP:
+      PutPoint3(&object, "fixed", fixed(dyad.fixed_pivot));
+      PutPoint3(&object, "line_point_in_moving", moving(dyad.LineFoot()));
+      PutPoint3(&object, "line_direction_in_moving",
+                plane.axes_in_moving.leftCols<2>() * dyad.line_direction);
+      break;
+  }
+  PutNumber(&object, "max_residual", report.max_residual);
+  return object;
+}
+
 Json DyadToJson(const DyadReport& report) {
   const PlanarDyad& dyad = report.dyad;
   Json object;
@@ -127,7 +203,75 @@ std::string CompactNumberArrays(const std::string& text) {
   return out;
 }
 
+std::string Dump(const Json& root, int indent) {
+  // Notes are library text, but never let a stray byte turn into an exception here.
+  const std::string text =
+      root.dump(indent < 0 ? -1 : indent, ' ', false, Json::error_handler_t::replace);
+  return indent < 0 ? text : CompactNumberArrays(text);
+}
+
 }  // namespace
+
+std::string ResultToJson(const SpatialMotionResult& result, int indent) {
+  Json root;
+  root["problem"] = "motion";
+  root["space"] = "spatial";
+  root["model"] = result.model;
+  root["method"] = result.method;
+  PutNumber(&root, "scale", result.scale);
+  root["dyads"] = Json::array();
+  root["mechanisms"] = Json::array();
+  if (result.plane && result.planar) {
+    const PlanarEmbedding& plane = *result.plane;
+    Json frame;
+    PutPoint3(&frame, "origin", plane.origin_in_fixed);
+    PutPoint3(&frame, "normal", plane.axes_in_fixed.col(2));
+    PutPoint3(&frame, "x_axis", plane.axes_in_fixed.col(0));
+    PutPoint3(&frame, "y_axis", plane.axes_in_fixed.col(1));
+    PutPoint3(&frame, "x_axis_in_moving", plane.axes_in_moving.col(0));
+    PutPoint3(&frame, "y_axis_in_moving", plane.axes_in_moving.col(1));
+    PutNumber(&frame, "largest_deviation", plane.planarity);
+    root["plane"] = frame;
+    for (const DyadReport& dyad : result.planar->dyads) {
+      root["dyads"].push_back(EmbeddedDyadToJson(dyad, plane));
+    }
+    for (const MechanismReport& mechanism : result.planar->mechanisms) {
+      root["mechanisms"].push_back(MechanismToJson(mechanism));
+    }
+  } else {
+    for (const SpatialDyadReport& dyad : result.dyads) {
+      root["dyads"].push_back(SpatialDyadToJson(dyad));
+    }
+    for (const PlatformReport& platform : result.mechanisms) {
+      Json object;
+      object["type"] = "platform";
+      object["dyads"] = platform.dyads;
+      object["assembles"] = platform.assembles;
+      object["one_branch"] = platform.one_branch;
+      object["closed_loop"] = platform.closed;
+      if (platform.max_pose_error) {
+        PutNumber(&object, "max_pose_error", *platform.max_pose_error);
+      } else {
+        object["max_pose_error_note"] = "the platform does not assemble at the first pose";
+      }
+      object["order"] = platform.order;
+      if (!platform.note.empty()) object["note"] = platform.note;
+      root["mechanisms"].push_back(object);
+    }
+  }
+  if (result.roots_total > 0) {
+    root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};
+  }
+  if (!result.notes.empty()) root["notes"] = result.notes;
+  PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
+  if (result.refine_seconds > 0.0)
+    PutNumber(&root, "refine_time_ms", result.refine_seconds * 1000.0);
+  return Dump(root, indent);
+}
+
+std::string ResultToJson(const TaskResult& result, int indent) {
+  return std::visit([indent](const auto& value) { return ResultToJson(value, indent); }, result);
+}
 
 std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   Json root;
@@ -163,10 +307,7 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   }
   if (!result.notes.empty()) root["notes"] = result.notes;
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
-  // Notes are library text, but never let a stray byte turn into an exception here.
-  const std::string text =
-      root.dump(indent < 0 ? -1 : indent, ' ', false, Json::error_handler_t::replace);
-  return indent < 0 ? text : CompactNumberArrays(text);
+  return Dump(root, indent);
 }
 
 }  // namespace linkfit

@@ -11,6 +11,8 @@ namespace linkfit {
 
 // The result as JSON text; `indent` < 0 gives one line (batch mode), otherwise pretty-printed.
 std::string ResultToJson(const PlanarMotionResult& result, int indent);
+std::string ResultToJson(const SpatialMotionResult& result, int indent);
+std::string ResultToJson(const TaskResult& result, int indent);
 
 }  // namespace linkfit
 

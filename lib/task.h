@@ -38,7 +38,13 @@ struct Task {
   // Planar motion with three or four poses: pivots chosen by the user, one dyad each.
   std::vector<Eigen::Vector2d> moving_pivots;  // in E (on the circle-point curve for 4 poses)
   std::vector<Eigen::Vector2d> fixed_pivots;   // in Sigma (on the center-point curve)
-  std::optional<double> scale;                 // characteristic length L, when given
+  // Spatial motion with four to six poses: points chosen by the user, one SS dyad each.
+  std::vector<Eigen::Vector3d> spatial_moving_pivots;  // in E
+  std::vector<Eigen::Vector3d> spatial_fixed_pivots;   // in Sigma
+  // Spatial motion: the five dyads (indices into the result's dyads) to build the platform
+  // from; empty for the default (the five of smallest radius).
+  std::vector<int> platform;
+  std::optional<double> scale;  // characteristic length L, when given
   Effort effort = Effort::kBalanced;
 };
 

@@ -197,7 +197,7 @@ class TaskParser {
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
     CheckKeys(root, "",
               {"problem", "space", "poses", "points", "scale", "options", "moving_pivots",
-               "fixed_pivots"});
+               "fixed_pivots", "platform"});
 
     Task task;
     task.problem =
@@ -223,8 +223,8 @@ class TaskParser {
           task.space == Space::kPlanar ? "planar motion synthesis" : "spatial motion synthesis");
       if (task.space == Space::kPlanar) {
         ParsePlanarPoses(poses, &task);
-        task.moving_pivots = Pivots(root, "moving_pivots");
-        task.fixed_pivots = Pivots(root, "fixed_pivots");
+        task.moving_pivots = Pivots<2>(root, "moving_pivots");
+        task.fixed_pivots = Pivots<2>(root, "fixed_pivots");
         if (task.planar_poses.size() >= 5 &&
             !(task.moving_pivots.empty() && task.fixed_pivots.empty())) {
           Fail(task.moving_pivots.empty() ? "fixed_pivots" : "moving_pivots",
@@ -232,16 +232,30 @@ class TaskParser {
         }
       } else {
         ParseSpatialPoses(poses, &task);
+        task.spatial_moving_pivots = Pivots<3>(root, "moving_pivots");
+        task.spatial_fixed_pivots = Pivots<3>(root, "fixed_pivots");
+        const size_t count = task.spatial_poses.size();
+        if ((count < 4 || count >= 7) &&
+            !(task.spatial_moving_pivots.empty() && task.spatial_fixed_pivots.empty())) {
+          Fail(task.spatial_moving_pivots.empty() ? "fixed_pivots" : "moving_pivots",
+               count < 4 ? "need at least four poses (a sphere through the pivot's positions)"
+                         : "used with four to six poses only (seven poses determine the dyads)");
+        }
+        task.platform = Platform(root);
       }
     } else {
       if (task.space == Space::kSpatial) Fail("space", "path problems are planar only");
       if (root.contains("poses")) Fail("poses", "not used by path problems (give \"points\")");
       ParsePoints(Items(root, "points", 1, "path synthesis"), &task);
     }
-    if (task.space != Space::kPlanar || task.problem != ProblemKind::kMotion) {
+    if (task.problem != ProblemKind::kMotion) {
       for (const char* key : {"moving_pivots", "fixed_pivots"}) {
-        if (root.contains(key)) Fail(key, "used by planar motion problems only");
+        if (root.contains(key)) Fail(key, "used by motion problems only");
       }
+    }
+    if ((task.space != Space::kSpatial || task.problem != ProblemKind::kMotion) &&
+        root.contains("platform")) {
+      Fail("platform", "used by spatial motion problems only");
     }
     return task;
   }
@@ -375,16 +389,44 @@ class TaskParser {
     return value.get<bool>();
   }
 
-  // An optional array of [x, y] points.
-  std::vector<Eigen::Vector2d> Pivots(const Json& root, const char* key) const {
-    std::vector<Eigen::Vector2d> pivots;
+  // An optional array of [x, y] (N = 2) or [x, y, z] (N = 3) points.
+  template <int N>
+  std::vector<Eigen::Matrix<double, N, 1>> Pivots(const Json& root, const char* key) const {
+    std::vector<Eigen::Matrix<double, N, 1>> pivots;
     if (!root.contains(key)) return pivots;
     const Json& value = root.at(key);
-    if (!value.is_array()) Fail(key, "expected an array of [x, y] points, got " + Describe(value));
+    if (!value.is_array()) {
+      Fail(key, std::string("expected an array of ") + (N == 2 ? "[x, y]" : "[x, y, z]") +
+                    " points, got " + Describe(value));
+    }
     if (value.size() > 16) Fail(key, "at most 16 pivots, got " + std::to_string(value.size()));
     for (size_t i = 0; i < value.size(); ++i)
-      pivots.push_back(Vector<2>(value[i], IndexItem(key, i)));
+      pivots.push_back(Vector<N>(value[i], IndexItem(key, i)));
     return pivots;
+  }
+
+  // An optional array of five distinct dyad indices.
+  std::vector<int> Platform(const Json& root) const {
+    std::vector<int> platform;
+    if (!root.contains("platform")) return platform;
+    const Json& value = root.at("platform");
+    if (!value.is_array() || value.size() != 5) {
+      Fail("platform", "expected an array of five dyad indices, got " + Describe(value));
+    }
+    for (size_t i = 0; i < value.size(); ++i) {
+      const std::string item = IndexItem("platform", i);
+      const Json& index = value[i];
+      if (!index.is_number_integer() || index.get<long long>() < 0 ||
+          index.get<long long>() > 1000) {
+        Fail(item, "expected a dyad index (an integer from 0), got " + Describe(index));
+      }
+      const int dyad = static_cast<int>(index.get<long long>());
+      if (std::find(platform.begin(), platform.end(), dyad) != platform.end()) {
+        Fail(item, "dyad " + std::to_string(dyad) + " named twice");
+      }
+      platform.push_back(dyad);
+    }
+    return platform;
   }
 
   template <int N>

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -316,4 +317,108 @@ TEST_F(CliTest, AnimatingAMechanismThatIsNotListedWritesNothing) {
   EXPECT_NE(run.err.find("--mechanism 99"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(animation));
   EXPECT_FALSE(std::filesystem::exists(Path("result.json")));
+}
+
+// The bundled spatial task: seven poses of a 5-SS platform (body points 60, 55, ... mm from E's
+// origin; centers 120..180 mm below). All 20 roots are found, the five generating SS dyads are
+// among the real ones, and the platform built of them (--platform) passes every pose on one
+// branch, in order.
+TEST_F(CliTest, SolvesTheBundledPlatform) {
+  const RunResult run = Run("solve '" + DataPath("platform_7_poses.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(run.out);
+  EXPECT_EQ(result["space"], "spatial");
+  EXPECT_EQ(result["model"], "spatial");
+  EXPECT_EQ(result["roots"]["total"], 20);
+  const double tolerance = kSolveTolerance * result["scale"].get<double>();
+  const double planted[5][6] = {{120, -30, -90, 60, 0, 0},
+                                {50, 130, -100, 20, 55, 0},
+                                {-130, 60, -80, -50, 35, 10},
+                                {-100, -120, -90, -45, -40, 0},
+                                {70, -130, -110, 15, -60, -10}};
+  std::vector<int> indices;
+  for (const auto& expected : planted) {
+    int found = -1;
+    for (size_t i = 0; i < result["dyads"].size(); ++i) {
+      const nlohmann::json& dyad = result["dyads"][i];
+      EXPECT_LE(dyad["max_residual"].get<double>(), tolerance);
+      if (dyad["type"] != "SS") continue;
+      bool same = true;
+      for (int k = 0; k < 3; ++k) {
+        same &= std::abs(dyad["fixed"][k].get<double>() - expected[k]) <= tolerance &&
+                std::abs(dyad["moving"][k].get<double>() - expected[3 + k]) <= tolerance;
+      }
+      if (same) found = static_cast<int>(i);
+    }
+    ASSERT_GE(found, 0) << "dyad centered at " << expected[0] << ", " << expected[1];
+    indices.push_back(found);
+  }
+  // By default the five smallest radii make the platform.
+  ASSERT_EQ(result["mechanisms"].size(), 1u);
+  EXPECT_EQ(result["mechanisms"][0]["dyads"], nlohmann::json({0, 1, 2, 3, 4}));
+  std::string list;
+  for (int index : indices) list += (list.empty() ? "" : ",") + std::to_string(index);
+  const RunResult chosen =
+      Run("solve '" + DataPath("platform_7_poses.json") + "' --platform " + list);
+  ASSERT_EQ(chosen.status, 0) << chosen.err;
+  const nlohmann::json platform = nlohmann::json::parse(chosen.out)["mechanisms"][0];
+  EXPECT_TRUE(platform["assembles"].get<bool>());
+  EXPECT_TRUE(platform["one_branch"].get<bool>());
+  EXPECT_LE(platform["max_pose_error"].get<double>(), tolerance);
+  EXPECT_EQ(platform["order"], nlohmann::json({0, 1, 2, 3, 4, 5, 6}));
+}
+
+// Spatial tasks that are not seven general poses: fewer poses give the family's dimension in a
+// note; planar data are solved as planar and say so; pictures of a spatial platform and
+// --platform on a planar task are usage errors.
+TEST_F(CliTest, SpatialTasksThatNeedLessThanSpace) {
+  const std::string five = WriteTask("five.json", R"({"space": "spatial", "poses": [
+      {"axis": [0, 0, 1], "angle_deg": 0, "translation": [0, 0, 0]},
+      {"axis": [1, 0, 0], "angle_deg": 20, "translation": [1, 0, 0]},
+      {"axis": [0, 1, 0], "angle_deg": 40, "translation": [1, 1, 0]},
+      {"axis": [1, 1, 0], "angle_deg": 30, "translation": [0, 1, 1]},
+      {"axis": [0, 1, 1], "angle_deg": 50, "translation": [0, 0, 1]}]})");
+  const RunResult family = Run("solve '" + five + "'");
+  ASSERT_EQ(family.status, 0) << family.err;
+  const nlohmann::json family_result = nlohmann::json::parse(family.out);
+  EXPECT_TRUE(family_result["dyads"].empty());
+  EXPECT_NE(family_result["notes"][0].get<std::string>().find("2-parameter family"),
+            std::string::npos);
+
+  // The bundled planar four-bar poses, turned about the x-axis into the plane y = z.
+  std::string planar = R"({"space": "spatial", "poses": [)";
+  const nlohmann::json four_bar =
+      nlohmann::json::parse(ReadFile(DataPath("four_bar_5_poses.json")));
+  const double c = std::cos(M_PI / 4), s = std::sin(M_PI / 4);
+  for (size_t j = 0; j < four_bar["poses"].size(); ++j) {
+    const nlohmann::json& pose = four_bar["poses"][j];
+    const double x = pose["x"], y = pose["y"], theta = pose["theta_deg"];
+    planar += (j ? "," : "") + nlohmann::json({{"axis", {0.0, -s, c}},
+                                               {"angle_deg", theta},
+                                               {"translation", {x, c * y, s * y}}})
+                                   .dump();
+  }
+  const std::string planar_path = WriteTask("planar.json", planar + "]}");
+  const RunResult solved = Run("solve '" + planar_path + "'");
+  ASSERT_EQ(solved.status, 0) << solved.err;
+  const nlohmann::json planar_result = nlohmann::json::parse(solved.out);
+  EXPECT_EQ(planar_result["model"], "planar");
+  const double tolerance = kSolveTolerance * planar_result["scale"].get<double>();
+  bool rocker = false;  // the rocker: fixed (100, 0) in the plane, moving (87.5, 0), radius 75
+  for (const nlohmann::json& dyad : planar_result["dyads"]) {
+    if (dyad["type"] != "RR") continue;
+    rocker |= std::abs(dyad["fixed"][0].get<double>() - 100.0) <= tolerance &&
+              std::abs(dyad["fixed"][1].get<double>()) <= tolerance &&
+              std::abs(dyad["radius"].get<double>() - 75.0) <= tolerance;
+  }
+  EXPECT_TRUE(rocker) << planar_result.dump(2);
+  EXPECT_FALSE(planar_result["mechanisms"].empty());
+  EXPECT_EQ(Run("solve '" + planar_path + "' --svg '" + Path("planar.svg") + "'").status, 0);
+
+  const RunResult picture =
+      Run("solve '" + DataPath("platform_7_poses.json") + "' --svg '" + Path("platform.svg") + "'");
+  EXPECT_EQ(picture.status, 2);
+  EXPECT_FALSE(std::filesystem::exists(Path("platform.svg")));
+  EXPECT_EQ(Run("solve '" + DataPath("four_bar_5_poses.json") + "' --platform 0,1,2,3,4").status,
+            2);
 }

@@ -253,13 +253,5 @@ TEST(PlanarMotion, DegenerateTaskSaysSo) {
   EXPECT_NE(result.notes.front().find("family of dyads"), std::string::npos);
 }
 
-TEST(PlanarMotion, UnsupportedKindsReturnANote) {
-  Task task;
-  task.problem = ProblemKind::kPath;
-  const PlanarMotionResult result = SolveTask(task);
-  EXPECT_TRUE(result.dyads.empty());
-  ASSERT_EQ(result.notes.size(), 1u);
-}
-
 }  // namespace
 }  // namespace linkfit

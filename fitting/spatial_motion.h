@@ -1,0 +1,53 @@
+// Spatial motion generation, end to end: the simplest model the poses need, every dyad through
+// them, and the 5-dyad platforms made of them.
+//   - Poses in one plane (all relative rotations about one axis direction, translations
+//     perpendicular to it): solved as a planar problem (planar_motion.h) and reported in
+//     spatial coordinates, as seed 000 section 6 does; both pivots of such an RR dyad may slide
+//     along the plane normal. Seven or more planar poses also get the note that every body
+//     point moves in a plane parallel to the plane of motion (the PS family of section 5).
+//   - Seven or more poses: spatial_burmester.h (exact for seven, algebraic least squares
+//     beyond; the refinement is in optimizers/).
+//   - Four to six poses with given pivots: one SS dyad per pivot (a sphere through the pivot's
+//     positions); without pivots, the dimension of the solution family is reported.
+#ifndef LINKFIT_FITTING_SPATIAL_MOTION_H_
+#define LINKFIT_FITTING_SPATIAL_MOTION_H_
+
+#include <optional>
+#include <vector>
+
+#include "fitting/planar_motion.h"
+#include "fitting/spatial_burmester.h"
+#include "lib/platform_motion.h"
+#include "lib/result.h"
+#include "lib/task.h"
+
+namespace linkfit {
+
+struct SpatialMotionOptions {
+  SpatialBurmesterOptions burmester;  // seven or more poses
+  PlanarMotionOptions planar;         // planar data
+  // Poses whose out-of-plane deviation (translation along the normal, and L times the tilt of
+  // the rotation axes) stays below this times L are solved as planar.
+  double planarity_tolerance = 1e-8;
+  PlatformMotionOptions platform;  // the platform's forward kinematics
+};
+
+// The characteristic length of a spatial task: its "scale", else the RMS distance of the pose
+// origins from their centroid (1 if they coincide).
+double SpatialTaskLength(const Task& task);
+
+// The plane of motion when the poses are planar within tolerance * length; nullopt otherwise.
+std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaternion>& poses,
+                                                  double length, double tolerance);
+
+// Solves a validated spatial motion task without refinement or platforms.
+SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOptions& options = {});
+
+// Builds the platform of the task's `platform` dyads, or by default of the five SS/PS dyads of
+// smallest radius (planes last), traces its motion and appends it to result->mechanisms.
+void AddPlatform(const Task& task, const PlatformMotionOptions& options,
+                 SpatialMotionResult* result);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_FITTING_SPATIAL_MOTION_H_

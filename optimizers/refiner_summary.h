@@ -1,0 +1,27 @@
+// The report every least-squares refiner returns (spatial dyads now; planar dyads and four-bars
+// later): the weighted cost and residual statistics before and after, and what the solver did.
+// All costs and residuals are in the task's own length units, after the refiner has undone
+// its internal centring and scaling.
+#ifndef LINKFIT_OPTIMIZERS_REFINER_SUMMARY_H_
+#define LINKFIT_OPTIMIZERS_REFINER_SUMMARY_H_
+
+#include <string>
+
+namespace linkfit {
+
+struct RefinerSummary {
+  double initial_cost = 0.0;   // 1/2 sum w_j e_j^2 of the seed, length units squared
+  double final_cost = 0.0;     // the same for the returned design
+  double initial_rms = 0.0;    // sqrt(sum w e^2 / sum w) of the seed, length units
+  double final_rms = 0.0;      // the same for the returned design
+  double initial_max = 0.0;    // max |e_j| of the seed, length units
+  double final_max = 0.0;      // the same for the returned design
+  int iterations = 0;          // solver iterations, summed over every model refined
+  double seconds = 0.0;        // wall time of the whole refinement
+  bool model_changed = false;  // the design changed type (for a spatial dyad: SS <-> PS)
+  std::string message;         // Ceres termination message, with the refiner's own notes
+};
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_OPTIMIZERS_REFINER_SUMMARY_H_

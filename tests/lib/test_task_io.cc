@@ -572,3 +572,53 @@ TEST(TaskIoFile, FileErrors) {
 
 }  // namespace
 }  // namespace linkfit
+
+namespace linkfit {
+namespace {
+
+// n spatial poses in axis-angle form.
+nlohmann::json SpatialTaskJson(int count) {
+  nlohmann::json task = {{"problem", "motion"}, {"space", "spatial"}};
+  task["poses"] = nlohmann::json::array();
+  for (int i = 0; i < count; ++i) {
+    task["poses"].push_back({{"axis", {1.0, 0.5 * i, 0.2}},
+                             {"angle_deg", 10.0 * i},
+                             {"translation", {std::cos(i), std::sin(0.7 * i), 0.3 * i}}});
+  }
+  return task;
+}
+
+TEST(TaskIoSpatial, PivotsAndPlatform) {
+  nlohmann::json json = SpatialTaskJson(5);
+  json["moving_pivots"] = {{0.0, 1.0, 2.0}};
+  json["fixed_pivots"] = {{1.0, 1.0, 1.0}, {2.0, 0.0, 0.0}};
+  const Task task = ParseTask(json.dump(), "task.json");
+  ASSERT_EQ(task.spatial_moving_pivots.size(), 1u);
+  EXPECT_EQ(task.spatial_moving_pivots[0], Eigen::Vector3d(0.0, 1.0, 2.0));
+  EXPECT_EQ(task.spatial_fixed_pivots.size(), 2u);
+  EXPECT_TRUE(task.moving_pivots.empty());
+
+  json["moving_pivots"] = {{0.0, 1.0}};
+  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: moving_pivots[0]: expected an array of 3"))
+      << ErrorOf(json.dump());
+  json = SpatialTaskJson(7);
+  json["moving_pivots"] = {{0.0, 1.0, 2.0}};
+  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: moving_pivots: used with four to six"))
+      << ErrorOf(json.dump());
+
+  json = SpatialTaskJson(7);
+  json["platform"] = {4, 3, 2, 1, 0};
+  EXPECT_EQ(ParseTask(json.dump(), "task.json").platform, (std::vector<int>{4, 3, 2, 1, 0}));
+  json["platform"] = {0, 1, 2};
+  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: platform: expected an array of five"));
+  json["platform"] = {0, 1, 2, 3, 3};
+  EXPECT_EQ(ErrorOf(json.dump()), "task.json: platform[4]: dyad 3 named twice");
+  json["platform"] = {0, 1, 2, 3, -1};
+  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: platform[4]: expected a dyad index"));
+  nlohmann::json planar = PlanarTaskJson();
+  planar["platform"] = {0, 1, 2, 3, 4};
+  EXPECT_EQ(ErrorOf(planar.dump()), "task.json: platform: used by spatial motion problems only");
+}
+
+}  // namespace
+}  // namespace linkfit

@@ -1,5 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <random>
+
+#include "tests/support/random_spatial.h"
+
 #include "optimizers/task_solver.h"
 
 namespace linkfit {
@@ -13,6 +17,71 @@ TEST(TaskSolver, PathProblemsReturnANote) {
   const PlanarMotionResult& planar = std::get<PlanarMotionResult>(result);
   EXPECT_TRUE(planar.dyads.empty());
   ASSERT_EQ(planar.notes.size(), 1u);
+}
+
+// Ten noisy poses on three planted SS dyads: the least-squares seeds are refined, every refined
+// dyad fits no worse than its seed, and the planted dyads' refinements fit the noisy poses at
+// least as well as the planted dyads themselves (they are least-squares optima).
+TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
+  for (int seed = 0; seed < 5; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937_64 rng(seed);
+    std::normal_distribution<double> normal;
+    const DualQuaternion start = testing::RandomSpatialPose(rng);
+    const std::vector<SpatialDyad> planted = testing::DyadsThroughPose(
+        rng, start, {SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kSS});
+    std::vector<DualQuaternion> poses = testing::PosesOnDyads(rng, planted, start, 10);
+    constexpr double kNoise = 1e-3;
+    for (DualQuaternion& pose : poses) {
+      const Eigen::Vector3d w(normal(rng), normal(rng), normal(rng));
+      const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
+      pose = DualQuaternion::FromAxisAngle(w, kNoise * w.norm(), kNoise * v) * pose;
+    }
+    Task task;
+    task.space = Space::kSpatial;
+    task.spatial_poses = poses;
+    task.pose_weights.assign(poses.size(), 1.0);
+    task.pose_exact.assign(poses.size(), false);
+    const SpatialMotionResult result = SolveSpatialTask(task);
+    EXPECT_EQ(result.method, "least-squares");
+    ASSERT_FALSE(result.dyads.empty());
+    for (const SpatialDyadReport& report : result.dyads) {
+      if (report.dyad.type == SpatialDyadType::kSP) continue;
+      ASSERT_TRUE(report.rms_residual && report.seed_rms_residual);
+      EXPECT_LE(*report.rms_residual, *report.seed_rms_residual * (1 + 1e-12));
+    }
+    for (const SpatialDyad& expected : planted) {
+      double planted_rms = 0.0;
+      for (const DualQuaternion& pose : poses) planted_rms += std::pow(expected.Residual(pose), 2);
+      planted_rms = std::sqrt(planted_rms / poses.size());
+      double best = 1e300;
+      const SpatialDyadReport* nearest = nullptr;
+      for (const SpatialDyadReport& report : result.dyads) {
+        const double distance = testing::SpatialDyadDistance(report.dyad, expected);
+        if (distance < best) {
+          best = distance;
+          nearest = &report;
+        }
+      }
+      ASSERT_NE(nearest, nullptr);
+      EXPECT_LT(best, 0.2);  // the noisy optimum is near the planted dyad
+      EXPECT_LE(*nearest->rms_residual, planted_rms * (1 + 1e-9));
+    }
+    EXPECT_GT(result.refine_seconds, 0.0);
+  }
+}
+
+TEST(TaskSolver, SpatialFastEffortKeepsTheSeeds) {
+  std::mt19937_64 rng(9);
+  Task task;
+  task.space = Space::kSpatial;
+  for (int j = 0; j < 9; ++j) task.spatial_poses.push_back(testing::RandomSpatialPose(rng));
+  task.pose_weights.assign(9, 1.0);
+  task.pose_exact.assign(9, false);
+  task.effort = Effort::kFast;
+  const SpatialMotionResult result = SolveSpatialTask(task);
+  for (const SpatialDyadReport& report : result.dyads) EXPECT_FALSE(report.rms_residual);
+  EXPECT_EQ(result.refine_seconds, 0.0);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -275,18 +276,20 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
     report.max_residual = dyad.MaxResidual(poses);
     result.dyads.push_back(report);
   }
-  // Smallest radius first: the platform's default dyads lead the list; planes last.
-  std::stable_sort(result.dyads.begin(), result.dyads.end(),
-                   [](const SpatialDyadReport& a, const SpatialDyadReport& b) {
-                     const auto key = [](const SpatialDyad& d) {
-                       return d.type == SpatialDyadType::kSS
-                                  ? d.radius
-                                  : std::numeric_limits<double>::infinity();
-                     };
-                     return key(a.dyad) < key(b.dyad);
-                   });
+  SortDyadsByRadius(&result.dyads);
   if (result.dyads.empty()) result.notes.push_back("no real dyad: all roots are complex");
   return finish();
+}
+
+void SortDyadsByRadius(std::vector<SpatialDyadReport>* dyads) {
+  const auto key = [](const SpatialDyad& dyad) {
+    return dyad.type == SpatialDyadType::kSS ? dyad.radius
+                                             : std::numeric_limits<double>::infinity();
+  };
+  std::stable_sort(dyads->begin(), dyads->end(),
+                   [&](const SpatialDyadReport& a, const SpatialDyadReport& b) {
+                     return key(a.dyad) < key(b.dyad);
+                   });
 }
 
 void AddPlatform(const Task& task, const PlatformMotionOptions& options,
@@ -328,6 +331,11 @@ void AddPlatform(const Task& task, const PlatformMotionOptions& options,
   report.order = motion.order;
   report.note = motion.note;
   report.path = motion.path;
+  if (task.platform.empty() && !(motion.assembles && motion.one_branch)) {
+    result->notes.push_back(
+        "the default platform (the five dyads of smallest radius) does not pass every pose on "
+        "one branch; name five other dyads with \"platform\" in the task or --platform");
+  }
   result->mechanisms.push_back(report);
 }
 

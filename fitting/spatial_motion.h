@@ -43,6 +43,9 @@ std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaterni
 // Solves a validated spatial motion task without refinement or platforms.
 SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOptions& options = {});
 
+// Orders dyads by radius, smallest first (the platform's default dyads lead); planes last.
+void SortDyadsByRadius(std::vector<SpatialDyadReport>* dyads);
+
 // Builds the platform of the task's `platform` dyads, or by default of the five SS/PS dyads of
 // smallest radius (planes last), traces its motion and appends it to result->mechanisms.
 void AddPlatform(const Task& task, const PlatformMotionOptions& options,

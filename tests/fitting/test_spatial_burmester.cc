@@ -57,14 +57,16 @@ TEST(SpatialBurmester, RandomSevenPosesGiveTwentyVerifiedRoots) {
   }
 }
 
-TEST(SpatialBurmester, RecoversPlantedSSAndPSDyads) {
+TEST(SpatialBurmester, RecoversPlantedSSPSAndSPDyads) {
   for (int seed = 0; seed < 20; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     std::mt19937_64 rng(100 + seed);
     const DualQuaternion start = testing::RandomSpatialPose(rng);
+    // Half the tasks plant an SP dyad (a moving point at infinity) instead of an SS one.
     const std::vector<SpatialDyad> planted = testing::DyadsThroughPose(
         rng, start,
-        {SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kPS});
+        {SpatialDyadType::kSS, SpatialDyadType::kSS,
+         seed % 2 ? SpatialDyadType::kSP : SpatialDyadType::kSS, SpatialDyadType::kPS});
     const std::vector<DualQuaternion> poses = testing::PosesOnDyads(rng, planted, start, 7);
     std::vector<SpatialDyad> dyads;
     SpatialBurmesterSummary summary;

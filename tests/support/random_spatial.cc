@@ -62,9 +62,15 @@ std::vector<SpatialDyad> DyadsThroughPose(std::mt19937_64& rng, const DualQuater
       Eigen::Vector3d center = RandomVector(rng, 1.0);
       while ((center - point).norm() < 0.3) center = RandomVector(rng, 1.0);
       dyads.push_back(SpatialDyad::SS(center, moving, (point - center).norm()));
-    } else {
+    } else if (type == SpatialDyadType::kPS) {
       const Eigen::Vector3d normal = RandomUnit(rng);
       dyads.push_back(SpatialDyad::PS(moving, normal, normal.dot(point)));
+    } else {
+      // SP: a random point of Sigma on a plane of E through where E sees it.
+      const Eigen::Vector3d fixed = RandomVector(rng, 1.0);
+      const Eigen::Vector3d seen = pose.Rotation().transpose() * (fixed - pose.Translation());
+      const Eigen::Vector3d normal = RandomUnit(rng);
+      dyads.push_back(SpatialDyad::SP(fixed, normal, normal.dot(seen)));
     }
   }
   return dyads;

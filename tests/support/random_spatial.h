@@ -19,7 +19,8 @@ SpatialDyad RandomSSDyad(std::mt19937_64& rng);
 SpatialDyad RandomPSDyad(std::mt19937_64& rng);
 
 // Random dyads of the given types through one pose: SS with center and moving point in the
-// box of half-width 1 (radius fitted to the pose), PS with the plane through the moving point.
+// box of half-width 1 (radius fitted to the pose), PS with the plane through the moving point,
+// SP with a fixed point in the box and the plane of E through it.
 std::vector<SpatialDyad> DyadsThroughPose(std::mt19937_64& rng, const DualQuaternion& pose,
                                           const std::vector<SpatialDyadType>& types);
 

@@ -46,6 +46,8 @@ constexpr const char* kFooter =
     "\"RR\"|\"PR\"|\"RP\", ...}],\n"
     "   \"mechanisms\": [{\"type\", \"dyads\": [input, output], \"max_pose_error\"}], \"roots\",\n"
     "   \"notes\"}; a value that cannot be computed is left out with a \"<field>_note\".\n"
+    "  Spatial tasks give SS / PS / SP dyads and a 5-dyad \"platform\" mechanism (whether it\n"
+    "  passes every pose on one branch, in which order, and its largest pose error).\n"
     "Exit status: 0 solved (an empty \"dyads\" with notes when nothing was found);\n"
     "  1 internal fault; 2 bad input or usage: one line on stderr naming the file, the item and\n"
     "  what is wrong, and no result file.";

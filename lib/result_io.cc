@@ -73,7 +73,9 @@ Json SpatialDyadToJson(const SpatialDyadReport& report) {
 }
 
 // A planar dyad of planar data in a spatial task, in spatial coordinates: pivots on the plane
-// of motion (Sigma) and on E's matching plane; the joint axes are the plane normal.
+// of motion (Sigma) and on E's matching plane; the joint axes are the plane normal. The fixed
+// pivot is thus the point of the plane of motion nearest the center of any sphere of the dyad's
+// family (seed 000 eqs 37-38), found directly by solving in the plane.
 Json EmbeddedDyadToJson(const DyadReport& report, const PlanarEmbedding& plane) {
   const PlanarDyad& dyad = report.dyad;
   const auto fixed = [&](const Eigen::Vector2d& p) {

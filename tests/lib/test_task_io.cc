@@ -599,7 +599,8 @@ TEST(TaskIoSpatial, PivotsAndPlatform) {
   EXPECT_TRUE(task.moving_pivots.empty());
 
   json["moving_pivots"] = {{0.0, 1.0}};
-  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: moving_pivots[0]: expected an array of 3"))
+  EXPECT_TRUE(
+      StartsWith(ErrorOf(json.dump()), "task.json: moving_pivots[0]: expected an array of 3"))
       << ErrorOf(json.dump());
   json = SpatialTaskJson(7);
   json["moving_pivots"] = {{0.0, 1.0, 2.0}};

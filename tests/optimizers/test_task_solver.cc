@@ -2,9 +2,8 @@
 
 #include <random>
 
-#include "tests/support/random_spatial.h"
-
 #include "optimizers/task_solver.h"
+#include "tests/support/random_spatial.h"
 
 namespace linkfit {
 namespace {
@@ -29,10 +28,10 @@ TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
     std::normal_distribution<double> normal;
     const DualQuaternion start = testing::RandomSpatialPose(rng);
     // Odd seeds plant an SP dyad (refined as a PS dyad of the inverted motion).
-    const std::vector<SpatialDyad> planted = testing::DyadsThroughPose(
-        rng, start,
-        {SpatialDyadType::kSS, SpatialDyadType::kSS,
-         seed % 2 ? SpatialDyadType::kSP : SpatialDyadType::kSS});
+    const std::vector<SpatialDyad> planted =
+        testing::DyadsThroughPose(rng, start,
+                                  {SpatialDyadType::kSS, SpatialDyadType::kSS,
+                                   seed % 2 ? SpatialDyadType::kSP : SpatialDyadType::kSS});
     std::vector<DualQuaternion> poses = testing::PosesOnDyads(rng, planted, start, 10);
     constexpr double kNoise = 1e-3;
     for (DualQuaternion& pose : poses) {

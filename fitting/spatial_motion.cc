@@ -214,7 +214,8 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   if (n < 7) {
     if (!have_pivots) {
       result.notes.push_back(
-          std::to_string(n) + " poses leave a " + std::to_string(7 - n) +
+          std::to_string(n) + (n == 1 ? " pose leaves a " : " poses leave a ") +
+          std::to_string(7 - n) +
           "-parameter family of SS dyads (seven poses determine them); give seven poses, or "
           "moving_pivots / fixed_pivots (with four to six poses) to pick dyads from the family");
       return finish();

@@ -16,7 +16,17 @@
 // dyads): the RMS residual of the planted dyads' seeds before and after the Ceres refinement,
 // and the end-to-end time of SolveSpatialTask (seed, refinement, platform).
 //
-//   linkfit_bench [--tasks N] [--spatial-tasks M] [--seed S] [--only planar|spatial]
+// Then approximate planar synthesis (more poses than five): for N = 10, 50, 200 poses from a
+// random four-bar, noise 0, 1e-3 L and 1e-2 L on positions and L times the angles, and each
+// effort level (fast, balanced, thorough), the median and worst time of SolvePlanarTask and the
+// median and worst RMS pose error of its best four-bar without a circuit or branch defect (order
+// defects are left aside: dense noisy poses reorder neighbouring inputs), relative to the
+// generating mechanism's RMS pose error on the same noisy poses (for exact data: in units of L),
+// and the share of tasks where it fits within 10 % of the generating mechanism (or better). Written
+// to a CSV file (--csv, default least_squares.csv) as well.
+//
+//   linkfit_bench [--tasks N] [--spatial-tasks M] [--ls-tasks K] [--seed S]
+//                 [--only planar|spatial|least-squares] [--csv FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -31,6 +41,7 @@
 #include "fitting/planar_burmester.h"
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_burmester.h"
+#include "lib/four_bar_motion.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_spatial.h"
@@ -255,6 +266,98 @@ void RunSpatialLeastSquares(int tasks, int count, double noise, uint64_t seed) {
               Percentile(e2e_us, 0.99));
 }
 
+// RMS pose error of a four-bar at the poses (each at its nearest configuration).
+double RmsPoseError(const linkfit::PlanarDyad& input, const linkfit::PlanarDyad& output,
+                    const std::vector<linkfit::PlanarPose>& poses, double length) {
+  const linkfit::FourBarAnalysis analysis = linkfit::AnalyzeFourBar(input, output, poses, length);
+  double sum = 0.0;
+  for (const linkfit::FourBarLocation& location : analysis.locations) {
+    sum += location.pose_error * location.pose_error;
+  }
+  return std::sqrt(sum / poses.size());
+}
+
+void RunLeastSquares(int tasks, uint64_t seed, const std::string& csv_path) {
+  std::printf(
+      "\napproximate planar synthesis (SolvePlanarTask), random four-bars; error = RMS pose "
+      "error of the best defect-free four-bar / that of the generating mechanism on the "
+      "same poses (noise 0: / L)\n");
+  std::printf("%-8s %-8s %-9s %6s %10s %10s %12s %12s %9s\n", "poses", "noise", "effort", "tasks",
+              "median_ms", "worst_ms", "median_err", "worst_err", "success");
+  FILE* csv = std::fopen(csv_path.c_str(), "w");
+  if (csv) {
+    std::fprintf(csv,
+                 "family,path,effort,tasks,median_ms,worst_ms,median_error,worst_error,"
+                 "success_share\n");
+  }
+  const linkfit::Effort efforts[] = {linkfit::Effort::kFast, linkfit::Effort::kBalanced,
+                                     linkfit::Effort::kThorough};
+  for (int count : {10, 50, 200}) {
+    for (double noise : {0.0, 1e-3, 1e-2}) {
+      for (linkfit::Effort effort : efforts) {
+        // The same tasks for every effort level.
+        std::mt19937_64 rng(seed + count * 7 + static_cast<uint64_t>(noise * 1e4));
+        const int cell_tasks =
+            effort == linkfit::Effort::kThorough ? std::max(1, tasks / 4) : tasks;
+        std::vector<double> times, errors;
+        int success = 0;
+        for (int t = 0; t < cell_tasks; ++t) {
+          const linkfit::testing::GeneratedTask generated =
+              linkfit::testing::RandomFourBarTask(rng, count);
+          const double length = linkfit::CharacteristicLength(generated.poses);
+          std::normal_distribution<double> normal;
+          std::vector<linkfit::PlanarPose> poses = generated.poses;
+          for (linkfit::PlanarPose& pose : poses) {
+            pose.origin_in_fixed += noise * length * Eigen::Vector2d(normal(rng), normal(rng));
+            pose.theta += noise * normal(rng);
+          }
+          linkfit::Task task;
+          task.planar_poses = poses;
+          task.pose_weights.assign(poses.size(), 1.0);
+          task.pose_exact.assign(poses.size(), false);
+          task.effort = effort;
+          const auto begin = std::chrono::steady_clock::now();
+          const linkfit::PlanarMotionResult result = linkfit::SolvePlanarTask(task);
+          times.push_back(MicrosecondsSince(begin) / 1000.0);
+          double best = std::numeric_limits<double>::infinity();
+          // Order defects are not counted: with dense noisy poses the noise itself reorders
+          // neighbouring input values. Circuit and branch defects are.
+          for (const linkfit::MechanismReport& mechanism : result.mechanisms) {
+            const bool assembles_on_one_branch =
+                std::find(mechanism.defects.begin(), mechanism.defects.end(), "circuit") ==
+                    mechanism.defects.end() &&
+                std::find(mechanism.defects.begin(), mechanism.defects.end(), "branch") ==
+                    mechanism.defects.end();
+            if (mechanism.rms_pose_error && assembles_on_one_branch) {
+              best = std::min(best, *mechanism.rms_pose_error);
+            }
+          }
+          const double reference =
+              noise > 0.0 ? RmsPoseError(generated.input, generated.output, poses, length) : 0.0;
+          const double error = noise > 0.0 ? best / reference : best / length;
+          errors.push_back(error);
+          success += noise > 0.0 ? error <= 1.10 : error <= 1e-9;
+        }
+        const char* effort_name = linkfit::EffortName(effort);
+        std::printf("%-8d %-8.0e %-9s %6d %10.2f %10.2f %12.3e %12.3e %8.1f%%\n", count, noise,
+                    effort_name, cell_tasks, Percentile(times, 0.5), Percentile(times, 1.0),
+                    Percentile(errors, 0.5), Percentile(errors, 1.0), 100.0 * success / cell_tasks);
+        if (csv) {
+          std::fprintf(csv,
+                       "planar motion %d poses noise %g,four-bar,%s,%d,%.4f,%.4f,%.6g,%.6g,%.4f\n",
+                       count, noise, effort_name, cell_tasks, Percentile(times, 0.5),
+                       Percentile(times, 1.0), Percentile(errors, 0.5), Percentile(errors, 1.0),
+                       static_cast<double>(success) / cell_tasks);
+        }
+      }
+    }
+  }
+  if (csv) {
+    std::fclose(csv);
+    std::printf("written to %s\n", csv_path.c_str());
+  }
+}
+
 void RunSpatial(int tasks, uint64_t seed) {
   std::printf("\nseven-pose spatial Burmester solver (seed 000), %d random tasks\n", tasks);
   std::printf("%-30s %8s %12s %12s %12s %6s %10s %8s\n", "family", "tasks", "all_20_ok",
@@ -281,6 +384,8 @@ void RunSpatial(int tasks, uint64_t seed) {
 int main(int argc, char** argv) {
   int tasks = 100000;
   int spatial_tasks = 10000;
+  int ls_tasks = 20;
+  std::string csv_path = "least_squares.csv";
   uint64_t seed = 2026;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -292,15 +397,23 @@ int main(int argc, char** argv) {
       seed = std::strtoull(argv[++i], nullptr, 10);
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
+    } else if (!std::strcmp(argv[i], "--ls-tasks") && i + 1 < argc) {
+      ls_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
+      csv_path = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--seed S] "
-                   "[--only planar|spatial]\n");
+                   "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--ls-tasks K] "
+                   "[--seed S] [--only planar|spatial|least-squares] [--csv FILE]\n");
       return 2;
     }
   }
   if (only == "spatial") {
     RunSpatial(spatial_tasks, seed);
+    return 0;
+  }
+  if (only == "least-squares") {
+    RunLeastSquares(ls_tasks, seed, csv_path);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
@@ -315,6 +428,9 @@ int main(int argc, char** argv) {
       {"RPRP (PR+RP)", DyadType::kPR, DyadType::kRP},
   };
   for (const Family& family : families) RunFamily(family, tasks, seed++);
-  if (only != "planar") RunSpatial(spatial_tasks, seed);
+  if (only != "planar") {
+    RunSpatial(spatial_tasks, seed);
+    RunLeastSquares(ls_tasks, seed, csv_path);
+  }
   return 0;
 }

@@ -192,6 +192,7 @@ struct SolveOutputs {
   std::string animate_path;   // --animate (.svg or .html)
   int animate_index = 1;      // --mechanism: which mechanism to animate (1 = the first listed)
   std::vector<int> platform;  // --platform: five dyad indices (spatial motion)
+  std::string effort;         // --effort: overrides the task's options.effort
 };
 
 // The planar view of a result: a planar result, or the planar synthesis of planar data in a
@@ -227,6 +228,9 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
       }
       task.platform = outputs.platform;
     }
+    if (outputs.effort == "fast") task.effort = Effort::kFast;
+    if (outputs.effort == "balanced") task.effort = Effort::kBalanced;
+    if (outputs.effort == "thorough") task.effort = Effort::kThorough;
     results.push_back(SolveTask(task));
     text += ResultToJson(results.back(), indent) + "\n";
   }
@@ -267,6 +271,69 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   return kExitOk;
 }
 
+// `linkfit refine`: one planar motion task and a design (a result file, or written by hand);
+// the design's four-bar refined on its pose error, before and after in the result.
+int Refine(const std::string& task_path, const std::string& design_path,
+           const std::string& result_path, int mechanism_index) {
+  const std::vector<Task> tasks = ReadTaskFile(task_path);
+  if (tasks.size() != 1) throw InputError(task_path + ": refine takes one task, not a batch");
+  const Task& task = tasks[0];
+  if (task.problem != ProblemKind::kMotion || task.space != Space::kPlanar) {
+    throw InputError(task_path + ": refine takes a planar motion task");
+  }
+  const PlanarDesign design = ReadDesignFile(design_path);
+  std::pair<int, int> pair;
+  if (!design.mechanisms.empty()) {
+    if (mechanism_index > static_cast<int>(design.mechanisms.size())) {
+      throw InputError(design_path + ": --mechanism " + std::to_string(mechanism_index) +
+                       ": the design lists " + std::to_string(design.mechanisms.size()) +
+                       " mechanisms");
+    }
+    pair = design.mechanisms[mechanism_index - 1];
+  } else if (design.dyads.size() == 2) {
+    pair = {0, 1};
+  } else {
+    throw InputError(design_path + ": mechanisms: missing field (needed to pick two of the " +
+                     std::to_string(design.dyads.size()) + " dyads)");
+  }
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  PlanarDyad input = design.dyads[pair.first], output = design.dyads[pair.second];
+  const RefinerSummary summary =
+      RefineFourBar(poses, task.pose_weights, task.pose_exact, length, &input, &output);
+  PlanarMotionResult result;
+  result.method = "refine";
+  result.scale = length;
+  result.effort = EffortName(task.effort);
+  for (const PlanarDyad& dyad : {input, output}) {
+    result.dyads.emplace_back(dyad, dyad.MaxResidual(poses));
+  }
+  MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length);
+  mechanism.seed_max_pose_error = summary.initial_max;
+  result.mechanisms.push_back(mechanism);
+  StageReport stage;
+  stage.name = "four-bar refine";
+  stage.seconds = summary.seconds;
+  stage.best_max_pose_error = summary.final_max;
+  result.stages.push_back(stage);
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "pose error before: max %.6g, RMS %.6g; after: max %.6g, RMS %.6g (%d iterations)",
+                summary.initial_max, summary.initial_rms, summary.final_max, summary.final_rms,
+                summary.iterations);
+  result.notes.push_back(line);
+  if (!summary.message.empty()) result.notes.push_back(summary.message);
+  result.solve_seconds = summary.seconds;
+  const std::string text = ResultToJson(result, 2) + "\n";
+  if (result_path.empty() || result_path == "-") {
+    std::cout << text << std::flush;
+    if (!std::cout) throw std::runtime_error("cannot write to standard output");
+  } else {
+    WriteFileAtomically(result_path, text);
+  }
+  return kExitOk;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app(kDescription, "linkfit");
   app.footer(kFooter);
@@ -291,12 +358,34 @@ int Run(int argc, char** argv) {
                    "which listed mechanism --animate shows (1 = the first, the best ranked)")
       ->check(CLI::PositiveNumber);
   solve
+      ->add_option("--effort", outputs.effort,
+                   "more poses than the minimum: fast (algebraic seeds), balanced (seeds refined "
+                   "by Ceres; the default) or thorough (plus an NLopt global search); overrides "
+                   "the task's options.effort")
+      ->check(CLI::IsMember({"fast", "balanced", "thorough"}));
+  solve
       ->add_option("--platform", outputs.platform,
                    "spatial motion: the five dyads (indices in the result) to build the platform "
                    "from, e.g. --platform 0,1,2,3,5")
       ->delimiter(',')
       ->expected(5)
       ->check(CLI::NonNegativeNumber);
+
+  std::string refine_task, design_path, refine_output;
+  int refine_index = 1;
+  CLI::App* refine = app.add_subcommand(
+      "refine", "Refine a planar four-bar design against a task on its pose error.");
+  refine->add_option("TASK", refine_task, "planar motion task file (.json)")->required();
+  refine
+      ->add_option("DESIGN", design_path,
+                   "the design: a result file of `linkfit solve`, or {\"dyads\": [...], "
+                   "\"mechanisms\": [{\"dyads\": [input, output]}]} by hand")
+      ->required();
+  refine->add_option("-o,--output", refine_output, "write the result to this file");
+  refine
+      ->add_option("--mechanism", refine_index,
+                   "which mechanism of the design to refine (1 = the first listed)")
+      ->check(CLI::PositiveNumber);
 
   try {
     app.parse(argc, argv);
@@ -308,6 +397,7 @@ int Run(int argc, char** argv) {
     return kExitBadInput;
   }
   if (solve->parsed()) return Solve(task_path, outputs);
+  if (refine->parsed()) return Refine(refine_task, design_path, refine_output, refine_index);
   return kExitBadInput;  // unreachable: a subcommand is required
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <string>
@@ -33,8 +34,10 @@ bool BetterAnalysis(const FourBarAnalysis& a, const FourBarAnalysis& b) {
   return a.transmission_min_deg.value_or(-1.0) > b.transmission_min_deg.value_or(-1.0);
 }
 
-MechanismReport AnalyzePair(const std::vector<DyadReport>& dyads, int i, int j,
-                            const std::vector<PlanarPose>& poses, double length) {
+}  // namespace
+
+MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
+                                const std::vector<PlanarPose>& poses, double length) {
   const PlanarDyad& a = dyads[i].dyad;
   const PlanarDyad& b = dyads[j].dyad;
   const FourBarAnalysis a_drives = AnalyzeFourBar(a, b, poses, length);
@@ -59,8 +62,18 @@ MechanismReport AnalyzePair(const std::vector<DyadReport>& dyads, int i, int j,
   mechanism.transmission_max_deg = chosen.transmission_max_deg;
   mechanism.transmission_note = chosen.transmission_note;
   mechanism.cycle = chosen.cycle;
+  if (poses.size() > 5 && mechanism.max_pose_error) {
+    // Least squares: the RMS of the pose errors (each at its nearest configuration).
+    double sum = 0.0;
+    for (const FourBarLocation& location : chosen.locations) {
+      sum += location.pose_error * location.pose_error;
+    }
+    mechanism.rms_pose_error = std::sqrt(sum / static_cast<double>(chosen.locations.size()));
+  }
   return mechanism;
 }
+
+namespace {
 
 bool MechanismBefore(const MechanismReport& a, const MechanismReport& b) {
   if (a.defects.empty() != b.defects.empty()) return a.defects.empty();
@@ -173,6 +186,70 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
   }
 }
 
+void RankMechanisms(std::vector<MechanismReport>* mechanisms) {
+  std::stable_sort(mechanisms->begin(), mechanisms->end(), MechanismBefore);
+}
+
+void BuildMechanisms(const std::vector<PlanarPose>& poses, double length,
+                     PlanarMotionResult* result) {
+  result->mechanisms.clear();
+  for (size_t i = 0; i < result->dyads.size(); ++i) {
+    for (size_t j = i + 1; j < result->dyads.size(); ++j) {
+      result->mechanisms.push_back(
+          AnalyzeDyadPair(result->dyads, static_cast<int>(i), static_cast<int>(j), poses, length));
+    }
+  }
+  RankMechanisms(&result->mechanisms);
+}
+
+std::vector<std::vector<int>> SpreadSubsets(int count, int subsets) {
+  std::vector<std::vector<int>> out;
+  for (int k = 0; k < subsets; ++k) {
+    std::vector<int> subset;
+    for (int i = 0; i < 5; ++i) {
+      const int index =
+          static_cast<int>(std::lround((i + static_cast<double>(k) / subsets) * count / 5.0)) %
+          count;
+      if (std::find(subset.begin(), subset.end(), index) == subset.end()) subset.push_back(index);
+    }
+    std::sort(subset.begin(), subset.end());
+    if (subset.size() == 5 && std::find(out.begin(), out.end(), subset) == out.end()) {
+      out.push_back(subset);
+    }
+  }
+  return out;
+}
+
+int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
+                int subsets, std::vector<PlanarDyad>* seeds) {
+  seeds->clear();
+  const double length = CharacteristicLength(poses);
+  const auto add = [&](const std::vector<PlanarDyad>& found) {
+    for (const PlanarDyad& dyad : found) {
+      bool repeat = false;
+      for (const PlanarDyad& seed : *seeds) {
+        repeat |= seed.type == dyad.type &&
+                  (seed.fixed_pivot - dyad.fixed_pivot).norm() <= 1e-9 * length &&
+                  (seed.moving_pivot - dyad.moving_pivot).norm() <= 1e-9 * length &&
+                  (seed.line_point - dyad.line_point).norm() <= 1e-9 * length;
+      }
+      if (!repeat) seeds->push_back(dyad);
+    }
+  };
+  std::vector<PlanarDyad> found;
+  SolvePlanarBurmester(poses, options, &found);
+  add(found);
+  if (poses.size() > 5) {
+    for (const std::vector<int>& subset : SpreadSubsets(static_cast<int>(poses.size()), subsets)) {
+      std::vector<PlanarPose> chosen;
+      for (int index : subset) chosen.push_back(poses[index]);
+      SolvePlanarBurmester(chosen, options, &found);
+      add(found);
+    }
+  }
+  return static_cast<int>(seeds->size());
+}
+
 PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   PlanarMotionResult result;
@@ -186,14 +263,7 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
     SolveFivePosesOrMore(task, options, &result);
   }
 
-  for (size_t i = 0; i < result.dyads.size(); ++i) {
-    for (size_t j = i + 1; j < result.dyads.size(); ++j) {
-      result.mechanisms.push_back(
-          AnalyzePair(result.dyads, static_cast<int>(i), static_cast<int>(j), poses, length));
-    }
-  }
-  // Defect-free first, then by worst transmission angle, then by pose error.
-  std::stable_sort(result.mechanisms.begin(), result.mechanisms.end(), MechanismBefore);
+  BuildMechanisms(poses, length, &result);
   if (result.dyads.empty() && result.notes.empty()) {
     result.notes.push_back("no real dyad guides the body through these poses");
   } else if (result.dyads.size() == 1) {

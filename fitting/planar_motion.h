@@ -18,6 +18,29 @@ struct PlanarMotionOptions {
 // trouble: what could not be done is said in result.notes.
 PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions& options = {});
 
+// Seeds for more than five poses: the dyads of the algebraic least-squares fit (three smallest
+// singular vectors) and of exact five-pose solves of up to `subsets` spread-out subsets of the
+// poses, so that one bad pose does not spoil every seed. Repeated dyads are dropped. Returns
+// the count.
+int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
+                int subsets, std::vector<PlanarDyad>* seeds);
+
+// The five-pose subsets PlanarSeeds solves: subset k takes the poses at positions
+// round((i + k / subsets) n / 5), i = 0..4, so that consecutive subsets shift through the task.
+std::vector<std::vector<int>> SpreadSubsets(int count, int subsets);
+
+// Every four-bar made of two of result->dyads, each analysed under both inputs (the better
+// kept), ranked defect-free first, then by worst transmission angle, then by pose error.
+void BuildMechanisms(const std::vector<PlanarPose>& poses, double length,
+                     PlanarMotionResult* result);
+
+// The analysis of the four-bar of dyads i and j of `dyads` (both inputs tried, the better kept).
+MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
+                                const std::vector<PlanarPose>& poses, double length);
+
+// Ranks mechanisms: defect-free first, then by worst transmission angle, then by pose error.
+void RankMechanisms(std::vector<MechanismReport>* mechanisms);
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_FITTING_PLANAR_MOTION_H_

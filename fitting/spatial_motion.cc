@@ -123,9 +123,7 @@ void SolvePlanar(const Task& task, const SpatialMotionOptions& options, PlanarEm
   result->method = planar.method;
   result->roots_total = planar.roots_total;
   result->roots_real = planar.roots_real;
-  for (const std::string& note : planar.notes) result->notes.push_back(note);
-  planar.notes.clear();
-  result->planar = std::move(planar);
+  result->planar = std::move(planar);  // its notes are written with the result's
   result->plane = std::move(plane);
 }
 

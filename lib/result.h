@@ -15,8 +15,25 @@
 namespace linkfit {
 
 struct DyadReport {
+  DyadReport() = default;
+  DyadReport(const PlanarDyad& dyad_in, double max_residual_in)
+      : dyad(dyad_in), max_residual(max_residual_in) {}
+
   PlanarDyad dyad;
   double max_residual = 0.0;  // over the task poses, length units
+  // Least squares (more than five poses): the weighted RMS residual, and the seed's before the
+  // refinement (absent when not refined).
+  std::optional<double> rms_residual;
+  std::optional<double> seed_rms_residual;
+};
+
+// One stage of an approximate synthesis (seed, refine, search, mechanism refinement): its time
+// and the best result after it.
+struct StageReport {
+  std::string name;  // "seed", "refine", "search", "four-bar refine"
+  double seconds = 0.0;
+  std::optional<double> best_dyad_rms;        // smallest weighted RMS dyad residual
+  std::optional<double> best_max_pose_error;  // smallest max pose error of a listed four-bar
 };
 
 struct MechanismReport {
@@ -35,6 +52,10 @@ struct MechanismReport {
   std::optional<double> transmission_max_deg;
   std::string transmission_note;  // why the transmission angle is absent
   std::vector<PlanarPose> cycle;  // coupler poses along the circuit (pictures; not written)
+  // Least squares: the RMS pose error on the circuit, and the largest before the mechanism-level
+  // refinement (absent when not refined).
+  std::optional<double> rms_pose_error;
+  std::optional<double> seed_max_pose_error;
 };
 
 struct PlanarMotionResult {
@@ -52,6 +73,8 @@ struct PlanarMotionResult {
   int roots_real = 0;   // of which real
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
+  std::string effort;               // least squares: the effort level used
+  std::vector<StageReport> stages;  // least squares: what each stage took and gave
 };
 
 struct SpatialDyadReport {

@@ -131,6 +131,12 @@ Json DyadToJson(const DyadReport& report) {
       break;
   }
   PutNumber(&object, "max_residual", report.max_residual);
+  if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
+  if (report.seed_rms_residual) {
+    Json seed;
+    PutNumber(&seed, "rms_residual", *report.seed_rms_residual);
+    object["before_refinement"] = seed;
+  }
   return object;
 }
 
@@ -145,6 +151,12 @@ Json MechanismToJson(const MechanismReport& report) {
   } else {
     object["max_pose_error_note"] =
         report.pose_error_note.empty() ? "not computed" : report.pose_error_note;
+  }
+  if (report.rms_pose_error) PutNumber(&object, "rms_pose_error", *report.rms_pose_error);
+  if (report.seed_max_pose_error) {
+    Json seed;
+    PutNumber(&seed, "max_pose_error", *report.seed_max_pose_error);
+    object["before_refinement"] = seed;
   }
   if (!report.grashof.empty()) object["grashof"] = report.grashof;
   object["defects"] = report.defects;
@@ -264,7 +276,11 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   if (result.roots_total > 0) {
     root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};
   }
-  if (!result.notes.empty()) root["notes"] = result.notes;
+  std::vector<std::string> notes = result.notes;
+  if (result.planar) {
+    notes.insert(notes.end(), result.planar->notes.begin(), result.planar->notes.end());
+  }
+  if (!notes.empty()) root["notes"] = notes;
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
   if (result.refine_seconds > 0.0)
     PutNumber(&root, "refine_time_ms", result.refine_seconds * 1000.0);
@@ -306,6 +322,21 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
       curves[name] = list;
     }
     root["burmester_curves"] = curves;
+  }
+  if (!result.effort.empty()) root["effort"] = result.effort;
+  if (!result.stages.empty()) {
+    Json stages = Json::array();
+    for (const StageReport& stage : result.stages) {
+      Json object;
+      object["stage"] = stage.name;
+      PutNumber(&object, "time_ms", stage.seconds * 1000.0);
+      if (stage.best_dyad_rms) PutNumber(&object, "best_dyad_rms_residual", *stage.best_dyad_rms);
+      if (stage.best_max_pose_error) {
+        PutNumber(&object, "best_max_pose_error", *stage.best_max_pose_error);
+      }
+      stages.push_back(object);
+    }
+    root["stages"] = stages;
   }
   if (!result.notes.empty()) root["notes"] = result.notes;
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);

@@ -5,8 +5,10 @@
 
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "lib/dyad.h"
 #include "lib/planar_pose.h"
 #include "lib/spatial_pose.h"
 
@@ -46,6 +48,13 @@ struct Task {
   std::vector<int> platform;
   std::optional<double> scale;  // characteristic length L, when given
   Effort effort = Effort::kBalanced;
+};
+
+// A planar design to refine against a task (`linkfit refine`): dyads and the four-bars made of
+// two of them, as a result file lists them (or written by hand in the same form).
+struct PlanarDesign {
+  std::vector<PlanarDyad> dyads;
+  std::vector<std::pair<int, int>> mechanisms;  // [input, output] dyad indices
 };
 
 }  // namespace linkfit

@@ -192,6 +192,67 @@ class TaskParser {
   TaskParser(const std::string& source, const TaskReadOptions& options)
       : source_(source), options_(options) {}
 
+  PlanarDesign ParseDesignText(const std::string& text) const {
+    const Json root = ParseJson(text);
+    if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
+    const Json& dyads = Field(root, "", "dyads");
+    if (!dyads.is_array() || dyads.empty()) {
+      Fail("dyads", "expected a non-empty array of dyads, got " + Describe(dyads));
+    }
+    PlanarDesign design;
+    for (size_t i = 0; i < dyads.size(); ++i) {
+      const std::string item = IndexItem("dyads", i);
+      const Json& dyad = Object(dyads[i], item);
+      const Json& type = Field(dyad, item, "type");
+      const std::string name = type.is_string() ? type.get<std::string>() : "";
+      const auto point = [&](const char* key) {
+        return Vector<2>(Field(dyad, item, key), KeyItem(item, key));
+      };
+      const auto direction = [&]() {
+        const double angle =
+            Number(Field(dyad, item, "line_angle_deg"), KeyItem(item, "line_angle_deg")) * kDegree;
+        return Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      };
+      if (name == "RR") {
+        const double radius = Positive(Field(dyad, item, "radius"), KeyItem(item, "radius"));
+        design.dyads.push_back(PlanarDyad::RR(point("fixed"), point("moving"), radius));
+      } else if (name == "PR") {
+        design.dyads.push_back(PlanarDyad::PR(point("moving"), point("line_point"), direction()));
+      } else if (name == "RP") {
+        design.dyads.push_back(PlanarDyad::RP(point("fixed"), point("line_point"), direction()));
+      } else {
+        Fail(KeyItem(item, "type"), "expected \"RR\", \"PR\" or \"RP\", got " + Describe(type));
+      }
+    }
+    if (root.contains("mechanisms")) {
+      const Json& mechanisms = root.at("mechanisms");
+      if (!mechanisms.is_array()) {
+        Fail("mechanisms", "expected an array, got " + Describe(mechanisms));
+      }
+      for (size_t m = 0; m < mechanisms.size(); ++m) {
+        const std::string item = IndexItem("mechanisms", m);
+        const Json& pair = Field(Object(mechanisms[m], item), item, "dyads");
+        const std::string pair_item = KeyItem(item, "dyads");
+        if (!pair.is_array() || pair.size() != 2) {
+          Fail(pair_item, "expected [input, output] dyad indices, got " + Describe(pair));
+        }
+        int index[2];
+        for (int k = 0; k < 2; ++k) {
+          if (!pair[k].is_number_integer() || pair[k].get<long long>() < 0 ||
+              pair[k].get<long long>() >= static_cast<long long>(design.dyads.size())) {
+            Fail(IndexItem(pair_item, k), "expected a dyad index below " +
+                                              std::to_string(design.dyads.size()) + ", got " +
+                                              Describe(pair[k]));
+          }
+          index[k] = static_cast<int>(pair[k].get<long long>());
+        }
+        if (index[0] == index[1]) Fail(pair_item, "a four-bar needs two different dyads");
+        design.mechanisms.emplace_back(index[0], index[1]);
+      }
+    }
+    return design;
+  }
+
   Task Parse(const std::string& text) const {
     const Json root = ParseJson(text);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
@@ -740,14 +801,20 @@ Task ParseTask(const std::string& json_text, const std::string& source,
   return TaskParser(source, options).Parse(json_text);
 }
 
-std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& options) {
+PlanarDesign ParseDesign(const std::string& json_text, const std::string& source) {
+  return TaskParser(source, TaskReadOptions()).ParseDesignText(json_text);
+}
+
+namespace {
+
+// The whole file, read in bounded chunks (a device such as /dev/zero cannot exhaust memory).
+std::string ReadText(const std::string& path, const char* what) {
   std::error_code error;
   if (std::filesystem::is_directory(path, error)) {
-    throw InputError(path + ": is a directory, not a task file");
+    throw InputError(path + ": is a directory, not a " + what + " file");
   }
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open file");
-  // Read in chunks up to a bound, so that a device such as /dev/zero cannot exhaust memory.
   std::string text;
   std::vector<char> chunk(1 << 20);
   while (file) {
@@ -760,9 +827,19 @@ std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& o
   }
   if (file.bad()) throw InputError(path + ": cannot read file");
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
-    throw InputError(path + ": empty file, expected a task");
+    throw InputError(path + ": empty file, expected a " + what);
   }
+  return text;
+}
 
+}  // namespace
+
+PlanarDesign ReadDesignFile(const std::string& path) {
+  return ParseDesign(ReadText(path, "design"), path);
+}
+
+std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& options) {
+  const std::string text = ReadText(path, "task");
   std::vector<Task> tasks;
   if (!HasJsonlExtension(path)) {
     tasks.push_back(ParseTask(text, path, options));

@@ -36,6 +36,14 @@ Task ParseTask(const std::string& json_text, const std::string& source,
 // Every task is validated before any is returned, so a bad line leaves nothing done.
 std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& options = {});
 
+// Parses a planar design: a JSON object with "dyads" (each {"type": "RR", "fixed": [x, y],
+// "moving": [x, y], "radius": r}, {"type": "PR", "moving", "line_point", "line_angle_deg"} or
+// {"type": "RP", "fixed", "line_point", "line_angle_deg"}, as in result files) and optionally
+// "mechanisms" ([{"dyads": [input, output]}, ...]). Other fields (a result file's residuals,
+// notes, ...) are ignored. Errors as for tasks.
+PlanarDesign ParseDesign(const std::string& json_text, const std::string& source);
+PlanarDesign ReadDesignFile(const std::string& path);
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_LIB_TASK_IO_H_

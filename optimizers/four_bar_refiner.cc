@@ -1,0 +1,974 @@
+#include "optimizers/four_bar_refiner.h"
+
+#include <ceres/ceres.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
+
+#include "lib/four_bar_motion.h"
+#include "lib/mechanism.h"
+
+namespace linkfit {
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+// Ceres's projected-gradient stop, in the scaled problem (L = 1, mean weight 1): low enough
+// that only function_tolerance and parameter_tolerance decide, except at an exact optimum.
+constexpr double kGradientTolerance = 1e-16;
+// Penalty stage (scaled problem, mean pose weight 1): the dyads' weight, and the stopping
+// tolerances (relative cost change and step) of this start-finding solve.
+constexpr double kPenaltyWeight = 1e2;
+constexpr double kPenaltyTolerance = 1e-8;
+constexpr double kPenaltyMaxTrustRegion = 1e8;
+// Exact poses: their weights grow by this factor per round until they are met.
+constexpr double kExactWeightGrowth = 1e3;
+// Two dyads closer than this (times L, in every parameter) are one constraint, not a four-bar:
+// the coupler keeps a second freedom, which fits anything and which AssembleFourBar cannot
+// resolve. Least squares on noisy poses can run toward that limit.
+constexpr double kCoincidentDyads = 1e-3;
+// An RR radius beyond this (times L) is reported: the fit runs toward a slider.
+constexpr double kSliderRadius = 1e3;
+// A linear assembly (RP input with a PR or RP output) whose two lines are closer to parallel
+// than this (sine of their angle) has no configuration; AssembleFourBar's threshold.
+constexpr double kParallelLines = 1e-12;
+
+// A dyad's parameters as three Ceres blocks of sizes 2, 2, 1:
+//   RR: fixed pivot F (Sigma), moving pivot m (E), radius r;
+//   PR: moving pivot m (E), unit line normal n (Sigma), offset h: the slider line n . X = h;
+//   RP: fixed pivot F (Sigma), unit line normal n (E), offset h: the line n . x = h in E.
+// The normals live on the unit circle (ceres::SphereManifold of size 2): a line never turns into a
+// circle, nor the reverse, inside the solver.
+struct DyadBlocks {
+  DyadType type = DyadType::kRR;
+  double point[2] = {0.0, 0.0};                          // RR, RP: F; PR: m
+  double second[2] = {0.0, 0.0};                         // RR: m; PR, RP: n
+  double scalar[1] = {0.0};                              // RR: r; PR, RP: h
+  Eigen::Vector2d line_point = Eigen::Vector2d::Zero();  // PR, RP: the seed's line point
+};
+
+Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
+
+DyadBlocks ToBlocks(const PlanarDyad& dyad) {
+  DyadBlocks blocks;
+  blocks.type = dyad.type;
+  const Eigen::Vector2d normal = Perp(dyad.line_direction.normalized());
+  Eigen::Map<Eigen::Vector2d> point(blocks.point), second(blocks.second);
+  switch (dyad.type) {
+    case DyadType::kRR:
+      point = dyad.fixed_pivot;
+      second = dyad.moving_pivot;
+      blocks.scalar[0] = dyad.radius;
+      break;
+    case DyadType::kPR:
+      point = dyad.moving_pivot;
+      second = normal;
+      blocks.scalar[0] = normal.dot(dyad.line_point);
+      break;
+    case DyadType::kRP:
+      point = dyad.fixed_pivot;
+      second = normal;
+      blocks.scalar[0] = normal.dot(dyad.line_point);
+      break;
+  }
+  blocks.line_point = dyad.line_point;
+  return blocks;
+}
+
+// The dyad of the blocks; a line keeps the seed's direction sense and the seed's line point
+// moved perpendicularly onto the refined line.
+PlanarDyad FromBlocks(const DyadBlocks& blocks) {
+  const Eigen::Vector2d point(blocks.point[0], blocks.point[1]);
+  const Eigen::Vector2d second(blocks.second[0], blocks.second[1]);
+  if (blocks.type == DyadType::kRR) return PlanarDyad::RR(point, second, blocks.scalar[0]);
+  const Eigen::Vector2d normal = second.normalized();
+  const Eigen::Vector2d direction(normal.y(), -normal.x());  // Perp(direction) = normal
+  const Eigen::Vector2d line_point =
+      blocks.line_point - (normal.dot(blocks.line_point) - blocks.scalar[0]) * normal;
+  return blocks.type == DyadType::kPR ? PlanarDyad::PR(point, line_point, direction)
+                                      : PlanarDyad::RP(point, line_point, direction);
+}
+
+bool IsFinite(const PlanarDyad& dyad) {
+  switch (dyad.type) {
+    case DyadType::kRR:
+      return dyad.fixed_pivot.allFinite() && dyad.moving_pivot.allFinite() &&
+             std::isfinite(dyad.radius);
+    case DyadType::kPR:
+      return dyad.moving_pivot.allFinite() && dyad.line_point.allFinite() &&
+             dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
+    case DyadType::kRP:
+      return dyad.fixed_pivot.allFinite() && dyad.line_point.allFinite() &&
+             dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
+  }
+  return false;
+}
+
+// Unit normal of a PR or RP block (the manifold keeps it unit up to rounding).
+template <typename T>
+bool UnitNormal(const T* normal, T* nx, T* ny) {
+  using std::sqrt;
+  const T norm_squared = normal[0] * normal[0] + normal[1] * normal[1];
+  if (!(norm_squared > T(0.0))) return false;
+  const T norm = sqrt(norm_squared);
+  *nx = normal[0] / norm;
+  *ny = normal[1] / norm;
+  return true;
+}
+
+// Penalty stage, task pose j = (D, Theta) with weight w and its free configuration
+// q = (d, theta), dyad penalty weight mu, scaled frames (L = 1):
+//   e[0..2] = sqrt(w) (d - D, wrap(theta - Theta))                      the pose error
+//   e[3..4] = sqrt(mu) (input dyad holds at q with the joint value of the task pose):
+//     RR (F, m, r): R(theta) m + d - F - r (M - F) / |M - F|,  M = R(Theta) m + D
+//     PR (m, n, h): R(theta) m + d - M + (n . M - h) n         (the foot of M on the line)
+//     RP (F, n, h): (n . R(theta)^T (F - d) - h, wrap(theta - Theta))
+//   e[5]    = sqrt(mu) (output dyad at q, PlanarDyad::Residual):
+//     RR: |R(theta) m + d - F| - r;  PR: n . (R(theta) m + d) - h;  RP: n . R(theta)^T (F - d) - h
+// With e[3..5] = 0, q is the four-bar's configuration at the task pose's input value
+// (InputValue, lib/mechanism.h), and e[0..2] the pose error AnalyzeFourBar measures. Unlike
+// that configuration in closed form, the residual is smooth through the stationary
+// configurations (where the input value alone does not fix q) and where the input cannot reach
+// the task's value. At R m + d = F the RR distance is not differentiable; its subgradient 0 is
+// used there.
+class ConfigurationResidual {
+ public:
+  ConfigurationResidual(DyadType input_type, DyadType output_type, const PlanarPose& pose,
+                        double sqrt_weight, double sqrt_penalty)
+      : input_type_(input_type),
+        output_type_(output_type),
+        x_(pose.origin_in_fixed.x()),
+        y_(pose.origin_in_fixed.y()),
+        theta_(pose.theta),
+        cos_(std::cos(pose.theta)),
+        sin_(std::sin(pose.theta)),
+        sqrt_weight_(sqrt_weight),
+        sqrt_penalty_(sqrt_penalty) {}
+
+  template <typename T>
+  bool operator()(const T* configuration, const T* input_point, const T* input_second,
+                  const T* input_scalar, const T* output_point, const T* output_second,
+                  const T* output_scalar, T* residual) const {
+    using std::atan2;
+    using std::cos;
+    using std::sin;
+    const T c = cos(configuration[2]), s = sin(configuration[2]);
+    const T turn = configuration[2] - theta_;
+    const T wrapped_turn = atan2(sin(turn), cos(turn));
+    residual[0] = sqrt_weight_ * (configuration[0] - x_);
+    residual[1] = sqrt_weight_ * (configuration[1] - y_);
+    residual[2] = sqrt_weight_ * wrapped_turn;
+    return InputJoint(configuration, c, s, wrapped_turn, input_point, input_second, input_scalar,
+                      residual + 3) &&
+           OutputDyad(configuration, c, s, output_point, output_second, output_scalar,
+                      residual + 5);
+  }
+
+  static ceres::CostFunction* Create(DyadType input_type, DyadType output_type,
+                                     const PlanarPose& pose, double sqrt_weight,
+                                     double sqrt_penalty) {
+    return new ceres::AutoDiffCostFunction<ConfigurationResidual, 6, 3, 2, 2, 1, 2, 2, 1>(
+        new ConfigurationResidual(input_type, output_type, pose, sqrt_weight, sqrt_penalty));
+  }
+
+ private:
+  template <typename T>
+  bool InputJoint(const T* configuration, const T& c, const T& s, const T& wrapped_turn,
+                  const T* point, const T* second, const T* scalar, T* residual) const {
+    using std::sqrt;
+    if (input_type_ == DyadType::kRP) {
+      T nx, ny;
+      if (!UnitNormal(second, &nx, &ny)) return false;
+      const T ux = point[0] - configuration[0], uy = point[1] - configuration[1];
+      residual[0] = sqrt_penalty_ * (nx * (c * ux + s * uy) + ny * (c * uy - s * ux) - scalar[0]);
+      residual[1] = sqrt_penalty_ * wrapped_turn;
+      return true;
+    }
+    const T* pin = input_type_ == DyadType::kRR ? second : point;  // m, in E
+    // The pin at q, and where the task pose has it.
+    const T px = c * pin[0] - s * pin[1] + configuration[0];
+    const T py = s * pin[0] + c * pin[1] + configuration[1];
+    const T mx = cos_ * pin[0] - sin_ * pin[1] + x_;
+    const T my = sin_ * pin[0] + cos_ * pin[1] + y_;
+    if (input_type_ == DyadType::kRR) {
+      const T ax = mx - point[0], ay = my - point[1];
+      const T arm_squared = ax * ax + ay * ay;
+      if (!(arm_squared > T(0.0))) return false;
+      const T scale = scalar[0] / sqrt(arm_squared);
+      residual[0] = sqrt_penalty_ * (px - point[0] - scale * ax);
+      residual[1] = sqrt_penalty_ * (py - point[1] - scale * ay);
+    } else {
+      T nx, ny;
+      if (!UnitNormal(second, &nx, &ny)) return false;
+      const T height = nx * mx + ny * my - scalar[0];
+      residual[0] = sqrt_penalty_ * (px - mx + height * nx);
+      residual[1] = sqrt_penalty_ * (py - my + height * ny);
+    }
+    return true;
+  }
+
+  template <typename T>
+  bool OutputDyad(const T* configuration, const T& c, const T& s, const T* point, const T* second,
+                  const T* scalar, T* residual) const {
+    using std::sqrt;
+    if (output_type_ == DyadType::kRR) {
+      const T ox = c * second[0] - s * second[1] + configuration[0] - point[0];
+      const T oy = s * second[0] + c * second[1] + configuration[1] - point[1];
+      const T squared = ox * ox + oy * oy;
+      const T distance = squared > T(0.0) ? T(sqrt(squared)) : T(0.0);
+      residual[0] = sqrt_penalty_ * (distance - scalar[0]);
+      return true;
+    }
+    T nx, ny;
+    if (!UnitNormal(second, &nx, &ny)) return false;
+    if (output_type_ == DyadType::kPR) {
+      const T px = c * point[0] - s * point[1] + configuration[0];
+      const T py = s * point[0] + c * point[1] + configuration[1];
+      residual[0] = sqrt_penalty_ * (nx * px + ny * py - scalar[0]);
+    } else {
+      const T ux = point[0] - configuration[0], uy = point[1] - configuration[1];
+      residual[0] = sqrt_penalty_ * (nx * (c * ux + s * uy) + ny * (c * uy - s * ux) - scalar[0]);
+    }
+    return true;
+  }
+
+  DyadType input_type_;
+  DyadType output_type_;
+  double x_, y_, theta_, cos_, sin_;  // the task pose
+  double sqrt_weight_;
+  double sqrt_penalty_;
+};
+
+// Pose error of the four-bar at task pose j = (D, Theta) with weight w, the configuration q
+// eliminated: the four-bar assembled at the input value the task pose gives (InputValue,
+// lib/mechanism.h) on assembly label s (+1 for label 0, -1 for label 1), scaled frames (L = 1):
+//   e = sqrt(w) (x(q) - D_x, y(q) - D_y, wrap(theta(q) - Theta))
+// where q = (d, theta) satisfies both dyads:
+//   input RR or PR: the input pin goes to P = F + r (M - F) / |M - F| (RR) or to the foot of M
+//     on the slider line, M - (n . M - h) n (PR), M = R(Theta) m1 + D the pin of the task pose;
+//     E turns about P, d = P - R(theta) m1, and the output dyad reads
+//     a cos(theta) + b sin(theta) = c (the coefficients of AssembleFourBar), solved as
+//       (cos(theta), sin(theta)) ~ c (a, b) + s sqrt(a^2 + b^2 - c^2) (-b, a);
+//   input RP: theta = Theta, d = d0 + t e on the input's line (normal N = R n1, offset
+//     N . F1 - h1, direction e = perp(N)), t = -g . e + s sqrt((g . e)^2 - |g|^2 + r2^2) with
+//     g = R m2 + d0 - F2 for an RR output; linear in t for a PR or RP output.
+// Past the input's reach (negative discriminant) there is no such q: the residual fails, and
+// the solver does not step there (a start with a pose past reach is left as it is; the penalty
+// stage, above, moves such poses within reach when it can).
+class AssembledPoseResidual {
+ public:
+  AssembledPoseResidual(DyadType input_type, DyadType output_type, int label,
+                        const PlanarPose& pose, double sqrt_weight)
+      : input_type_(input_type),
+        output_type_(output_type),
+        sign_(label == 1 ? -1.0 : 1.0),
+        x_(pose.origin_in_fixed.x()),
+        y_(pose.origin_in_fixed.y()),
+        cos_(std::cos(pose.theta)),
+        sin_(std::sin(pose.theta)),
+        sqrt_weight_(sqrt_weight) {}
+
+  template <typename T>
+  bool operator()(const T* input_point, const T* input_second, const T* input_scalar,
+                  const T* output_point, const T* output_second, const T* output_scalar,
+                  T* residual) const {
+    T x, y, cos_theta, sin_theta;
+    const bool assembled =
+        input_type_ == DyadType::kRP
+            ? AssembleSliderInput(input_point, input_second, input_scalar, output_point,
+                                  output_second, output_scalar, &x, &y, &cos_theta, &sin_theta)
+            : AssemblePinInput(input_point, input_second, input_scalar, output_point, output_second,
+                               output_scalar, &x, &y, &cos_theta, &sin_theta);
+    if (!assembled) return false;
+    using std::atan2;
+    residual[0] = sqrt_weight_ * (x - x_);
+    residual[1] = sqrt_weight_ * (y - y_);
+    residual[2] = sqrt_weight_ *
+                  atan2(sin_theta * cos_ - cos_theta * sin_, cos_theta * cos_ + sin_theta * sin_);
+    return true;
+  }
+
+  static ceres::CostFunction* Create(DyadType input_type, DyadType output_type, int label,
+                                     const PlanarPose& pose, double sqrt_weight) {
+    return new ceres::AutoDiffCostFunction<AssembledPoseResidual, 3, 2, 2, 1, 2, 2, 1>(
+        new AssembledPoseResidual(input_type, output_type, label, pose, sqrt_weight));
+  }
+
+ private:
+  // Input RR or PR: the input pin is placed, the coupler turns about it.
+  template <typename T>
+  bool AssemblePinInput(const T* input_point, const T* input_second, const T* input_scalar,
+                        const T* output_point, const T* output_second, const T* output_scalar, T* x,
+                        T* y, T* cos_theta, T* sin_theta) const {
+    using std::sqrt;
+    const T* m1 = input_type_ == DyadType::kRR ? input_second : input_point;
+    const T mx = cos_ * m1[0] - sin_ * m1[1] + x_;
+    const T my = sin_ * m1[0] + cos_ * m1[1] + y_;
+    T px, py;  // the input pin at the task's input value
+    if (input_type_ == DyadType::kRR) {
+      const T ax = mx - input_point[0], ay = my - input_point[1];
+      const T arm_squared = ax * ax + ay * ay;
+      if (!(arm_squared > T(0.0))) return false;
+      const T scale = input_scalar[0] / sqrt(arm_squared);
+      px = input_point[0] + scale * ax;
+      py = input_point[1] + scale * ay;
+    } else {
+      T nx, ny;
+      if (!UnitNormal(input_second, &nx, &ny)) return false;
+      const T height = nx * mx + ny * my - input_scalar[0];
+      px = mx - height * nx;
+      py = my - height * ny;
+    }
+    T a, b, c;
+    if (output_type_ == DyadType::kRR) {
+      // |R v + w| = r2, v = m2 - m1 (E), w = P - F2 (Sigma): 2 w . R v = r2^2 - |v|^2 - |w|^2.
+      const T vx = output_second[0] - m1[0], vy = output_second[1] - m1[1];
+      const T wx = px - output_point[0], wy = py - output_point[1];
+      a = T(2.0) * (wx * vx + wy * vy);
+      b = T(2.0) * (wy * vx - wx * vy);
+      c = output_scalar[0] * output_scalar[0] - (vx * vx + vy * vy) - (wx * wx + wy * wy);
+    } else if (output_type_ == DyadType::kPR) {
+      // n . (R v + P) = h, v = m2 - m1 (E).
+      T nx, ny;
+      if (!UnitNormal(output_second, &nx, &ny)) return false;
+      const T vx = output_point[0] - m1[0], vy = output_point[1] - m1[1];
+      a = nx * vx + ny * vy;
+      b = ny * vx - nx * vy;
+      c = output_scalar[0] - (nx * px + ny * py);
+    } else {
+      // F2 on the line of E: (R n) . (F2 - P) = h - n . m1.
+      T nx, ny;
+      if (!UnitNormal(output_second, &nx, &ny)) return false;
+      const T ux = output_point[0] - px, uy = output_point[1] - py;
+      a = nx * ux + ny * uy;
+      b = nx * uy - ny * ux;
+      c = output_scalar[0] - (nx * m1[0] + ny * m1[1]);
+    }
+    const T rho_squared = a * a + b * b;
+    if (!(rho_squared > T(0.0))) return false;
+    const T spread_squared = rho_squared - c * c;
+    if (spread_squared < T(0.0)) return false;  // past the input's reach
+    const T spread = spread_squared > T(0.0) ? T(sign_ * sqrt(spread_squared)) : T(0.0);
+    const T ux = c * a - spread * b, uy = c * b + spread * a;
+    const T u_squared = ux * ux + uy * uy;
+    if (!(u_squared > T(0.0))) return false;
+    const T u_norm = sqrt(u_squared);
+    *cos_theta = ux / u_norm;
+    *sin_theta = uy / u_norm;
+    *x = px - (*cos_theta * m1[0] - *sin_theta * m1[1]);
+    *y = py - (*sin_theta * m1[0] + *cos_theta * m1[1]);
+    return true;
+  }
+
+  // Input RP: the coupler angle is the task's; the origin slides on the input's line.
+  template <typename T>
+  bool AssembleSliderInput(const T* input_point, const T* input_second, const T* input_scalar,
+                           const T* output_point, const T* output_second, const T* output_scalar,
+                           T* x, T* y, T* cos_theta, T* sin_theta) const {
+    using std::sqrt;
+    T n1x, n1y;
+    if (!UnitNormal(input_second, &n1x, &n1y)) return false;
+    const T normal_x = cos_ * n1x - sin_ * n1y, normal_y = sin_ * n1x + cos_ * n1y;
+    const T offset = normal_x * input_point[0] + normal_y * input_point[1] - input_scalar[0];
+    const T d0x = offset * normal_x, d0y = offset * normal_y;
+    const T ex = -normal_y, ey = normal_x;
+    T t;
+    if (output_type_ == DyadType::kRR) {
+      // |R m2 + d0 + t e - F2| = r2.
+      const T gx = cos_ * output_second[0] - sin_ * output_second[1] + d0x - output_point[0];
+      const T gy = sin_ * output_second[0] + cos_ * output_second[1] + d0y - output_point[1];
+      const T half_b = ex * gx + ey * gy;
+      const T discriminant =
+          half_b * half_b - (gx * gx + gy * gy - output_scalar[0] * output_scalar[0]);
+      if (discriminant < T(0.0)) return false;  // past the input's reach
+      t = -half_b + (discriminant > T(0.0) ? T(sign_ * sqrt(discriminant)) : T(0.0));
+    } else {
+      // N2 . d = k. PR (normal n2 in Sigma): N2 = n2, k = h2 - n2 . R m2; RP (normal n2 in E):
+      // N2 = R n2, k = N2 . F2 - h2.
+      T n2x, n2y;
+      if (!UnitNormal(output_second, &n2x, &n2y)) return false;
+      T big_x, big_y, k;
+      if (output_type_ == DyadType::kPR) {
+        big_x = n2x;
+        big_y = n2y;
+        k = output_scalar[0] - (n2x * (cos_ * output_point[0] - sin_ * output_point[1]) +
+                                n2y * (sin_ * output_point[0] + cos_ * output_point[1]));
+      } else {
+        big_x = cos_ * n2x - sin_ * n2y;
+        big_y = sin_ * n2x + cos_ * n2y;
+        k = big_x * output_point[0] + big_y * output_point[1] - output_scalar[0];
+      }
+      const T denominator = big_x * ex + big_y * ey;
+      if (!(denominator > T(kParallelLines) || denominator < T(-kParallelLines))) return false;
+      t = (k - (big_x * d0x + big_y * d0y)) / denominator;
+    }
+    *x = d0x + t * ex;
+    *y = d0y + t * ey;
+    *cos_theta = T(cos_);
+    *sin_theta = T(sin_);
+    return true;
+  }
+
+  DyadType input_type_;
+  DyadType output_type_;
+  double sign_;
+  double x_, y_, cos_, sin_;  // the task pose
+  double sqrt_weight_;
+};
+
+// The task in the scaled frames: Sigma' = (Sigma - centroid) / L, E' = E / L.
+struct ScaledTask {
+  std::vector<PlanarPose> poses;
+  std::vector<double> weights;  // divided by their mean
+  std::vector<bool> exact;
+};
+
+// Whether the two dyads are (nearly) the same constraint: same type, pivots and radius or line.
+bool Coincident(const PlanarDyad& a, const PlanarDyad& b, double length) {
+  if (a.type != b.type) return false;
+  const double tolerance = kCoincidentDyads * length;
+  const auto same_line = [&]() {
+    const Eigen::Vector2d normal = Perp(a.line_direction.normalized());
+    return std::abs(normal.dot(b.line_direction.normalized())) < kCoincidentDyads &&
+           std::abs(normal.dot(b.line_point - a.line_point)) < tolerance;
+  };
+  switch (a.type) {
+    case DyadType::kRR:
+      return (a.fixed_pivot - b.fixed_pivot).norm() < tolerance &&
+             (a.moving_pivot - b.moving_pivot).norm() < tolerance &&
+             std::abs(a.radius - b.radius) < tolerance;
+    case DyadType::kPR:
+      return (a.moving_pivot - b.moving_pivot).norm() < tolerance && same_line();
+    case DyadType::kRP:
+      return (a.fixed_pivot - b.fixed_pivot).norm() < tolerance && same_line();
+  }
+  return false;
+}
+
+// A four-bar judged as AnalyzeFourBar judges it (lib/four_bar_motion.cc), in task units: the
+// circuit of the first pose, each pose's error on that circuit and the configuration of the
+// circuit that error is measured to.
+struct Judgement {
+  bool coincident = false;                 // the dyads coincide: no four-bar (see above)
+  bool assembles = false;                  // a four-bar that assembles at the first pose
+  bool circuit_defect = false;             // some pose is not on the first pose's circuit
+  std::vector<double> errors;              // pose errors on that circuit
+  std::vector<PlanarPose> configurations;  // the configurations measured to
+  // The configuration nearest each pose on any circuit: at its input value, or (where the
+  // four-bar does not reach that value) along the traced motion.
+  std::vector<PlanarPose> nearest;
+  double cost = kInfinity;  // 1/2 sum w e^2 (w as given)
+  double rms = kInfinity;   // sqrt(sum w e^2 / sum w)
+  double max = kInfinity;   // max e
+  double exact_max = 0.0;   // max e over the exact poses
+};
+
+Judgement Judge(const PlanarDyad& input, const PlanarDyad& output,
+                const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
+                const std::vector<bool>& exact, double length) {
+  Judgement judgement;
+  if (!IsFinite(input) || !IsFinite(output)) return judgement;
+  judgement.coincident = Coincident(input, output, length);
+  if (judgement.coincident) return judgement;
+  const FourBarMotion motion = TraceFourBar(input, output, poses, length);
+  std::vector<FourBarLocation> locations;
+  for (const PlanarPose& pose : poses) {
+    locations.push_back(LocatePose(motion, input, output, pose, length));
+  }
+  if (locations[0].circuit < 0) return judgement;
+  judgement.assembles = true;
+  const int circuit_index = locations[0].circuit;
+  const FourBarCircuit& circuit = motion.circuits[circuit_index];
+  const double tolerance = 1e-9 * length;  // LocatePose's assembly tolerance
+  std::vector<PlanarPose> assembled;
+  double weighted = 0.0, weight_sum = 0.0;
+  judgement.max = 0.0;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const FourBarLocation& location = locations[j];
+    const int count = AssembleFourBar(input, output, location.input, tolerance, &assembled);
+    double error = kInfinity;
+    PlanarPose configuration = circuit.samples.front().coupler;
+    if (location.circuit == circuit_index) {
+      // The configuration LocatePose measured to: the nearest at the pose's input value.
+      for (const PlanarPose& candidate : assembled) {
+        const double candidate_error = PoseError(candidate, poses[j], length);
+        if (candidate_error < error) {
+          error = candidate_error;
+          configuration = candidate;
+        }
+      }
+      error = location.pose_error;
+    } else {
+      // As AnalyzeFourBar: the configuration of the circuit's label at the same input value,
+      // or the nearest configuration of the circuit.
+      judgement.circuit_defect = true;
+      if (circuit.label >= 0 && circuit.label < count) {
+        error = PoseError(assembled[circuit.label], poses[j], length);
+        configuration = assembled[circuit.label];
+      }
+      for (const FourBarSample& sample : circuit.samples) {
+        const double sample_error = PoseError(sample.coupler, poses[j], length);
+        if (sample_error < error) {
+          error = sample_error;
+          configuration = sample.coupler;
+        }
+      }
+    }
+    PlanarPose nearest = configuration;
+    double nearest_error = kInfinity;
+    for (const PlanarPose& candidate : assembled) {
+      const double candidate_error = PoseError(candidate, poses[j], length);
+      if (candidate_error < nearest_error) {
+        nearest_error = candidate_error;
+        nearest = candidate;
+      }
+    }
+    if (count == 0) {
+      for (const FourBarCircuit& any_circuit : motion.circuits) {
+        for (const FourBarSample& sample : any_circuit.samples) {
+          const double sample_error = PoseError(sample.coupler, poses[j], length);
+          if (sample_error < nearest_error) {
+            nearest_error = sample_error;
+            nearest = sample.coupler;
+          }
+        }
+      }
+    }
+    judgement.nearest.push_back(nearest);
+    const double weight = weights.empty() ? 1.0 : weights[j];
+    judgement.errors.push_back(error);
+    judgement.configurations.push_back(configuration);
+    weighted += weight * error * error;
+    weight_sum += weight;
+    judgement.max = std::max(judgement.max, error);
+    if (!exact.empty() && exact[j]) judgement.exact_max = std::max(judgement.exact_max, error);
+  }
+  judgement.cost = 0.5 * weighted;
+  judgement.rms = std::sqrt(weighted / weight_sum);
+  if (!std::isfinite(judgement.cost)) {
+    judgement.cost = judgement.rms = judgement.max = kInfinity;
+  }
+  return judgement;
+}
+
+// The unknowns of the penalty stage: both dyads and one configuration per task pose.
+struct Unknowns {
+  DyadBlocks input;
+  DyadBlocks output;
+  std::vector<Eigen::Vector3d> configurations;  // (x, y, theta) of E
+};
+
+ceres::Manifold* UnitCircle() {
+  // SphereManifold<2> does not compile in Ceres 2.1 (its 2x1 row-major Jacobian type); the
+  // dynamic-size manifold of size 2 is the same manifold.
+  return new ceres::SphereManifold<ceres::DYNAMIC>(2);
+}
+
+// Penalty stage, one round: pose errors at free configurations, dyads (with the input-value
+// condition) weighted by `penalty`. The configurations are eliminated first (Schur).
+void SolvePenalty(const ScaledTask& task, double penalty,
+                  const ceres::Solver::Options& base_options, Unknowns* unknowns, int* iterations,
+                  std::string* message) {
+  ceres::Problem problem;
+  DyadBlocks& input = unknowns->input;
+  DyadBlocks& output = unknowns->output;
+  const double sqrt_penalty = std::sqrt(penalty);
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    double* configuration = unknowns->configurations[j].data();
+    problem.AddResidualBlock(
+        ConfigurationResidual::Create(input.type, output.type, task.poses[j],
+                                      std::sqrt(task.weights[j]), sqrt_penalty),
+        nullptr, configuration, input.point, input.second, input.scalar, output.point,
+        output.second, output.scalar);
+    ordering->AddElementToGroup(configuration, 0);
+  }
+  for (DyadBlocks* blocks : {&input, &output}) {
+    for (double* block : {blocks->point, blocks->second, blocks->scalar}) {
+      ordering->AddElementToGroup(block, 1);
+    }
+    if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
+  }
+  ceres::Solver::Options solver_options = base_options;
+  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+  // A floor under Levenberg-Marquardt's damping: the penalty problem can be nearly singular
+  // (a drift toward coincident dyads), where an undamped Schur complement loses definiteness.
+  solver_options.max_trust_region_radius = kPenaltyMaxTrustRegion;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+  *message = summary.message;
+}
+
+// Stops the exact elimination where its iterates reach coincident dyads (Coincident): on noisy
+// poses the cost can keep falling toward that limit, which is no four-bar. Keeps the last
+// iterate before it.
+class CoincidenceGuard : public ceres::IterationCallback {
+ public:
+  CoincidenceGuard(DyadBlocks* input, DyadBlocks* output)
+      : input_(input), output_(output), last_input_(*input), last_output_(*output) {}
+
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (!summary.step_is_successful) return ceres::SOLVER_CONTINUE;
+    if (Coincident(FromBlocks(*input_), FromBlocks(*output_), 1.0)) {
+      stopped_ = true;
+      return ceres::SOLVER_TERMINATE_SUCCESSFULLY;
+    }
+    last_input_ = *input_;
+    last_output_ = *output_;
+    return ceres::SOLVER_CONTINUE;
+  }
+
+  // After the solve: back to the last iterate before coincidence, if it was reached.
+  bool Restore() {
+    if (stopped_) {
+      *input_ = last_input_;
+      *output_ = last_output_;
+    }
+    return stopped_;
+  }
+
+ private:
+  DyadBlocks* input_;
+  DyadBlocks* output_;
+  DyadBlocks last_input_;
+  DyadBlocks last_output_;
+  bool stopped_ = false;
+};
+
+// Exact elimination: pose errors of the assembled four-bar, pose weights `weights`. Returns
+// whether it stopped short of coincident dyads.
+bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
+                    const std::vector<double>& weights, const ceres::Solver::Options& base_options,
+                    DyadBlocks* input, DyadBlocks* output, int* iterations, std::string* message) {
+  ceres::Problem problem;
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    problem.AddResidualBlock(AssembledPoseResidual::Create(input->type, output->type, labels[j],
+                                                           task.poses[j], std::sqrt(weights[j])),
+                             nullptr, input->point, input->second, input->scalar, output->point,
+                             output->second, output->scalar);
+  }
+  for (DyadBlocks* blocks : {input, output}) {
+    if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
+  }
+  CoincidenceGuard guard(input, output);
+  ceres::Solver::Options solver_options = base_options;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.update_state_every_iteration = true;  // the guard reads the iterates
+  solver_options.callbacks.push_back(&guard);
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+  *message = summary.message;
+  return guard.Restore();
+}
+
+// The assembly label of each pose for the exact elimination: the one whose configuration at the
+// pose's input value is nearest the penalty stage's configuration (label 0 where none
+// assembles).
+std::vector<int> LabelsNear(const ScaledTask& task, const Unknowns& unknowns) {
+  const PlanarDyad input = FromBlocks(unknowns.input);
+  const PlanarDyad output = FromBlocks(unknowns.output);
+  std::vector<int> labels(task.poses.size(), 0);
+  std::vector<PlanarPose> assembled;
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    const Eigen::Vector3d& q = unknowns.configurations[j];
+    const PlanarPose configuration(q.x(), q.y(), q.z());
+    const int count =
+        AssembleFourBar(input, output, InputValue(input, task.poses[j]), 1e-9, &assembled);
+    if (count == 2 &&
+        PoseError(assembled[1], configuration, 1.0) < PoseError(assembled[0], configuration, 1.0)) {
+      labels[j] = 1;
+    }
+  }
+  return labels;
+}
+
+// Largest pose error of the exact elimination over the exact poses (or all poses), scaled
+// units; infinity where the four-bar does not assemble at some pose.
+double WorstAssembledError(const ScaledTask& task, const std::vector<int>& labels,
+                           const DyadBlocks& input, const DyadBlocks& output, bool exact_only) {
+  double worst = 0.0;
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    if (exact_only && !task.exact[j]) continue;
+    const AssembledPoseResidual residual(input.type, output.type, labels[j], task.poses[j], 1.0);
+    double e[3] = {0.0, 0.0, 0.0};
+    if (!residual(input.point, input.second, input.scalar, output.point, output.second,
+                  output.scalar, e)) {
+      return kInfinity;
+    }
+    const double error = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    worst = std::isfinite(error) ? std::max(worst, error) : kInfinity;
+  }
+  return worst;
+}
+
+bool AllFinite(const Unknowns& unknowns) {
+  for (const DyadBlocks* blocks : {&unknowns.input, &unknowns.output}) {
+    if (!std::isfinite(blocks->point[0]) || !std::isfinite(blocks->point[1]) ||
+        !std::isfinite(blocks->second[0]) || !std::isfinite(blocks->second[1]) ||
+        !std::isfinite(blocks->scalar[0])) {
+      return false;
+    }
+  }
+  for (const Eigen::Vector3d& q : unknowns.configurations) {
+    if (!q.allFinite()) return false;
+  }
+  return true;
+}
+
+// A refined design and how it was found.
+struct Candidate {
+  PlanarDyad input;
+  PlanarDyad output;
+  Judgement judgement;  // does not assemble unless refined
+  std::string origin;   // which start it came from
+  std::string message;  // Ceres's, of its last solve
+  int exact_rounds = 0;
+  bool short_of_coincidence = false;  // stopped where the dyads were about to coincide
+};
+
+// Whether design `a` is better than design `b` as a solution of the task: it assembles at the
+// first pose, then has no circuit defect, then meets the exact poses (or comes nearer), then
+// has the lower cost.
+bool Better(const Judgement& a, const Judgement& b, double exact_limit) {
+  if (a.assembles != b.assembles) return a.assembles;
+  if (!a.assembles) return false;
+  if (a.circuit_defect != b.circuit_defect) return !a.circuit_defect;
+  const double a_exact = a.exact_max > exact_limit ? a.exact_max : 0.0;
+  const double b_exact = b.exact_max > exact_limit ? b.exact_max : 0.0;
+  if (a_exact != b_exact) return a_exact < b_exact;
+  return a.cost < b.cost;
+}
+
+std::string Format(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.3g", value);
+  return buffer;
+}
+
+std::string Describe(const Judgement& judgement, double exact_limit) {
+  if (judgement.coincident) return "coincident dyads";
+  if (!judgement.assembles) return "no assembly at the first pose";
+  std::string text = judgement.circuit_defect ? "circuit defect, " : "";
+  if (judgement.exact_max > exact_limit) {
+    text += "exact poses missed by " + Format(judgement.exact_max) + ", ";
+  }
+  return text + "cost " + Format(judgement.cost);
+}
+
+}  // namespace
+
+RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
+                             const std::vector<double>& weights, const std::vector<bool>& exact,
+                             double length, PlanarDyad* input, PlanarDyad* output,
+                             const FourBarRefinerOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed = [&start]() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  };
+  if (!(length > 0.0) || !std::isfinite(length)) {
+    throw std::invalid_argument("RefineFourBar: length must be positive and finite");
+  }
+  if (!weights.empty() && weights.size() != poses.size()) {
+    throw std::invalid_argument("RefineFourBar: " + std::to_string(weights.size()) +
+                                " weights for " + std::to_string(poses.size()) + " poses");
+  }
+  if (!exact.empty() && exact.size() != poses.size()) {
+    throw std::invalid_argument("RefineFourBar: " + std::to_string(exact.size()) +
+                                " exact flags for " + std::to_string(poses.size()) + " poses");
+  }
+  double weight_mean = 1.0;
+  if (!weights.empty()) {
+    double weight_sum = 0.0;
+    for (double w : weights) {
+      if (!(w > 0.0) || !std::isfinite(w)) {
+        throw std::invalid_argument("RefineFourBar: weights must be positive and finite");
+      }
+      weight_sum += w;
+    }
+    weight_mean = weight_sum / static_cast<double>(weights.size());
+  }
+  for (const PlanarPose& pose : poses) {
+    if (!pose.origin_in_fixed.allFinite() || !std::isfinite(pose.theta)) {
+      throw std::invalid_argument("RefineFourBar: poses must be finite");
+    }
+  }
+
+  RefinerSummary summary;
+  const auto give_up = [&](const std::string& message) {
+    summary.initial_cost = summary.final_cost = kInfinity;
+    summary.initial_rms = summary.final_rms = kInfinity;
+    summary.initial_max = summary.final_max = kInfinity;
+    summary.message = message;
+    summary.seconds = elapsed();
+    return summary;
+  };
+  if (poses.empty()) {
+    summary.message = "no poses: seed returned unchanged";
+    summary.seconds = elapsed();
+    return summary;
+  }
+  if (!IsFinite(*input) || !IsFinite(*output)) {
+    return give_up("seed not finite: returned unchanged");
+  }
+  const Judgement initial = Judge(*input, *output, poses, weights, exact, length);
+  if (!initial.assembles) {
+    return give_up(initial.coincident
+                       ? "seed dyads coincide (no four-bar): returned unchanged"
+                       : "seed does not assemble at the first pose: returned unchanged");
+  }
+
+  // Sigma' = (Sigma - centroid) / L and E' = E / L; `sigma` and `epsilon` map them back.
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const PlanarPose& pose : poses) centroid += pose.origin_in_fixed;
+  centroid /= static_cast<double>(poses.size());
+  Similarity2 sigma;
+  sigma.scale = length;
+  sigma.translation = centroid;
+  Similarity2 epsilon;
+  epsilon.scale = length;
+  const Similarity2 to_sigma = sigma.Inverse(), to_epsilon = epsilon.Inverse();
+  ScaledTask task;
+  Unknowns seed;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    task.poses.push_back(TransformPose(poses[j], to_sigma, to_epsilon));
+    task.weights.push_back(weights.empty() ? 1.0 : weights[j] / weight_mean);
+    task.exact.push_back(!exact.empty() && exact[j]);
+    // The seed's configuration on the first pose's circuit, its angle taken next to the pose's.
+    const PlanarPose configuration = TransformPose(initial.configurations[j], to_sigma, to_epsilon);
+    seed.configurations.emplace_back(
+        configuration.origin_in_fixed.x(), configuration.origin_in_fixed.y(),
+        poses[j].theta + WrapAngle(configuration.theta - poses[j].theta));
+  }
+  seed.input = ToBlocks(TransformDyad(*input, to_sigma, to_epsilon));
+  seed.output = ToBlocks(TransformDyad(*output, to_sigma, to_epsilon));
+
+  ceres::Solver::Options solver_options;
+  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  solver_options.num_threads = 1;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.parameter_tolerance = options.parameter_tolerance;
+  solver_options.gradient_tolerance = kGradientTolerance;
+  solver_options.minimizer_progress_to_stdout = false;
+  solver_options.logging_type = ceres::SILENT;
+
+  // The exact elimination from a start (the seed itself, or where the penalty stage took it),
+  // the exact poses' weights raised until they are met; judged in task units.
+  const double exact_limit = options.exact_tolerance * length;
+  std::string note;
+  const auto refine_from = [&](const Unknowns& start, const char* origin) {
+    Candidate candidate;
+    candidate.origin = origin;
+    if (!AllFinite(start)) return candidate;
+    const std::vector<int> labels = LabelsNear(task, start);
+    DyadBlocks input_blocks = start.input, output_blocks = start.output;
+    std::vector<double> round_weights = task.weights;
+    // A start with a pose past the input's reach cannot be refined this way: it is judged as
+    // it is.
+    const bool reachable =
+        std::isfinite(WorstAssembledError(task, labels, input_blocks, output_blocks, false));
+    if (reachable) {
+      candidate.short_of_coincidence =
+          SolveAssembled(task, labels, round_weights, solver_options, &input_blocks, &output_blocks,
+                         &summary.iterations, &candidate.message);
+    } else {
+      candidate.message = "start past the input's reach";
+    }
+    int round = 0;
+    while (reachable && round < options.max_penalty_rounds &&
+           WorstAssembledError(task, labels, input_blocks, output_blocks, true) >
+               options.exact_tolerance) {
+      for (size_t j = 0; j < task.poses.size(); ++j) {
+        if (task.exact[j]) round_weights[j] *= kExactWeightGrowth;
+      }
+      candidate.short_of_coincidence |=
+          SolveAssembled(task, labels, round_weights, solver_options, &input_blocks, &output_blocks,
+                         &summary.iterations, &candidate.message);
+      ++round;
+    }
+    candidate.exact_rounds = round;
+    candidate.input = TransformDyad(FromBlocks(input_blocks), sigma, epsilon);
+    candidate.output = TransformDyad(FromBlocks(output_blocks), sigma, epsilon);
+    candidate.judgement = Judge(candidate.input, candidate.output, poses, weights, exact, length);
+    if (std::getenv("FBR_DEBUG")) {
+      std::fprintf(stderr, "DEBUG candidate %s: %s [%s]\n  labels:", origin,
+                   Describe(candidate.judgement, exact_limit).c_str(), candidate.message.c_str());
+      for (int l : labels) std::fprintf(stderr, " %d", l);
+      std::fprintf(stderr, "\n  errors:");
+      for (double e : candidate.judgement.errors) std::fprintf(stderr, " %.2g", e / length);
+      std::fprintf(stderr, "\n");
+    }
+    return candidate;
+  };
+  Candidate best = refine_from(seed, "exact elimination from the seed");
+  // Penalty stage: free configurations started on the seed's nearest each pose (on any
+  // circuit), the dyads weighted by kPenaltyWeight; it crosses where the exact elimination
+  // cannot (stationary configurations, gaps in the input's range that split the task over two
+  // circuits), but may also drift toward two coincident dyads, so it only proposes a start.
+  Unknowns relaxed = seed;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const PlanarPose configuration = TransformPose(initial.nearest[j], to_sigma, to_epsilon);
+    relaxed.configurations[j] =
+        Eigen::Vector3d(configuration.origin_in_fixed.x(), configuration.origin_in_fixed.y(),
+                        poses[j].theta + WrapAngle(configuration.theta - poses[j].theta));
+  }
+  ceres::Solver::Options penalty_options = solver_options;
+  penalty_options.function_tolerance = kPenaltyTolerance;
+  penalty_options.parameter_tolerance = kPenaltyTolerance;
+  std::string penalty_message;
+  SolvePenalty(task, kPenaltyWeight, penalty_options, &relaxed, &summary.iterations,
+               &penalty_message);
+  Candidate relaxed_candidate = refine_from(relaxed, "exact elimination after a penalty stage");
+  if (Better(relaxed_candidate.judgement, best.judgement, exact_limit)) {
+    best = std::move(relaxed_candidate);
+  }
+
+  // The refined design is kept only if it is not worse than the seed: no new circuit defect,
+  // exact poses met (or nearer), then the cost.
+  summary.message = best.message;
+  note = best.origin;
+  if (best.exact_rounds > 0) {
+    note += "; exact poses: " + std::to_string(best.exact_rounds) + " weight rounds";
+  }
+  if (best.short_of_coincidence) {
+    note += "; stopped short of coincident dyads, toward which the cost keeps falling";
+  }
+  const bool accept = best.judgement.assembles && !Better(initial, best.judgement, exact_limit);
+  const Judgement& final = accept ? best.judgement : initial;
+  if (accept) {
+    *input = best.input;
+    *output = best.output;
+  } else {
+    note += "; seed kept: the refined design is worse (" + Describe(best.judgement, exact_limit) +
+            " vs " + Describe(initial, exact_limit) + ")";
+  }
+  for (const PlanarDyad* dyad : {input, output}) {
+    if (dyad->type == DyadType::kRR && std::abs(dyad->radius) > kSliderRadius * length) {
+      note += std::string("; ") + (dyad == input ? "input" : "output") + " RR radius " +
+              Format(std::abs(dyad->radius) / length) + " L: the fit runs toward a slider";
+    }
+  }
+  if (final.exact_max > exact_limit) {
+    note += "; exact poses not met: pose error " + Format(final.exact_max / length) + " L";
+  }
+  summary.message += " [" + note + "]";
+
+  summary.initial_cost = initial.cost;
+  summary.final_cost = final.cost;
+  summary.initial_rms = initial.rms;
+  summary.final_rms = final.rms;
+  summary.initial_max = initial.max;
+  summary.final_max = final.max;
+  summary.seconds = elapsed();
+  return summary;
+}
+
+}  // namespace linkfit

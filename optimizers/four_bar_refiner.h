@@ -1,15 +1,26 @@
 // Mechanism-level refinement of a planar four-bar for a motion task: the pose error of the
 // design, not the dyads' residuals.
 //
-// Unknowns: both dyads' parameters (as in planar_dyad_refiner.h) and the coupler pose q_j the
-// mechanism takes for each task pose j. Minimizes
-//   1/2 sum_j w_j (|d(q_j) - d_j|^2 + (L dtheta(q_j, pose_j))^2)
-// subject to both dyads being satisfied at every q_j (their residuals are equality constraints,
-// enforced by a penalty continuation to 1e-12 L). Starting from the configurations on the
-// circuit of the first pose (lib/four_bar_motion.h), the q_j stay on that circuit: the refined
-// design is re-analysed with AnalyzeFourBar and rejected (the seed returned) if it is not better
-// on one circuit. Poses marked exact get their pose error driven to exact_tolerance * L the same
-// way. Data are centred and scaled by L internally.
+// Minimizes 1/2 sum_j w_j PoseError_j^2, PoseError_j = sqrt(|d(q_j) - d_j|^2 + (L dtheta_j)^2)
+// (planar_pose.h), where q_j is the coupler pose of the four-bar assembled at the input value
+// the task pose gives (InputValue, mechanism.h) on the assembly branch of the first pose's
+// circuit: the pose error AnalyzeFourBar measures (four_bar_motion.h). Unknowns: both dyads'
+// parameters (RR: F, M, r; PR: M, unit line normal, offset; RP: F, unit line normal in E, offset;
+// normals on a sphere manifold). The q_j are eliminated exactly (closed-form assembly, so both
+// dyads hold at every q_j); a pose past the input's reach is assembled at the nearest stationary
+// configuration. Two starts are refined and the better kept: the seed itself, and the seed
+// after a penalty stage in which the q_j are free unknowns and the dyads (with the input-value
+// condition) are weighted residuals; that stage crosses stationary configurations and gaps of
+// the input's range that the exact elimination cannot. The result is re-analysed as
+// AnalyzeFourBar does and the seed returned unchanged unless the result is not worse: it
+// assembles at the first pose, has no circuit defect the seed did not have, meets the exact
+// poses (or comes nearer), and has no higher cost. Poses marked exact get their weights raised
+// (x1e3 per round) until their pose error is within exact_tolerance * L. Data are centred (pose
+// origins' centroid) and scaled by L internally.
+//
+// The seed must assemble at the first pose; if it does not, it is returned with a message.
+// PR+PR and RP+RP four-bars (Cardan motion and its inverse) are reached as motions only: a
+// one-parameter family of dyad pairs gives the same motion.
 #ifndef LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 #define LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 
@@ -25,9 +36,11 @@ struct FourBarRefinerOptions {
   int max_iterations = 100;            // Levenberg-Marquardt iterations per solve
   double function_tolerance = 1e-15;   // Ceres relative cost change to stop
   double parameter_tolerance = 1e-14;  // Ceres relative step to stop
-  double constraint_tolerance = 1e-12; // dyad residuals at the q_j, times L
-  double exact_tolerance = 1e-9;       // exact poses' pose error, times L
-  int max_penalty_rounds = 8;          // penalty continuation rounds
+  // Dyad residuals at the q_j, times L. Unused: the exact elimination satisfies both dyads at
+  // every q_j to rounding (kept for interface stability).
+  double constraint_tolerance = 1e-12;
+  double exact_tolerance = 1e-9;  // exact poses' pose error, times L
+  int max_penalty_rounds = 8;     // rounds of the exact poses' weight continuation, per start
 };
 
 // Refines the four-bar (input, output) in place. `weights`/`exact` may be empty. Costs in the

@@ -3,9 +3,20 @@
 //
 // The search space is the dyad's pivots: RR over (F, M) in a box of half-width box_scale * L about
 // the pose-origin centroid (F, in Sigma) and about E's origin (M), the radius eliminated in closed
-// form (the weighted mean distance, optimal for fixed pivots); PR over (M, line angle), the offset
-// eliminated likewise; RP over (F, line angle in E). The objective is the weighted sum of squared
-// geometric residuals. The best distinct local optima found are polished by RefinePlanarDyad.
+// form (the weighted mean distance, optimal for fixed pivots); PR over (M, line angle in [0, pi)),
+// the offset eliminated likewise; RP over (F, line angle in E). The objective is the weighted sum
+// of squared geometric residuals (poses marked exact weigh 100 times more), in data centred and
+// scaled by L; a point it cannot evaluate gets a large finite value, never NaN.
+//
+// Per dyad type, half the evaluations and half the time go to the NLopt run, which also fills an
+// archive: the best point seen in each cell of a grid over the box. The archive's local minima
+// (cells better than all their neighbours), best first, start damped Gauss-Newton descents of the
+// reduced least-squares problem with the rest of the budget; a descent that runs into an optimum
+// already found is dropped. Up to polish_count distinct optima per type (pivots and lines more
+// than 1e-3 L apart) are polished by RefinePlanarDyad, duplicates after the polish are dropped
+// and the rest sorted by cost. NLopt's exceptions (roundoff_limited, forced_stop, failures) are
+// caught: the best point found counts. Pivots far outside the box are found only when the polish
+// walks out to them.
 #ifndef LINKFIT_OPTIMIZERS_GLOBAL_SEARCH_H_
 #define LINKFIT_OPTIMIZERS_GLOBAL_SEARCH_H_
 
@@ -29,23 +40,28 @@ const char* GlobalAlgorithmName(GlobalAlgorithm algorithm);  // "crs2", "mlsl", 
 
 struct GlobalSearchOptions {
   GlobalAlgorithm algorithm = GlobalAlgorithm::kCrs2;  // NLopt algorithm
-  int max_evaluations = 20000;   // objective evaluations per dyad type searched
-  double time_limit = 1.0;       // seconds per dyad type searched
-  double box_scale = 3.0;        // half-width of the pivot boxes, times L
-  int polish_count = 4;          // best distinct optima polished by RefinePlanarDyad, per type
-  std::uint64_t seed = 1;        // NLopt's random seed (results are reproducible)
+  int max_evaluations = 20000;  // objective evaluations per dyad type searched (NLopt + descents)
+  double time_limit = 1.0;      // seconds per dyad type searched (the polish comes on top)
+  double box_scale = 3.0;       // half-width of the pivot boxes, times L
+  int polish_count = 4;         // best distinct optima polished by RefinePlanarDyad, per type
+  std::uint64_t seed = 1;       // NLopt's random seed (results are reproducible)
   std::vector<DyadType> types = {DyadType::kRR, DyadType::kPR, DyadType::kRP};  // searched
 };
 
 struct GlobalSearchSummary {
-  std::string algorithm;     // GlobalAlgorithmName
-  int evaluations = 0;       // objective evaluations, all types
-  double seconds = 0.0;      // wall time including the polish
-  double best_cost = 0.0;    // 1/2 sum w e^2 of the best polished dyad, length units squared
+  std::string algorithm;   // GlobalAlgorithmName
+  int evaluations = 0;     // objective evaluations, all types
+  double seconds = 0.0;    // wall time including the polish
+  double best_cost = 0.0;  // 1/2 sum w e^2 of the best polished dyad, length units squared
+                           // (0 when no dyad is returned)
 };
 
 // Searches and returns the polished dyads found (best first, distinct). `weights`/`exact` may be
-// empty. Returns the number of dyads written.
+// empty; `length` is the task's L. Returns the number of dyads written (0 without poses). Throws
+// std::invalid_argument for a non-positive or non-finite length, weights or exact flags of the
+// wrong count, non-positive weights, non-finite poses, or options out of range
+// (max_evaluations < 1, time_limit <= 0, box_scale <= 0, polish_count < 1). The same seed gives
+// the same result when the evaluations, not the clock, end the runs.
 int SearchPlanarDyads(const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
                       const std::vector<bool>& exact, double length,
                       const GlobalSearchOptions& options, std::vector<PlanarDyad>* dyads,

@@ -8,6 +8,22 @@
 // flips to a line inside the solver. Poses marked exact must be met to exact_tolerance * L: their
 // weights are raised by a penalty continuation until they are (or the summary says they could not
 // be). Data are centred and scaled by L internally. Never returns a worse design than its seed.
+//
+// Which model is refined: a PR or RP seed stays PR or RP. An RR seed is refined as RR; if the
+// refined radius (else the seed's) exceeds slider_radius_ratio * L, that circle's PR limit (line
+// normal from F towards the weighted mean of the moving pivot's positions) and, when its moving
+// pivot is more than slider_radius_ratio * L from E's origin, its RP limit (the same in E, with
+// the fixed pivot seen from E) are refined too, and the better slider is kept unless the RR fits
+// significantly better: with n poses and m = n - 5, the slider is kept iff
+// (cost_slider - cost_RR) / (cost_RR / m) <= F_0.95(1, m) (if m < 1 or cost_RR = 0: iff
+// cost_slider <= cost_RR). A design that meets the exact poses beats one that does not, in this
+// choice as everywhere.
+//
+// "Worse" compares, in this order, whether the exact poses are met and the weighted cost without
+// the penalty factors. Within a type the returned design is never worse than the seed; an RR seed
+// may come back as a slider whose cost is above the seed's, but never significantly (the F test
+// above, against a refined RR that is itself no worse than the seed). summary.message carries the
+// Ceres message and notes: the models refined and kept, a seed kept, exact poses not met.
 #ifndef LINKFIT_OPTIMIZERS_PLANAR_DYAD_REFINER_H_
 #define LINKFIT_OPTIMIZERS_PLANAR_DYAD_REFINER_H_
 
@@ -34,8 +50,8 @@ struct PlanarDyadRefinerOptions {
 // Refines `dyad` in place. `weights` and `exact` may be empty (all 1, none exact). `length` is
 // the task's L (> 0). summary.model_changed says whether the dyad changed type.
 RefinerSummary RefinePlanarDyad(const std::vector<PlanarPose>& poses,
-                                const std::vector<double>& weights,
-                                const std::vector<bool>& exact, double length, PlanarDyad* dyad,
+                                const std::vector<double>& weights, const std::vector<bool>& exact,
+                                double length, PlanarDyad* dyad,
                                 const PlanarDyadRefinerOptions& options = {});
 
 }  // namespace linkfit

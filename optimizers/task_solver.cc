@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "optimizers/nested_model_test.h"
+
 namespace linkfit {
 
 namespace {
@@ -47,21 +49,10 @@ SpatialDyad LimitPlaneInFixed(const SpatialDyad& dyad, const Task& task) {
   return SpatialDyad::PS(dyad.moving_pivot, normal, normal.dot(mean));
 }
 
-// The 95th percentile of the F(1, m) distribution: the square of Student's t quantile, from
-// its Cornish-Fisher expansion about the normal quantile (within 4 % for m >= 3).
-double FQuantile95(double m) {
-  const double z = 1.959963984540054;
-  const double z3 = z * z * z, z5 = z3 * z * z;
-  const double t = z + (z3 + z) / (4.0 * m) + (5.0 * z5 + 16.0 * z3 + 3.0 * z) / (96.0 * m * m);
-  return t * t;
-}
-
 // The nested-model test between a plane (6 parameters) and a sphere (7) fitted to n poses:
 // keep the simpler plane unless the sphere's cost is significantly lower (F test at 5 %).
 bool PlaneSuffices(double plane_cost, double sphere_cost, int n) {
-  const double m = n - 7.0;
-  if (m < 1.0 || !(sphere_cost > 0.0)) return plane_cost <= sphere_cost;
-  return (plane_cost - sphere_cost) / (sphere_cost / m) <= FQuantile95(m);
+  return SimplerModelSuffices(plane_cost, sphere_cost, n - 7);
 }
 
 // A refined sphere far out in Sigma (radius) or in E (moving point) is nearly a plane: refine
@@ -132,6 +123,13 @@ void DropRepeats(double length, std::vector<SpatialDyadReport>* dyads) {
 
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options) {
   SpatialMotionResult result = SolveSpatialMotion(task, options.spatial);
+  if (result.model == "planar" && result.planar && result.plane && result.plane->poses.size() > 5) {
+    // Planar data beyond five poses: the approximate planar synthesis, in the plane.
+    Task planar_task = task;
+    planar_task.space = Space::kPlanar;
+    planar_task.planar_poses = result.plane->poses;
+    result.planar = SolvePlanarTask(planar_task, options);
+  }
   if (result.model == "spatial" && result.method == "least-squares" &&
       task.spatial_poses.size() > 7 && task.effort != Effort::kFast) {
     const auto start = std::chrono::steady_clock::now();
@@ -183,9 +181,166 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
   return result;
 }
 
+namespace {
+
+double WeightedRms(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                   const std::vector<double>& weights) {
+  double sum = 0.0, weight_sum = 0.0;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const double weight = weights.empty() ? 1.0 : weights[j];
+    const double residual = dyad.Residual(poses[j]);
+    sum += weight * residual * residual;
+    weight_sum += weight;
+  }
+  return std::sqrt(sum / weight_sum);
+}
+
+bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, double length) {
+  if (a.type != b.type) return false;
+  const double size =
+      std::max({length, a.fixed_pivot.norm(), a.moving_pivot.norm(), a.line_point.norm()});
+  double difference =
+      std::max((a.fixed_pivot - b.fixed_pivot).norm(), (a.moving_pivot - b.moving_pivot).norm());
+  if (a.type == DyadType::kRR) {
+    difference = std::max(difference, std::abs(a.radius - b.radius));
+  } else {
+    const Eigen::Vector2d na(-a.line_direction.y(), a.line_direction.x());
+    const double sign =
+        na.dot(Eigen::Vector2d(-b.line_direction.y(), b.line_direction.x())) < 0 ? -1.0 : 1.0;
+    difference = std::max({difference, length * (a.line_direction - sign * b.line_direction).norm(),
+                           std::abs(na.dot(b.line_point - a.line_point))});
+  }
+  return difference <= 1e-7 * size;
+}
+
+// The best stage figures of the current dyads and mechanisms.
+StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point start,
+                  const PlanarMotionResult& result) {
+  StageReport stage;
+  stage.name = name;
+  stage.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  for (const DyadReport& dyad : result.dyads) {
+    if (dyad.rms_residual) {
+      stage.best_dyad_rms = std::min(stage.best_dyad_rms.value_or(1e300), *dyad.rms_residual);
+    }
+  }
+  for (const MechanismReport& mechanism : result.mechanisms) {
+    if (mechanism.max_pose_error) {
+      stage.best_max_pose_error =
+          std::min(stage.best_max_pose_error.value_or(1e300), *mechanism.max_pose_error);
+    }
+  }
+  return stage;
+}
+
+}  // namespace
+
+PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options) {
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  if (poses.size() <= 5) return SolvePlanarMotion(task, options.planar);
+  const auto start = std::chrono::steady_clock::now();
+  PlanarMotionResult result;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  result.scale = length;
+  result.method = "least-squares";
+  result.effort = EffortName(task.effort);
+  const std::vector<double>& weights = task.pose_weights;
+  const std::vector<bool>& exact = task.pose_exact;
+
+  // Seeds: the algebraic least-squares fit and exact solves of spread five-pose subsets.
+  auto stage_start = std::chrono::steady_clock::now();
+  std::vector<PlanarDyad> seeds;
+  PlanarSeeds(poses, options.planar.burmester, options.seed_subsets, &seeds);
+  for (const PlanarDyad& seed : seeds) {
+    DyadReport report;
+    report.dyad = seed;
+    report.rms_residual = WeightedRms(seed, poses, weights);
+    result.dyads.push_back(report);
+  }
+  result.stages.push_back(Stage("seed", stage_start, result));
+
+  if (task.effort != Effort::kFast) {
+    stage_start = std::chrono::steady_clock::now();
+    for (DyadReport& report : result.dyads) {
+      report.seed_rms_residual = report.rms_residual;
+      RefinePlanarDyad(poses, weights, exact, length, &report.dyad, options.planar_refiner);
+      report.rms_residual = WeightedRms(report.dyad, poses, weights);
+    }
+    result.stages.push_back(Stage("refine", stage_start, result));
+  }
+  if (task.effort == Effort::kThorough) {
+    stage_start = std::chrono::steady_clock::now();
+    std::vector<PlanarDyad> found;
+    SearchPlanarDyads(poses, weights, exact, length, options.search, &found);
+    for (const PlanarDyad& dyad : found) {
+      DyadReport report;
+      report.dyad = dyad;
+      report.rms_residual = WeightedRms(dyad, poses, weights);
+      result.dyads.push_back(report);
+    }
+    result.stages.push_back(Stage("search", stage_start, result));
+  }
+
+  // Distinct dyads, best fit first; the best few make the four-bars.
+  std::vector<DyadReport> kept;
+  std::stable_sort(result.dyads.begin(), result.dyads.end(),
+                   [](const DyadReport& a, const DyadReport& b) {
+                     return a.rms_residual.value_or(1e300) < b.rms_residual.value_or(1e300);
+                   });
+  for (const DyadReport& report : result.dyads) {
+    bool repeat = false;
+    for (const DyadReport& other : kept) repeat |= SameDyad(report.dyad, other.dyad, length);
+    if (!repeat) kept.push_back(report);
+  }
+  if (static_cast<int>(kept.size()) > options.max_dyads) {
+    result.notes.push_back(std::to_string(kept.size() - options.max_dyads) +
+                           " more dyads with larger residuals were found and dropped");
+    kept.resize(options.max_dyads);
+  }
+  result.dyads = std::move(kept);
+  for (DyadReport& report : result.dyads) report.max_residual = report.dyad.MaxResidual(poses);
+  stage_start = std::chrono::steady_clock::now();
+  BuildMechanisms(poses, length, &result);
+  result.stages.push_back(Stage("four-bars", stage_start, result));
+
+  if (task.effort != Effort::kFast) {
+    // Mechanism level: the best-ranked four-bars refined on their pose error. A refined
+    // four-bar gets its own two dyads, appended to the list.
+    stage_start = std::chrono::steady_clock::now();
+    const int count = std::min<int>(options.refined_mechanisms, result.mechanisms.size());
+    for (int m = 0; m < count; ++m) {
+      MechanismReport& mechanism = result.mechanisms[m];
+      if (!mechanism.max_pose_error) continue;
+      PlanarDyad input = result.dyads[mechanism.input_dyad].dyad;
+      PlanarDyad output = result.dyads[mechanism.output_dyad].dyad;
+      const RefinerSummary summary =
+          RefineFourBar(poses, weights, exact, length, &input, &output, options.four_bar_refiner);
+      if (!(summary.final_max < *mechanism.max_pose_error)) continue;
+      const double seed_error = *mechanism.max_pose_error;
+      const int first = static_cast<int>(result.dyads.size());
+      for (const PlanarDyad& dyad : {input, output}) {
+        DyadReport report;
+        report.dyad = dyad;
+        report.max_residual = dyad.MaxResidual(poses);
+        report.rms_residual = WeightedRms(dyad, poses, weights);
+        result.dyads.push_back(report);
+      }
+      MechanismReport refined = AnalyzeDyadPair(result.dyads, first, first + 1, poses, length);
+      refined.seed_max_pose_error = seed_error;
+      mechanism = refined;
+    }
+    RankMechanisms(&result.mechanisms);
+    result.stages.push_back(Stage("four-bar refine", stage_start, result));
+  }
+  if (result.dyads.empty()) result.notes.push_back("no dyad: the seeds failed (degenerate poses?)");
+  result.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
 TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
   if (task.problem == ProblemKind::kMotion && task.space == Space::kPlanar) {
-    return SolvePlanarMotion(task, options.planar);
+    return SolvePlanarTask(task, options);
   }
   if (task.problem == ProblemKind::kMotion && task.space == Space::kSpatial) {
     return SolveSpatialTask(task, options);

@@ -1,6 +1,11 @@
 // Solves any validated task end to end: the exact or algebraic solvers of fitting/, then the
 // Ceres refinement where the task has more data than the minimum, then the mechanisms.
-//   - planar motion: fitting/planar_motion.h;
+//   - planar motion: fitting/planar_motion.h for five poses or fewer; more poses are approximate
+//     synthesis, by effort level: fast = the algebraic seeds (least-squares fit and exact solves
+//     of five-pose subsets); balanced (default) = every seed refined on its geometric residual
+//     (planar_dyad_refiner.h) and the best four-bars refined on their pose error
+//     (four_bar_refiner.h); thorough = as balanced plus an NLopt global search for dyads
+//     (global_search.h) before the four-bars are built;
 //   - spatial motion: fitting/spatial_motion.h; more than seven poses (effort balanced or
 //     thorough) refine every dyad on its geometric residual (spatial_dyad_refiner.h), then the
 //     platform is built and traced;
@@ -12,18 +17,30 @@
 #include "fitting/spatial_motion.h"
 #include "lib/result.h"
 #include "lib/task.h"
+#include "optimizers/four_bar_refiner.h"
+#include "optimizers/global_search.h"
+#include "optimizers/planar_dyad_refiner.h"
 #include "optimizers/spatial_dyad_refiner.h"
 
 namespace linkfit {
 
 struct TaskSolverOptions {
-  PlanarMotionOptions planar;         // planar motion
-  SpatialMotionOptions spatial;       // spatial motion (and its platform tracing)
-  SpatialDyadRefinerOptions refiner;  // spatial least squares
+  PlanarMotionOptions planar;               // planar motion
+  SpatialMotionOptions spatial;             // spatial motion (and its platform tracing)
+  SpatialDyadRefinerOptions refiner;        // spatial least squares
+  PlanarDyadRefinerOptions planar_refiner;  // planar least squares, dyad level
+  FourBarRefinerOptions four_bar_refiner;   // planar least squares, mechanism level
+  GlobalSearchOptions search;               // planar least squares, effort thorough
+  int seed_subsets = 6;                     // five-pose subsets solved exactly for seeds
+  int max_dyads = 8;           // dyads kept (best RMS residual first) to build four-bars from
+  int refined_mechanisms = 3;  // best-ranked four-bars refined at the mechanism level
 };
 
 // Never throws for numerical trouble: what could not be done is said in the result's notes.
 TaskResult SolveTask(const Task& task, const TaskSolverOptions& options = {});
+
+// Planar motion only: exact for five poses or fewer, approximate beyond (see above).
+PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options = {});
 
 // Spatial motion only: solve, refine (more than seven poses, unless effort is fast), and add
 // the platform.

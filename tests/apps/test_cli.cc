@@ -422,3 +422,57 @@ TEST_F(CliTest, SpatialTasksThatNeedLessThanSpace) {
   EXPECT_EQ(Run("solve '" + DataPath("four_bar_5_poses.json") + "' --platform 0,1,2,3,4").status,
             2);
 }
+
+// Approximate synthesis: twelve poses of the bundled 4R, rounded to 0.001 mm and 0.001 deg.
+// Every effort level gives a least-squares result; balanced (the default) finds the 4R to the
+// rounding, and `refine` takes the result file as a design.
+TEST_F(CliTest, FitsTwelveRoundedPosesAndRefinesTheResult) {
+  const std::string output = Path("result.json");
+  const RunResult run =
+      Run("solve '" + DataPath("four_bar_12_poses.json") + "' -o '" + output + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(output));
+  EXPECT_EQ(result["method"], "least-squares");
+  EXPECT_EQ(result["effort"], "balanced");
+  ASSERT_FALSE(result["stages"].empty());
+  // Rounding of 0.0005 mm leaves the pivots within about 0.05 mm.
+  constexpr double kRounding = 0.05;
+  const auto near_rr = [&](double fx, double fy, double r) {
+    for (const nlohmann::json& dyad : result["dyads"]) {
+      if (dyad["type"] == "RR" && std::abs(dyad["fixed"][0].get<double>() - fx) < kRounding &&
+          std::abs(dyad["fixed"][1].get<double>() - fy) < kRounding &&
+          std::abs(dyad["radius"].get<double>() - r) < kRounding) {
+        return true;
+      }
+    }
+    return false;
+  };
+  EXPECT_TRUE(near_rr(0.0, 0.0, 37.5)) << result.dump(2);
+  EXPECT_TRUE(near_rr(100.0, 0.0, 75.0));
+  ASSERT_FALSE(result["mechanisms"].empty());
+  EXPECT_LT(result["mechanisms"][0]["max_pose_error"].get<double>(), 2e-3);
+
+  for (const char* effort : {"fast", "thorough"}) {
+    const RunResult other =
+        Run("solve '" + DataPath("four_bar_12_poses.json") + "' --effort " + effort);
+    ASSERT_EQ(other.status, 0) << other.err;
+    EXPECT_EQ(nlohmann::json::parse(other.out)["effort"], effort);
+  }
+  EXPECT_EQ(Run("solve '" + DataPath("four_bar_12_poses.json") + "' --effort best").status, 2);
+
+  const RunResult refined =
+      Run("refine '" + DataPath("four_bar_12_poses.json") + "' '" + output + "'");
+  ASSERT_EQ(refined.status, 0) << refined.err;
+  const nlohmann::json after = nlohmann::json::parse(refined.out);
+  EXPECT_EQ(after["method"], "refine");
+  ASSERT_EQ(after["mechanisms"].size(), 1u);
+  EXPECT_LE(after["mechanisms"][0]["max_pose_error"].get<double>(),
+            result["mechanisms"][0]["max_pose_error"].get<double>() * (1 + 1e-9));
+  EXPECT_NE(after["notes"][0].get<std::string>().find("before"), std::string::npos);
+
+  // A hand-written design with a bad dyad type is bad input.
+  const std::string design = WriteTask("design.json", R"({"dyads": [{"type": "RS"}]})");
+  const RunResult bad = Run("refine '" + DataPath("four_bar_12_poses.json") + "' '" + design + "'");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("dyads[0].type"), std::string::npos) << bad.err;
+}

@@ -2,7 +2,9 @@
 
 #include <random>
 
+#include "lib/four_bar_motion.h"
 #include "optimizers/task_solver.h"
+#include "tests/support/random_mechanism.h"
 #include "tests/support/random_spatial.h"
 
 namespace linkfit {
@@ -69,6 +71,87 @@ TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
       EXPECT_LE(*nearest->rms_residual, planted_rms * (1 + 1e-9));
     }
     EXPECT_GT(result.refine_seconds, 0.0);
+  }
+}
+
+Task PlanarTask(const std::vector<PlanarPose>& poses, Effort effort) {
+  Task task;
+  task.planar_poses = poses;
+  task.pose_weights.assign(poses.size(), 1.0);
+  task.pose_exact.assign(poses.size(), false);
+  task.effort = effort;
+  return task;
+}
+
+// RMS pose error of a four-bar at the poses (each at its nearest configuration).
+double RmsPoseError(const PlanarDyad& input, const PlanarDyad& output,
+                    const std::vector<PlanarPose>& poses, double length) {
+  const FourBarAnalysis analysis = AnalyzeFourBar(input, output, poses, length);
+  double sum = 0.0;
+  for (const FourBarLocation& location : analysis.locations) {
+    sum += location.pose_error * location.pose_error;
+  }
+  return std::sqrt(sum / poses.size());
+}
+
+TEST(TaskSolver, PlanarExactTasksWithManyPosesGiveTheirMechanism) {
+  constexpr double kPoseErrorTolerance = 1e-9;  // times L
+  constexpr double kRecovery = 1e-8;            // relative dyad error
+  int seed = 0;
+  for (int count : {6, 10, 20, 50}) {
+    for (DyadType output : {DyadType::kRR, DyadType::kPR}) {
+      SCOPED_TRACE("poses " + std::to_string(count) + " output " + DyadTypeName(output));
+      std::mt19937_64 rng(700 + seed++);
+      const testing::GeneratedTask generated =
+          testing::RandomTask(rng, DyadType::kRR, output, count);
+      const PlanarMotionResult result =
+          SolvePlanarTask(PlanarTask(generated.poses, Effort::kBalanced));
+      EXPECT_EQ(result.method, "least-squares");
+      std::vector<PlanarDyad> dyads;
+      for (const DyadReport& report : result.dyads) dyads.push_back(report.dyad);
+      for (const PlanarDyad& expected : {generated.input, generated.output}) {
+        EXPECT_LT(testing::NearestDyadDistance(dyads, expected,
+                                               testing::DyadScale(expected, generated.poses)),
+                  kRecovery);
+      }
+      double best = 1e300;
+      for (const MechanismReport& mechanism : result.mechanisms) {
+        if (mechanism.max_pose_error) best = std::min(best, *mechanism.max_pose_error);
+      }
+      EXPECT_LE(best, kPoseErrorTolerance * result.scale);
+    }
+  }
+}
+
+TEST(TaskSolver, PlanarNoisyTasksFitAsWellAsTheGeneratingMechanism) {
+  // Within 10 % of the generating mechanism's RMS pose error on the same noisy poses (issue 5).
+  constexpr double kWithin = 1.10;
+  int seed = 0;
+  for (double noise : {1e-3, 1e-2}) {
+    for (int count : {10, 30}) {
+      SCOPED_TRACE("noise " + std::to_string(noise) + " poses " + std::to_string(count));
+      std::mt19937_64 rng(800 + seed++);
+      const testing::GeneratedTask generated = testing::RandomFourBarTask(rng, count);
+      const double length = CharacteristicLength(generated.poses);
+      std::normal_distribution<double> normal;
+      std::vector<PlanarPose> noisy = generated.poses;
+      for (PlanarPose& pose : noisy) {
+        pose.origin_in_fixed += noise * length * Eigen::Vector2d(normal(rng), normal(rng));
+        pose.theta += noise * normal(rng);
+      }
+      const PlanarMotionResult result = SolvePlanarTask(PlanarTask(noisy, Effort::kBalanced));
+      const double generating = RmsPoseError(generated.input, generated.output, noisy, length);
+      double best = 1e300;
+      for (const MechanismReport& mechanism : result.mechanisms) {
+        if (mechanism.rms_pose_error && mechanism.defects.empty()) {
+          best = std::min(best, *mechanism.rms_pose_error);
+        }
+      }
+      EXPECT_LE(best, kWithin * generating) << "generating " << generating;
+      // The stages are reported, each with its time.
+      ASSERT_GE(result.stages.size(), 3u);
+      EXPECT_EQ(result.stages.front().name, "seed");
+    }
   }
 }
 

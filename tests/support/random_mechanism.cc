@@ -53,10 +53,14 @@ bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, in
   // The input advances by random steps between poses, in sub-steps of 1 degree (0.01 for a
   // slider) along which the coupler is followed continuously (nearest configuration), so that
   // the mechanism really moves from pose to pose on one branch, as a driven input would.
+  // More than eight poses share the travel of eight (steps and separation scaled by 8 / count),
+  // so that long tasks stay within about one turn instead of overlapping themselves.
+  const double spread = std::min(1.0, 8.0 / count);
   const bool slider_input = input_type == DyadType::kPR;
-  std::uniform_real_distribution<double> step_size(slider_input ? 0.15 : 15.0 * M_PI / 180.0,
-                                                   slider_input ? 0.45 : 45.0 * M_PI / 180.0);
-  const double sub_step = slider_input ? 0.01 : M_PI / 180.0;
+  std::uniform_real_distribution<double> step_size(
+      spread * (slider_input ? 0.15 : 15.0 * M_PI / 180.0),
+      spread * (slider_input ? 0.45 : 45.0 * M_PI / 180.0));
+  const double sub_step = std::min(slider_input ? 0.01 : M_PI / 180.0, step_size.a() / 4.0);
   const double direction = std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0;
   double value = InputValue(task->input, start);
   PlanarPose current = start;
@@ -84,7 +88,9 @@ bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, in
   if (!(length > 1e-3)) return false;
   for (size_t i = 0; i < task->poses.size(); ++i) {
     for (size_t j = i + 1; j < task->poses.size(); ++j) {
-      if (PoseError(task->poses[i], task->poses[j], length) < 0.05 * length) return false;
+      if (PoseError(task->poses[i], task->poses[j], length) < 0.05 * spread * length) {
+        return false;
+      }
     }
   }
   return true;

@@ -19,10 +19,11 @@ struct GeneratedTask {
 
 // Draws a four-bar of the given dyad types in an assembled start configuration (pivots in a
 // box of half-width 1 about the origin, random coupler frame E), then drives the input joint
-// in one direction by random steps (15 to 45 degrees, or 0.15 to 0.45 for a slider), following
+// in one direction by random steps (15 to 45 degrees, or 0.15 to 0.45 for a slider; scaled by
+// 8 / count beyond eight poses, so that long tasks stay within about one turn), following
 // the coupler continuously in small sub-steps, for `count` poses: the mechanism reaches them on
 // one branch, in order. Mechanisms that lock up on the way, or tasks with two poses closer than
-// 0.05 L, are drawn again.
+// 0.05 L (scaled likewise), are drawn again.
 GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, int count = 5);
 
 inline GeneratedTask RandomFourBarTask(std::mt19937_64& rng, int count = 5) {

@@ -570,45 +570,9 @@ ceres::Manifold* UnitCircle() {
   return new ceres::SphereManifold<ceres::DYNAMIC>(2);
 }
 
-// Penalty stage, one round: pose errors at free configurations, dyads (with the input-value
-// condition) weighted by `penalty`. The configurations are eliminated first (Schur).
-void SolvePenalty(const ScaledTask& task, double penalty,
-                  const ceres::Solver::Options& base_options, Unknowns* unknowns, int* iterations,
-                  std::string* message) {
-  ceres::Problem problem;
-  DyadBlocks& input = unknowns->input;
-  DyadBlocks& output = unknowns->output;
-  const double sqrt_penalty = std::sqrt(penalty);
-  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
-  for (size_t j = 0; j < task.poses.size(); ++j) {
-    double* configuration = unknowns->configurations[j].data();
-    problem.AddResidualBlock(
-        ConfigurationResidual::Create(input.type, output.type, task.poses[j],
-                                      std::sqrt(task.weights[j]), sqrt_penalty),
-        nullptr, configuration, input.point, input.second, input.scalar, output.point,
-        output.second, output.scalar);
-    ordering->AddElementToGroup(configuration, 0);
-  }
-  for (DyadBlocks* blocks : {&input, &output}) {
-    for (double* block : {blocks->point, blocks->second, blocks->scalar}) {
-      ordering->AddElementToGroup(block, 1);
-    }
-    if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
-  }
-  ceres::Solver::Options solver_options = base_options;
-  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
-  // A floor under Levenberg-Marquardt's damping: the penalty problem can be nearly singular
-  // (a drift toward coincident dyads), where an undamped Schur complement loses definiteness.
-  solver_options.max_trust_region_radius = kPenaltyMaxTrustRegion;
-  ceres::Solver::Summary summary;
-  ceres::Solve(solver_options, &problem, &summary);
-  *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
-  *message = summary.message;
-}
-
-// Stops the exact elimination where its iterates reach coincident dyads (Coincident): on noisy
-// poses the cost can keep falling toward that limit, which is no four-bar. Keeps the last
-// iterate before it.
+// Stops a solve where its iterates reach coincident dyads (Coincident): the cost can keep
+// falling toward that limit (the coupler's second freedom fits anything), which is no
+// four-bar. Keeps the last iterate before it.
 class CoincidenceGuard : public ceres::IterationCallback {
  public:
   CoincidenceGuard(DyadBlocks* input, DyadBlocks* output)
@@ -641,6 +605,46 @@ class CoincidenceGuard : public ceres::IterationCallback {
   DyadBlocks last_output_;
   bool stopped_ = false;
 };
+
+// Penalty stage, one round: pose errors at free configurations, dyads (with the input-value
+// condition) weighted by `penalty`. The configurations are eliminated first (Schur).
+void SolvePenalty(const ScaledTask& task, double penalty,
+                  const ceres::Solver::Options& base_options, Unknowns* unknowns, int* iterations,
+                  std::string* message) {
+  ceres::Problem problem;
+  DyadBlocks& input = unknowns->input;
+  DyadBlocks& output = unknowns->output;
+  const double sqrt_penalty = std::sqrt(penalty);
+  auto ordering = std::make_shared<ceres::ParameterBlockOrdering>();
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    double* configuration = unknowns->configurations[j].data();
+    problem.AddResidualBlock(
+        ConfigurationResidual::Create(input.type, output.type, task.poses[j],
+                                      std::sqrt(task.weights[j]), sqrt_penalty),
+        nullptr, configuration, input.point, input.second, input.scalar, output.point,
+        output.second, output.scalar);
+    ordering->AddElementToGroup(configuration, 0);
+  }
+  for (DyadBlocks* blocks : {&input, &output}) {
+    for (double* block : {blocks->point, blocks->second, blocks->scalar}) {
+      ordering->AddElementToGroup(block, 1);
+    }
+    if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
+  }
+  CoincidenceGuard guard(&input, &output);
+  ceres::Solver::Options solver_options = base_options;
+  solver_options.update_state_every_iteration = true;  // the guard reads the iterates
+  solver_options.callbacks.push_back(&guard);
+  solver_options.linear_solver_type = ceres::DENSE_SCHUR;
+  // A floor under Levenberg-Marquardt's damping: the penalty problem can be nearly singular
+  // (a drift toward coincident dyads), where an undamped Schur complement loses definiteness.
+  solver_options.max_trust_region_radius = kPenaltyMaxTrustRegion;
+  ceres::Solver::Summary summary;
+  ceres::Solve(solver_options, &problem, &summary);
+  *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
+  *message = summary.message;
+  guard.Restore();  // the configurations stay those of the last iterate: a start only
+}
 
 // Exact elimination: pose errors of the assembled four-bar, pose weights `weights`. Returns
 // whether it stopped short of coincident dyads.

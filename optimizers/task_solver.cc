@@ -326,6 +326,10 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         result.dyads.push_back(report);
       }
       MechanismReport refined = AnalyzeDyadPair(result.dyads, first, first + 1, poses, length);
+      if (refined.defects.size() > mechanism.defects.size() || !refined.max_pose_error) {
+        result.dyads.resize(first);  // a refinement that adds a defect is not better
+        continue;
+      }
       refined.seed_max_pose_error = seed_error;
       mechanism = refined;
     }

@@ -27,8 +27,11 @@ constexpr double kGradientTolerance = 1e-16;
 constexpr double kPenaltyWeight = 1e2;
 constexpr double kPenaltyTolerance = 1e-8;
 constexpr double kPenaltyMaxTrustRegion = 1e8;
-// Exact poses: their weights grow by this factor per round until they are met.
-constexpr double kExactWeightGrowth = 1e3;
+// Exact poses: their weight (times the pose's own) in the exact elimination, whose method of
+// multipliers then shifts their targets round by round until they are met.
+constexpr double kExactWeight = 1e6;
+// Then at most this many Gauss-Newton steps onto the exact poses (ProjectOntoExactPoses).
+constexpr int kProjectionSteps = 5;
 // Two dyads closer than this (times L, in every parameter) are one constraint, not a four-bar:
 // the coupler keeps a second freedom, which fits anything and which AssembleFourBar cannot
 // resolve. Least squares on noisy poses can run toward that limit.
@@ -248,8 +251,9 @@ class ConfigurationResidual {
 // Pose error of the four-bar at task pose j = (D, Theta) with weight w, the configuration q
 // eliminated: the four-bar assembled at the input value the task pose gives (InputValue,
 // lib/mechanism.h) on assembly label s (+1 for label 0, -1 for label 1), scaled frames (L = 1):
-//   e = sqrt(w) (x(q) - D_x, y(q) - D_y, wrap(theta(q) - Theta))
-// where q = (d, theta) satisfies both dyads:
+//   e = sqrt(w) ((x(q) - D_x, y(q) - D_y, wrap(theta(q) - Theta)) + s_j)
+// (s_j = 0 but for exact poses: the shift of the method of multipliers), where q = (d, theta)
+// satisfies both dyads:
 //   input RR or PR: the input pin goes to P = F + r (M - F) / |M - F| (RR) or to the foot of M
 //     on the slider line, M - (n . M - h) n (PR), M = R(Theta) m1 + D the pin of the task pose;
 //     E turns about P, d = P - R(theta) m1, and the output dyad reads
@@ -264,7 +268,8 @@ class ConfigurationResidual {
 class AssembledPoseResidual {
  public:
   AssembledPoseResidual(DyadType input_type, DyadType output_type, int label,
-                        const PlanarPose& pose, double sqrt_weight)
+                        const PlanarPose& pose, double sqrt_weight,
+                        const Eigen::Vector3d& shift = Eigen::Vector3d::Zero())
       : input_type_(input_type),
         output_type_(output_type),
         sign_(label == 1 ? -1.0 : 1.0),
@@ -272,7 +277,8 @@ class AssembledPoseResidual {
         y_(pose.origin_in_fixed.y()),
         cos_(std::cos(pose.theta)),
         sin_(std::sin(pose.theta)),
-        sqrt_weight_(sqrt_weight) {}
+        sqrt_weight_(sqrt_weight),
+        shift_(shift) {}
 
   template <typename T>
   bool operator()(const T* input_point, const T* input_second, const T* input_scalar,
@@ -287,17 +293,19 @@ class AssembledPoseResidual {
                                output_scalar, &x, &y, &cos_theta, &sin_theta);
     if (!assembled) return false;
     using std::atan2;
-    residual[0] = sqrt_weight_ * (x - x_);
-    residual[1] = sqrt_weight_ * (y - y_);
+    residual[0] = sqrt_weight_ * (x - x_ + shift_[0]);
+    residual[1] = sqrt_weight_ * (y - y_ + shift_[1]);
     residual[2] = sqrt_weight_ *
-                  atan2(sin_theta * cos_ - cos_theta * sin_, cos_theta * cos_ + sin_theta * sin_);
+                  (atan2(sin_theta * cos_ - cos_theta * sin_, cos_theta * cos_ + sin_theta * sin_) +
+                   shift_[2]);
     return true;
   }
 
   static ceres::CostFunction* Create(DyadType input_type, DyadType output_type, int label,
-                                     const PlanarPose& pose, double sqrt_weight) {
+                                     const PlanarPose& pose, double sqrt_weight,
+                                     const Eigen::Vector3d& shift) {
     return new ceres::AutoDiffCostFunction<AssembledPoseResidual, 3, 2, 2, 1, 2, 2, 1>(
-        new AssembledPoseResidual(input_type, output_type, label, pose, sqrt_weight));
+        new AssembledPoseResidual(input_type, output_type, label, pose, sqrt_weight, shift));
   }
 
  private:
@@ -420,6 +428,7 @@ class AssembledPoseResidual {
   double sign_;
   double x_, y_, cos_, sin_;  // the task pose
   double sqrt_weight_;
+  Eigen::Vector3d shift_;  // multiplier shift of an exact pose (zero otherwise)
 };
 
 // The task in the scaled frames: Sigma' = (Sigma - centroid) / L, E' = E / L.
@@ -646,17 +655,19 @@ void SolvePenalty(const ScaledTask& task, double penalty,
   guard.Restore();  // the configurations stay those of the last iterate: a start only
 }
 
-// Exact elimination: pose errors of the assembled four-bar, pose weights `weights`. Returns
-// whether it stopped short of coincident dyads.
+// Exact elimination: pose errors of the assembled four-bar, pose weights `weights`, shifts
+// `shifts`. Returns whether it stopped short of coincident dyads.
 bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
-                    const std::vector<double>& weights, const ceres::Solver::Options& base_options,
-                    DyadBlocks* input, DyadBlocks* output, int* iterations, std::string* message) {
+                    const std::vector<double>& weights, const std::vector<Eigen::Vector3d>& shifts,
+                    const ceres::Solver::Options& base_options, DyadBlocks* input,
+                    DyadBlocks* output, int* iterations, std::string* message) {
   ceres::Problem problem;
   for (size_t j = 0; j < task.poses.size(); ++j) {
-    problem.AddResidualBlock(AssembledPoseResidual::Create(input->type, output->type, labels[j],
-                                                           task.poses[j], std::sqrt(weights[j])),
-                             nullptr, input->point, input->second, input->scalar, output->point,
-                             output->second, output->scalar);
+    problem.AddResidualBlock(
+        AssembledPoseResidual::Create(input->type, output->type, labels[j], task.poses[j],
+                                      std::sqrt(weights[j]), shifts[j]),
+        nullptr, input->point, input->second, input->scalar, output->point, output->second,
+        output->scalar);
   }
   for (DyadBlocks* blocks : {input, output}) {
     if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
@@ -694,23 +705,103 @@ std::vector<int> LabelsNear(const ScaledTask& task, const Unknowns& unknowns) {
   return labels;
 }
 
-// Largest pose error of the exact elimination over the exact poses (or all poses), scaled
-// units; infinity where the four-bar does not assemble at some pose.
-double WorstAssembledError(const ScaledTask& task, const std::vector<int>& labels,
-                           const DyadBlocks& input, const DyadBlocks& output, bool exact_only) {
+// The pose errors (x, y, angle) of the exact elimination, scaled units; false where the
+// four-bar does not assemble at some pose.
+bool AssembledErrors(const ScaledTask& task, const std::vector<int>& labels,
+                     const DyadBlocks& input, const DyadBlocks& output,
+                     std::vector<Eigen::Vector3d>* errors) {
+  errors->assign(task.poses.size(), Eigen::Vector3d::Zero());
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    const AssembledPoseResidual residual(input.type, output.type, labels[j], task.poses[j], 1.0);
+    if (!residual(input.point, input.second, input.scalar, output.point, output.second,
+                  output.scalar, (*errors)[j].data()) ||
+        !(*errors)[j].allFinite()) {
+      return false;
+    }
+  }
+  return true;
+}
+
+// Largest error norm over the exact poses.
+double WorstExact(const ScaledTask& task, const std::vector<Eigen::Vector3d>& errors) {
   double worst = 0.0;
   for (size_t j = 0; j < task.poses.size(); ++j) {
-    if (exact_only && !task.exact[j]) continue;
-    const AssembledPoseResidual residual(input.type, output.type, labels[j], task.poses[j], 1.0);
-    double e[3] = {0.0, 0.0, 0.0};
-    if (!residual(input.point, input.second, input.scalar, output.point, output.second,
-                  output.scalar, e)) {
-      return kInfinity;
-    }
-    const double error = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-    worst = std::isfinite(error) ? std::max(worst, error) : kInfinity;
+    if (task.exact[j]) worst = std::max(worst, errors[j].norm());
   }
   return worst;
+}
+
+// Gauss-Newton steps of least norm onto the exact poses' conditions e_j = 0 (exact elimination,
+// scaled units), from a least-squares solution that nearly meets them: the multipliers leave
+// them off by rounding of the weighted problem, and the steps finish the job while moving the
+// design least. Normals step along their tangent and are renormalized. Stops after
+// kProjectionSteps, or where a step does not assemble.
+void ProjectOntoExactPoses(const ScaledTask& task, const std::vector<int>& labels, double tolerance,
+                           DyadBlocks* input, DyadBlocks* output) {
+  std::vector<size_t> exact_poses;
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    if (task.exact[j]) exact_poses.push_back(j);
+  }
+  if (exact_poses.empty()) return;
+  const int rows = 3 * static_cast<int>(exact_poses.size());
+  for (int step = 0; step < kProjectionSteps; ++step) {
+    // Columns: input point (2), input second (2 or 1 tangent), input scalar, same for output.
+    Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(rows, 12);
+    Eigen::VectorXd error(rows);
+    for (size_t k = 0; k < exact_poses.size(); ++k) {
+      const size_t j = exact_poses[k];
+      std::unique_ptr<ceres::CostFunction> cost(AssembledPoseResidual::Create(
+          input->type, output->type, labels[j], task.poses[j], 1.0, Eigen::Vector3d::Zero()));
+      const double* parameters[6] = {input->point,  input->second,  input->scalar,
+                                     output->point, output->second, output->scalar};
+      Eigen::Matrix<double, 3, 2, Eigen::RowMajor> block[4];
+      Eigen::Vector3d scalar_block[2];
+      double* jacobians[6] = {block[0].data(), block[1].data(), scalar_block[0].data(),
+                              block[2].data(), block[3].data(), scalar_block[1].data()};
+      if (!cost->Evaluate(parameters, error.data() + 3 * k, jacobians)) return;
+      jacobian.block(3 * k, 0, 3, 2) = block[0];
+      jacobian.block(3 * k, 2, 3, 2) = block[1];
+      jacobian.block(3 * k, 4, 3, 1) = scalar_block[0];
+      jacobian.block(3 * k, 6, 3, 2) = block[2];
+      jacobian.block(3 * k, 8, 3, 2) = block[3];
+      jacobian.block(3 * k, 10, 3, 1) = scalar_block[1];
+    }
+    if (!error.allFinite() || !jacobian.allFinite()) return;
+    double worst = 0.0;
+    for (size_t k = 0; k < exact_poses.size(); ++k) {
+      worst = std::max(worst, error.segment<3>(3 * k).norm());
+    }
+    if (worst <= tolerance) return;
+    // A normal moves along its tangent only: its two columns become one.
+    for (int offset : {0, 6}) {
+      const DyadBlocks& blocks = offset == 0 ? *input : *output;
+      if (blocks.type == DyadType::kRR) continue;
+      const Eigen::Vector2d tangent(-blocks.second[1], blocks.second[0]);
+      jacobian.col(offset + 2) = jacobian.block(0, offset + 2, rows, 2) * tangent;
+      jacobian.col(offset + 3).setZero();
+    }
+    const Eigen::VectorXd delta = -jacobian.completeOrthogonalDecomposition().solve(error);
+    if (!delta.allFinite()) return;
+    DyadBlocks next_input = *input, next_output = *output;
+    for (int offset : {0, 6}) {
+      DyadBlocks& blocks = offset == 0 ? next_input : next_output;
+      blocks.point[0] += delta[offset];
+      blocks.point[1] += delta[offset + 1];
+      blocks.scalar[0] += delta[offset + 4];
+      if (blocks.type == DyadType::kRR) {
+        blocks.second[0] += delta[offset + 2];
+        blocks.second[1] += delta[offset + 3];
+      } else {
+        Eigen::Map<Eigen::Vector2d> normal(blocks.second);
+        normal =
+            (normal + delta[offset + 2] * Eigen::Vector2d(-normal.y(), normal.x())).normalized();
+      }
+    }
+    std::vector<Eigen::Vector3d> errors;
+    if (!AssembledErrors(task, labels, next_input, next_output, &errors)) return;
+    *input = next_input;
+    *output = next_output;
+  }
 }
 
 bool AllFinite(const Unknowns& unknowns) {
@@ -874,29 +965,38 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
     if (!AllFinite(start)) return candidate;
     const std::vector<int> labels = LabelsNear(task, start);
     DyadBlocks input_blocks = start.input, output_blocks = start.output;
-    std::vector<double> round_weights = task.weights;
+    // Exact poses: weight kExactWeight times theirs, and the method of multipliers' shifts.
+    std::vector<double> pose_weights = task.weights;
+    std::vector<Eigen::Vector3d> shifts(task.poses.size(), Eigen::Vector3d::Zero());
+    for (size_t j = 0; j < task.poses.size(); ++j) {
+      if (task.exact[j]) pose_weights[j] *= kExactWeight;
+    }
     // A start with a pose past the input's reach cannot be refined this way: it is judged as
     // it is.
-    const bool reachable =
-        std::isfinite(WorstAssembledError(task, labels, input_blocks, output_blocks, false));
+    std::vector<Eigen::Vector3d> errors;
+    const bool reachable = AssembledErrors(task, labels, input_blocks, output_blocks, &errors);
     if (reachable) {
       candidate.short_of_coincidence =
-          SolveAssembled(task, labels, round_weights, solver_options, &input_blocks, &output_blocks,
-                         &summary.iterations, &candidate.message);
+          SolveAssembled(task, labels, pose_weights, shifts, solver_options, &input_blocks,
+                         &output_blocks, &summary.iterations, &candidate.message);
     } else {
       candidate.message = "start past the input's reach";
     }
     int round = 0;
     while (reachable && round < options.max_penalty_rounds &&
-           WorstAssembledError(task, labels, input_blocks, output_blocks, true) >
-               options.exact_tolerance) {
+           AssembledErrors(task, labels, input_blocks, output_blocks, &errors) &&
+           WorstExact(task, errors) > options.exact_tolerance) {
       for (size_t j = 0; j < task.poses.size(); ++j) {
-        if (task.exact[j]) round_weights[j] *= kExactWeightGrowth;
+        if (task.exact[j]) shifts[j] += errors[j];
       }
       candidate.short_of_coincidence |=
-          SolveAssembled(task, labels, round_weights, solver_options, &input_blocks, &output_blocks,
-                         &summary.iterations, &candidate.message);
+          SolveAssembled(task, labels, pose_weights, shifts, solver_options, &input_blocks,
+                         &output_blocks, &summary.iterations, &candidate.message);
       ++round;
+    }
+    if (reachable) {
+      ProjectOntoExactPoses(task, labels, 1e-3 * options.exact_tolerance, &input_blocks,
+                            &output_blocks);
     }
     candidate.exact_rounds = round;
     candidate.input = TransformDyad(FromBlocks(input_blocks), sigma, epsilon);
@@ -940,7 +1040,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   summary.message = best.message;
   note = best.origin;
   if (best.exact_rounds > 0) {
-    note += "; exact poses: " + std::to_string(best.exact_rounds) + " weight rounds";
+    note += "; exact poses: " + std::to_string(best.exact_rounds) + " multiplier rounds";
   }
   if (best.short_of_coincidence) {
     note += "; stopped short of coincident dyads, toward which the cost keeps falling";

@@ -261,10 +261,16 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
 
   if (task.effort != Effort::kFast) {
     stage_start = std::chrono::steady_clock::now();
-    for (DyadReport& report : result.dyads) {
+    // The refined dyads join the seeds rather than replace them: seeds often refine to the same
+    // few optima, and a seed that fits a little worse can still make the only four-bar without
+    // a circuit or branch defect.
+    const size_t seed_count = result.dyads.size();
+    for (size_t i = 0; i < seed_count; ++i) {
+      DyadReport report = result.dyads[i];
       report.seed_rms_residual = report.rms_residual;
       RefinePlanarDyad(poses, weights, exact, length, &report.dyad, options.planar_refiner);
       report.rms_residual = WeightedRms(report.dyad, poses, weights);
+      result.dyads.push_back(report);
     }
     result.stages.push_back(Stage("refine", stage_start, result));
   }

@@ -32,7 +32,7 @@ struct TaskSolverOptions {
   FourBarRefinerOptions four_bar_refiner;   // planar least squares, mechanism level
   GlobalSearchOptions search;               // planar least squares, effort thorough
   int seed_subsets = 6;                     // five-pose subsets solved exactly for seeds
-  int max_dyads = 8;           // dyads kept (best RMS residual first) to build four-bars from
+  int max_dyads = 10;          // dyads kept (best RMS residual first) to build four-bars from
   int refined_mechanisms = 3;  // best-ranked four-bars refined at the mechanism level
 };
 

@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -22,8 +21,9 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Ceres's projected-gradient stop, in the scaled problem (L = 1, mean weight 1): low enough
 // that only function_tolerance and parameter_tolerance decide, except at an exact optimum.
 constexpr double kGradientTolerance = 1e-16;
-// Penalty stage (scaled problem, mean pose weight 1): the dyads' weight, and the stopping
-// tolerances (relative cost change and step) of this start-finding solve.
+// Penalty stage (scaled problem, mean pose weight 1): the dyads' weight, the stopping
+// tolerances (relative cost change and step) of this start-finding solve, and a cap on
+// Levenberg-Marquardt's trust region (a floor under its damping).
 constexpr double kPenaltyWeight = 1e2;
 constexpr double kPenaltyTolerance = 1e-8;
 constexpr double kPenaltyMaxTrustRegion = 1e8;
@@ -566,7 +566,8 @@ Judgement Judge(const PlanarDyad& input, const PlanarDyad& output,
   return judgement;
 }
 
-// The unknowns of the penalty stage: both dyads and one configuration per task pose.
+// A start: both dyads and one configuration per task pose (the free unknowns of the penalty
+// stage; for the exact elimination they only pick each pose's assembly label).
 struct Unknowns {
   DyadBlocks input;
   DyadBlocks output;
@@ -956,7 +957,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   solver_options.logging_type = ceres::SILENT;
 
   // The exact elimination from a start (the seed itself, or where the penalty stage took it),
-  // the exact poses' weights raised until they are met; judged in task units.
+  // with its assembly labels read off the start's configurations; exact poses met by
+  // multipliers and projection; judged in task units.
   const double exact_limit = options.exact_tolerance * length;
   std::string note;
   const auto refine_from = [&](const Unknowns& start, const char* origin) {
@@ -1002,14 +1004,6 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
     candidate.input = TransformDyad(FromBlocks(input_blocks), sigma, epsilon);
     candidate.output = TransformDyad(FromBlocks(output_blocks), sigma, epsilon);
     candidate.judgement = Judge(candidate.input, candidate.output, poses, weights, exact, length);
-    if (std::getenv("FBR_DEBUG")) {
-      std::fprintf(stderr, "DEBUG candidate %s: %s [%s]\n  labels:", origin,
-                   Describe(candidate.judgement, exact_limit).c_str(), candidate.message.c_str());
-      for (int l : labels) std::fprintf(stderr, " %d", l);
-      std::fprintf(stderr, "\n  errors:");
-      for (double e : candidate.judgement.errors) std::fprintf(stderr, " %.2g", e / length);
-      std::fprintf(stderr, "\n");
-    }
     return candidate;
   };
   Candidate best = refine_from(seed, "exact elimination from the seed");

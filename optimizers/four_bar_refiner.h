@@ -7,20 +7,23 @@
 // circuit: the pose error AnalyzeFourBar measures (four_bar_motion.h). Unknowns: both dyads'
 // parameters (RR: F, M, r; PR: M, unit line normal, offset; RP: F, unit line normal in E, offset;
 // normals on a sphere manifold). The q_j are eliminated exactly (closed-form assembly, so both
-// dyads hold at every q_j); a pose past the input's reach is assembled at the nearest stationary
-// configuration. Two starts are refined and the better kept: the seed itself, and the seed
-// after a penalty stage in which the q_j are free unknowns and the dyads (with the input-value
-// condition) are weighted residuals; that stage crosses stationary configurations and gaps of
-// the input's range that the exact elimination cannot. The result is re-analysed as
-// AnalyzeFourBar does and the seed returned unchanged unless the result is not worse: it
-// assembles at the first pose, has no circuit defect the seed did not have, meets the exact
-// poses (or comes nearer), and has no higher cost. Poses marked exact get their weights raised
-// (x1e3 per round) until their pose error is within exact_tolerance * L. Data are centred (pose
-// origins' centroid) and scaled by L internally.
+// dyads hold at every q_j to rounding); the solver does not step where a pose goes past the
+// input's reach. Two starts are refined and the better kept: the seed itself, and the seed after
+// a penalty stage in which the q_j are free unknowns and the dyads (with the input-value
+// condition) weighted residuals, which crosses stationary configurations and gaps of the input's
+// range that the exact elimination cannot. Poses marked exact get a large weight, then the
+// method of multipliers and a few least-norm Gauss-Newton steps until their pose error is within
+// exact_tolerance * L. Data are centred (pose origins' centroid) and scaled by L internally.
 //
-// The seed must assemble at the first pose; if it does not, it is returned with a message.
-// PR+PR and RP+RP four-bars (Cardan motion and its inverse) are reached as motions only: a
-// one-parameter family of dyad pairs gives the same motion.
+// The result is re-analysed as AnalyzeFourBar does, and the seed returned unchanged unless the
+// result is not worse: it assembles at the first pose, has no circuit defect the seed did not
+// have, meets the exact poses (or comes nearer), and has no higher cost. A seed that does not
+// assemble at the first pose, or whose two dyads coincide (no four-bar), is returned with a
+// message. On noisy poses the cost can keep falling toward a degenerate four-bar (a crank running
+// off toward a slider, or the two dyads toward one); the refiner then stops (at max_iterations,
+// or just short of coincident dyads) and says so in the message. PR+PR and RP+RP four-bars
+// (Cardan motion and its inverse) are reached as motions only: a one-parameter family of dyad
+// pairs gives the same motion.
 #ifndef LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 #define LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 
@@ -40,7 +43,7 @@ struct FourBarRefinerOptions {
   // every q_j to rounding (kept for interface stability).
   double constraint_tolerance = 1e-12;
   double exact_tolerance = 1e-9;  // exact poses' pose error, times L
-  int max_penalty_rounds = 8;     // rounds of the exact poses' weight continuation, per start
+  int max_penalty_rounds = 8;     // method-of-multipliers rounds for exact poses, per start
 };
 
 // Refines the four-bar (input, output) in place. `weights`/`exact` may be empty. Costs in the

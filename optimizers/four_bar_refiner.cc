@@ -13,6 +13,7 @@
 
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
+#include "optimizers/refiner_input.h"
 
 namespace linkfit {
 namespace {
@@ -869,28 +870,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   const auto elapsed = [&start]() {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   };
-  if (!(length > 0.0) || !std::isfinite(length)) {
-    throw std::invalid_argument("RefineFourBar: length must be positive and finite");
-  }
-  if (!weights.empty() && weights.size() != poses.size()) {
-    throw std::invalid_argument("RefineFourBar: " + std::to_string(weights.size()) +
-                                " weights for " + std::to_string(poses.size()) + " poses");
-  }
-  if (!exact.empty() && exact.size() != poses.size()) {
-    throw std::invalid_argument("RefineFourBar: " + std::to_string(exact.size()) +
-                                " exact flags for " + std::to_string(poses.size()) + " poses");
-  }
-  double weight_mean = 1.0;
-  if (!weights.empty()) {
-    double weight_sum = 0.0;
-    for (double w : weights) {
-      if (!(w > 0.0) || !std::isfinite(w)) {
-        throw std::invalid_argument("RefineFourBar: weights must be positive and finite");
-      }
-      weight_sum += w;
-    }
-    weight_mean = weight_sum / static_cast<double>(weights.size());
-  }
+  const double weight_mean =
+      CheckRefinerInput("RefineFourBar", poses.size(), length, weights, &exact);
   for (const PlanarPose& pose : poses) {
     if (!pose.origin_in_fixed.allFinite() || !std::isfinite(pose.theta)) {
       throw std::invalid_argument("RefineFourBar: poses must be finite");

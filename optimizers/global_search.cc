@@ -14,6 +14,7 @@
 #include <utility>
 
 #include "optimizers/planar_dyad_refiner.h"
+#include "optimizers/refiner_input.h"
 
 namespace linkfit {
 namespace {
@@ -539,22 +540,7 @@ std::vector<PlanarDyad> SearchType(const ScaledTask& task, DyadType type,
 void Validate(const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
               const std::vector<bool>& exact, double length, const GlobalSearchOptions& options) {
   const std::string where = "SearchPlanarDyads: ";
-  if (!(length > 0.0) || !std::isfinite(length)) {
-    throw std::invalid_argument(where + "length must be positive and finite");
-  }
-  if (!weights.empty() && weights.size() != poses.size()) {
-    throw std::invalid_argument(where + std::to_string(weights.size()) + " weights for " +
-                                std::to_string(poses.size()) + " poses");
-  }
-  if (!exact.empty() && exact.size() != poses.size()) {
-    throw std::invalid_argument(where + std::to_string(exact.size()) + " exact flags for " +
-                                std::to_string(poses.size()) + " poses");
-  }
-  for (double weight : weights) {
-    if (!(weight > 0.0) || !std::isfinite(weight)) {
-      throw std::invalid_argument(where + "weights must be positive and finite");
-    }
-  }
+  CheckRefinerInput("SearchPlanarDyads", poses.size(), length, weights, &exact);
   for (const PlanarPose& pose : poses) {
     if (!pose.origin_in_fixed.allFinite() || !std::isfinite(pose.theta)) {
       throw std::invalid_argument(where + "poses must be finite");

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "optimizers/nested_model_test.h"
+#include "optimizers/refiner_input.h"
 
 namespace linkfit {
 namespace {
@@ -381,28 +382,8 @@ RefinerSummary RefinePlanarDyad(const std::vector<PlanarPose>& poses,
                                 double length, PlanarDyad* dyad,
                                 const PlanarDyadRefinerOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (!(length > 0.0) || !std::isfinite(length)) {
-    throw std::invalid_argument("RefinePlanarDyad: length must be positive and finite");
-  }
-  if (!weights.empty() && weights.size() != poses.size()) {
-    throw std::invalid_argument("RefinePlanarDyad: " + std::to_string(weights.size()) +
-                                " weights for " + std::to_string(poses.size()) + " poses");
-  }
-  if (!exact.empty() && exact.size() != poses.size()) {
-    throw std::invalid_argument("RefinePlanarDyad: " + std::to_string(exact.size()) +
-                                " exact flags for " + std::to_string(poses.size()) + " poses");
-  }
-  double weight_mean = 1.0;
-  if (!weights.empty()) {
-    double weight_sum = 0.0;
-    for (double w : weights) {
-      if (!(w > 0.0) || !std::isfinite(w)) {
-        throw std::invalid_argument("RefinePlanarDyad: weights must be positive and finite");
-      }
-      weight_sum += w;
-    }
-    weight_mean = weight_sum / static_cast<double>(weights.size());
-  }
+  const double weight_mean =
+      CheckRefinerInput("RefinePlanarDyad", poses.size(), length, weights, &exact);
 
   RefinerSummary summary;
   const auto elapsed = [&start]() {

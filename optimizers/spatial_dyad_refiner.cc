@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimizers/refiner_input.h"
+
 namespace linkfit {
 namespace {
 
@@ -205,24 +207,7 @@ RefinerSummary RefineSpatialDyad(const std::vector<DualQuaternion>& poses,
                                  const std::vector<double>& weights, double length,
                                  SpatialDyad* dyad, const SpatialDyadRefinerOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  if (!(length > 0.0) || !std::isfinite(length)) {
-    throw std::invalid_argument("RefineSpatialDyad: length must be positive and finite");
-  }
-  if (!weights.empty() && weights.size() != poses.size()) {
-    throw std::invalid_argument("RefineSpatialDyad: " + std::to_string(weights.size()) +
-                                " weights for " + std::to_string(poses.size()) + " poses");
-  }
-  double weight_mean = 1.0;
-  if (!weights.empty()) {
-    double weight_sum = 0.0;
-    for (double w : weights) {
-      if (!(w > 0.0) || !std::isfinite(w)) {
-        throw std::invalid_argument("RefineSpatialDyad: weights must be positive and finite");
-      }
-      weight_sum += w;
-    }
-    weight_mean = weight_sum / static_cast<double>(weights.size());
-  }
+  const double weight_mean = CheckRefinerInput("RefineSpatialDyad", poses.size(), length, weights);
 
   RefinerSummary summary;
   const auto elapsed = [&start]() {

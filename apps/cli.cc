@@ -195,6 +195,50 @@ struct SolveOutputs {
   std::string effort;         // --effort: overrides the task's options.effort
 };
 
+// The picture of a solved path task: its points, and its four-bars (at most `max_panels`) at
+// the first point with the coupler point's curve. E is drawn with its origin at the coupler
+// point, so that the coupler body and the traced curve are the coupler point's.
+Picture MakePathPicture(const std::string& title, const Task& task, const PathResult& result,
+                        size_t max_panels) {
+  Picture picture;
+  picture.title = title;
+  picture.length = result.scale;
+  picture.coupler_curve_label = "coupler curve (coupler point)";
+  for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
+  for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
+    const PathMechanismReport& report = result.mechanisms[m];
+    const PathFourBar& design = report.design;
+    // E' = E moved to the coupler point: p_E' = p_E - coupler point.
+    const PlanarPose shift(design.coupler_point.x(), design.coupler_point.y(), 0.0);
+    const auto to_shifted = [&](PlanarDyad dyad) {
+      dyad.moving_pivot -= design.coupler_point;
+      if (dyad.type == DyadType::kRP) dyad.line_point -= design.coupler_point;
+      return dyad;
+    };
+    PictureMechanism mechanism;
+    mechanism.input = to_shifted(design.input);
+    mechanism.output = to_shifted(design.output);
+    mechanism.first_pose = shift;
+    mechanism.title = std::to_string(m + 1) + ": " + FourBarTypeName(report.type) +
+                      (report.grashof.empty() ? "" : ", " + report.grashof);
+    for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
+    if (report.defects.empty()) mechanism.labels.push_back("no defects");
+    char text[64];
+    if (report.max_point_error) {
+      std::snprintf(text, sizeof(text), "max point error %.3g", *report.max_point_error);
+      mechanism.labels.push_back(text);
+    }
+    const std::vector<PlanarPose> cycle = CouplerCycle(design, result.scale);
+    for (const PlanarPose& pose : cycle) {
+      mechanism.coupler_curve.push_back(pose.ToFixed(design.coupler_point));
+    }
+    const size_t stride = std::max<size_t>(1, cycle.size() / 120);
+    for (size_t k = 0; k < cycle.size(); k += stride) mechanism.cycle.push_back(cycle[k] * shift);
+    picture.mechanisms.push_back(std::move(mechanism));
+  }
+  return picture;
+}
+
 // The planar view of a result: a planar result, or the planar synthesis of planar data in a
 // spatial task (with the task's poses in the plane). Null for a spatial result.
 const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
@@ -203,7 +247,9 @@ const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
     *planar_task = task;
     return planar;
   }
-  const SpatialMotionResult& spatial = std::get<SpatialMotionResult>(result);
+  const auto* spatial_result = std::get_if<SpatialMotionResult>(&result);
+  if (spatial_result == nullptr) return nullptr;
+  const SpatialMotionResult& spatial = *spatial_result;
   if (!spatial.planar || !spatial.plane) return nullptr;
   *planar_task = task;
   planar_task->space = Space::kPlanar;
@@ -240,14 +286,19 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
     const std::string title = std::filesystem::path(task_path).filename().string();
     Task planar_task;
     const PlanarMotionResult* planar = PlanarView(results[0], tasks[0], &planar_task);
-    if (planar == nullptr) {
+    const PathResult* path = std::get_if<PathResult>(&results[0]);
+    if (planar == nullptr && path == nullptr) {
       throw InputError(task_path +
                        ": --svg and --animate draw planar mechanisms; this task's "
                        "result is a spatial platform");
     }
-    if (!outputs.svg_path.empty()) svg = RenderSvg(MakePicture(title, planar_task, *planar, 12));
+    const auto picture_of = [&](size_t panels) {
+      return path != nullptr ? MakePathPicture(title, tasks[0], *path, panels)
+                             : MakePicture(title, planar_task, *planar, panels);
+    };
+    if (!outputs.svg_path.empty()) svg = RenderSvg(picture_of(12));
     if (!outputs.animate_path.empty()) {
-      const Picture picture = MakePicture(title, planar_task, *planar, 64);
+      const Picture picture = picture_of(64);
       const size_t index = static_cast<size_t>(outputs.animate_index - 1);
       if (index >= picture.mechanisms.size()) {
         throw InputError(task_path + ": --mechanism " + std::to_string(outputs.animate_index) +

@@ -870,7 +870,8 @@ void DrawPlot(Svg* svg, const View& view, const Picture& picture, const PictureM
 }
 
 // The legend: one line (wrapped when needed) of symbols and names; returns its height.
-double DrawLegend(Svg* svg, const Shown& shown, double left, double top, double width) {
+double DrawLegend(Svg* svg, const Picture& picture, const Shown& shown, double left, double top,
+                  double width) {
   struct Item {
     std::string name;
     int symbol;
@@ -878,7 +879,7 @@ double DrawLegend(Svg* svg, const Shown& shown, double left, double top, double 
   std::vector<Item> items;
   if (shown.task) items.push_back({"task pose n (x, y axes)", 0});
   if (shown.path_points) items.push_back({"path point n", 1});
-  if (shown.coupler_curve) items.push_back({"coupler curve (E origin)", 2});
+  if (shown.coupler_curve) items.push_back({picture.coupler_curve_label, 2});
   if (shown.center_curves) items.push_back({"center-point curve", 3});
   if (shown.circle_curves) items.push_back({"circle-point curve", 4});
   if (shown.mechanism) {
@@ -1029,7 +1030,8 @@ std::string RenderSvg(const Picture& picture) {
     });
   }
   Svg legend;
-  const double legend_h = DrawLegend(&legend, shown, kGap, panels_bottom, width - 2.0 * kGap);
+  const double legend_h =
+      DrawLegend(&legend, picture, shown, kGap, panels_bottom, width - 2.0 * kGap);
   const double height = panels_bottom + legend_h + kGap;
 
   std::string out = SvgOpen(width, height, true, "");
@@ -1113,7 +1115,8 @@ std::string RenderAnimation(const Picture& picture, size_t index, bool html) {
   });
   Svg legend;
   const double panels_bottom = top + panel_h + kGap;
-  const double legend_h = DrawLegend(&legend, shown, kGap, panels_bottom, width - 2.0 * kGap);
+  const double legend_h =
+      DrawLegend(&legend, picture, shown, kGap, panels_bottom, width - 2.0 * kGap);
   const double height = panels_bottom + legend_h + kGap;
   std::string doc_title = picture.title.empty() ? "linkfit" : picture.title;
   if (mechanism != nullptr && !mechanism->title.empty())

@@ -32,6 +32,8 @@ struct Picture {
   std::vector<std::vector<Eigen::Vector2d>> center_point_curves;
   std::vector<std::vector<Eigen::Vector2d>> circle_point_curves;
   std::vector<Eigen::Vector2d> path_points;  // path problems: the points to pass, marked
+  // What the coupler curve traces (path problems put E's origin at the coupler point).
+  std::string coupler_curve_label = "coupler curve (E origin)";
 };
 
 // A standalone SVG document (one panel per mechanism, in a grid).

@@ -9,6 +9,7 @@
 
 #include "lib/dyad.h"
 #include "lib/mechanism.h"
+#include "lib/path_motion.h"
 #include "lib/spatial_dyad.h"
 #include "lib/task.h"
 
@@ -32,8 +33,9 @@ struct DyadReport {
 struct StageReport {
   std::string name;  // "seed", "refine", "search", "four-bar refine"
   double seconds = 0.0;
-  std::optional<double> best_dyad_rms;        // smallest weighted RMS dyad residual
-  std::optional<double> best_max_pose_error;  // smallest max pose error of a listed four-bar
+  std::optional<double> best_dyad_rms;         // smallest weighted RMS dyad residual
+  std::optional<double> best_max_pose_error;   // smallest max pose error of a listed four-bar
+  std::optional<double> best_max_point_error;  // path problems: the same for the points
 };
 
 struct MechanismReport {
@@ -127,8 +129,42 @@ struct SpatialMotionResult {
   double refine_seconds = 0.0;  // Ceres refinement (more than seven poses)
 };
 
+// A four-bar for a path task (timed points), in the first point's configuration
+// (lib/path_motion.h), and how it meets the points when driven by its crank.
+struct PathMechanismReport {
+  FourBarType type = FourBarType::k4R;
+  PathFourBar design;
+  std::optional<double> max_point_error;  // absent when it cannot be driven through the points
+  std::optional<double> rms_point_error;
+  std::string error_note;  // why max_point_error is absent
+  // Least squares: the largest point error before the refinement (absent when not refined).
+  std::optional<double> seed_max_point_error;
+  std::vector<std::string> defects;  // "branch", "circuit"
+  std::string grashof;               // 4R only
+  bool input_rotates_fully = false;
+  std::optional<double> transmission_min_deg;  // over the crank's sweep, first to last point
+  std::optional<double> transmission_max_deg;
+  std::vector<double> input_angles;  // free timing: the fitted input angles, radians
+};
+
+struct PathResult {
+  std::string method = "exact";                 // "exact" (five points) | "least-squares"
+  std::string timing = "prescribed";            // "prescribed" | "free"
+  double scale = 1.0;                           // the characteristic length L used
+  std::vector<PathMechanismReport> mechanisms;  // defect-free first, then by point error
+  // Five points: roots of the crank equations (fitting/timed_path.h), complex included, and
+  // the four-bars they make (3 per crank).
+  int crank_roots_total = 0;
+  int crank_roots_real = 0;
+  int four_bars_total = 0;
+  std::vector<std::string> notes;
+  double solve_seconds = 0.0;
+  std::string effort;               // least squares: the effort level used
+  std::vector<StageReport> stages;  // least squares: what each stage took and gave
+};
+
 // What `linkfit solve` returns for one task.
-using TaskResult = std::variant<PlanarMotionResult, SpatialMotionResult>;
+using TaskResult = std::variant<PlanarMotionResult, SpatialMotionResult, PathResult>;
 
 }  // namespace linkfit
 

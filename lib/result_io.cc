@@ -173,6 +173,68 @@ Json MechanismToJson(const MechanismReport& report) {
   return object;
 }
 
+Json PathMechanismToJson(const PathMechanismReport& report) {
+  const PathFourBar& design = report.design;
+  Json object;
+  object["type"] = FourBarTypeName(report.type);
+  PutPoint(&object, "input_pivot", design.input.fixed_pivot);
+  PutPoint(&object, "input_moving", design.input.moving_pivot);
+  if (design.output.type != DyadType::kPR) {
+    PutPoint(&object, "output_pivot", design.output.fixed_pivot);
+  }
+  if (design.output.type != DyadType::kRP) {
+    PutPoint(&object, "output_moving", design.output.moving_pivot);
+  }
+  if (design.output.type != DyadType::kRR) {
+    // PR: the slider line in Sigma; RP: the line of the coupler, where it is at the first point.
+    PutPoint(&object, "output_line_point", design.output.LineFoot());
+    PutNumber(&object, "output_line_angle_deg", design.output.LineAngleDeg());
+  }
+  PutPoint(&object, "coupler_point", design.coupler_point);
+  if (report.max_point_error) {
+    PutNumber(&object, "max_point_error", *report.max_point_error);
+  } else {
+    object["max_point_error_note"] = report.error_note.empty() ? "not computed" : report.error_note;
+  }
+  if (report.rms_point_error) PutNumber(&object, "rms_point_error", *report.rms_point_error);
+  if (report.seed_max_point_error) {
+    Json seed;
+    PutNumber(&seed, "max_point_error", *report.seed_max_point_error);
+    object["before_refinement"] = seed;
+  }
+  object["defects"] = report.defects;
+  if (!report.grashof.empty()) object["grashof"] = report.grashof;
+  object["input_rotates_fully"] = report.input_rotates_fully;
+  if (report.transmission_min_deg && report.transmission_max_deg) {
+    PutNumber(&object, "transmission_angle_min_deg", *report.transmission_min_deg);
+    PutNumber(&object, "transmission_angle_max_deg", *report.transmission_max_deg);
+  }
+  if (!report.input_angles.empty()) {
+    Json angles = Json::array();
+    for (double angle : report.input_angles) angles.push_back(angle * 180.0 / M_PI + 0.0);
+    object["input_deg"] = angles;
+  }
+  return object;
+}
+
+Json StagesToJson(const std::vector<StageReport>& stages) {
+  Json list = Json::array();
+  for (const StageReport& stage : stages) {
+    Json object;
+    object["stage"] = stage.name;
+    PutNumber(&object, "time_ms", stage.seconds * 1000.0);
+    if (stage.best_dyad_rms) PutNumber(&object, "best_dyad_rms_residual", *stage.best_dyad_rms);
+    if (stage.best_max_pose_error) {
+      PutNumber(&object, "best_max_pose_error", *stage.best_max_pose_error);
+    }
+    if (stage.best_max_point_error) {
+      PutNumber(&object, "best_max_point_error", *stage.best_max_point_error);
+    }
+    list.push_back(object);
+  }
+  return list;
+}
+
 // Puts arrays of plain numbers (points, index pairs) of pretty-printed JSON on one line:
 // "[\n    1.5,\n    2\n  ]" -> "[1.5, 2]". Only text outside strings is touched.
 std::string CompactNumberArrays(const std::string& text) {
@@ -324,20 +386,30 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
     root["burmester_curves"] = curves;
   }
   if (!result.effort.empty()) root["effort"] = result.effort;
-  if (!result.stages.empty()) {
-    Json stages = Json::array();
-    for (const StageReport& stage : result.stages) {
-      Json object;
-      object["stage"] = stage.name;
-      PutNumber(&object, "time_ms", stage.seconds * 1000.0);
-      if (stage.best_dyad_rms) PutNumber(&object, "best_dyad_rms_residual", *stage.best_dyad_rms);
-      if (stage.best_max_pose_error) {
-        PutNumber(&object, "best_max_pose_error", *stage.best_max_pose_error);
-      }
-      stages.push_back(object);
-    }
-    root["stages"] = stages;
+  if (!result.stages.empty()) root["stages"] = StagesToJson(result.stages);
+  if (!result.notes.empty()) root["notes"] = result.notes;
+  PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
+  return Dump(root, indent);
+}
+
+std::string ResultToJson(const PathResult& result, int indent) {
+  Json root;
+  root["problem"] = "path";
+  root["space"] = "planar";
+  root["method"] = result.method;
+  root["timing"] = result.timing;
+  PutNumber(&root, "scale", result.scale);
+  root["mechanisms"] = Json::array();
+  for (const PathMechanismReport& mechanism : result.mechanisms) {
+    root["mechanisms"].push_back(PathMechanismToJson(mechanism));
   }
+  if (result.four_bars_total > 0) {
+    root["roots"] = Json{{"cranks", result.crank_roots_total},
+                         {"real_cranks", result.crank_roots_real},
+                         {"four_bars", result.four_bars_total}};
+  }
+  if (!result.effort.empty()) root["effort"] = result.effort;
+  if (!result.stages.empty()) root["stages"] = StagesToJson(result.stages);
   if (!result.notes.empty()) root["notes"] = result.notes;
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
   return Dump(root, indent);

@@ -12,6 +12,7 @@ namespace linkfit {
 // The result as JSON text; `indent` < 0 gives one line (batch mode), otherwise pretty-printed.
 std::string ResultToJson(const PlanarMotionResult& result, int indent);
 std::string ResultToJson(const SpatialMotionResult& result, int indent);
+std::string ResultToJson(const PathResult& result, int indent);
 std::string ResultToJson(const TaskResult& result, int indent);
 
 }  // namespace linkfit

@@ -13,6 +13,7 @@
 
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
+#include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
 
 namespace linkfit {
@@ -43,62 +44,6 @@ constexpr double kSliderRadius = 1e3;
 // than this (sine of their angle) has no configuration; AssembleFourBar's threshold.
 constexpr double kParallelLines = 1e-12;
 
-// A dyad's parameters as three Ceres blocks of sizes 2, 2, 1:
-//   RR: fixed pivot F (Sigma), moving pivot m (E), radius r;
-//   PR: moving pivot m (E), unit line normal n (Sigma), offset h: the slider line n . X = h;
-//   RP: fixed pivot F (Sigma), unit line normal n (E), offset h: the line n . x = h in E.
-// The normals live on the unit circle (ceres::SphereManifold of size 2): a line never turns into a
-// circle, nor the reverse, inside the solver.
-struct DyadBlocks {
-  DyadType type = DyadType::kRR;
-  double point[2] = {0.0, 0.0};                          // RR, RP: F; PR: m
-  double second[2] = {0.0, 0.0};                         // RR: m; PR, RP: n
-  double scalar[1] = {0.0};                              // RR: r; PR, RP: h
-  Eigen::Vector2d line_point = Eigen::Vector2d::Zero();  // PR, RP: the seed's line point
-};
-
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
-
-DyadBlocks ToBlocks(const PlanarDyad& dyad) {
-  DyadBlocks blocks;
-  blocks.type = dyad.type;
-  const Eigen::Vector2d normal = Perp(dyad.line_direction.normalized());
-  Eigen::Map<Eigen::Vector2d> point(blocks.point), second(blocks.second);
-  switch (dyad.type) {
-    case DyadType::kRR:
-      point = dyad.fixed_pivot;
-      second = dyad.moving_pivot;
-      blocks.scalar[0] = dyad.radius;
-      break;
-    case DyadType::kPR:
-      point = dyad.moving_pivot;
-      second = normal;
-      blocks.scalar[0] = normal.dot(dyad.line_point);
-      break;
-    case DyadType::kRP:
-      point = dyad.fixed_pivot;
-      second = normal;
-      blocks.scalar[0] = normal.dot(dyad.line_point);
-      break;
-  }
-  blocks.line_point = dyad.line_point;
-  return blocks;
-}
-
-// The dyad of the blocks; a line keeps the seed's direction sense and the seed's line point
-// moved perpendicularly onto the refined line.
-PlanarDyad FromBlocks(const DyadBlocks& blocks) {
-  const Eigen::Vector2d point(blocks.point[0], blocks.point[1]);
-  const Eigen::Vector2d second(blocks.second[0], blocks.second[1]);
-  if (blocks.type == DyadType::kRR) return PlanarDyad::RR(point, second, blocks.scalar[0]);
-  const Eigen::Vector2d normal = second.normalized();
-  const Eigen::Vector2d direction(normal.y(), -normal.x());  // Perp(direction) = normal
-  const Eigen::Vector2d line_point =
-      blocks.line_point - (normal.dot(blocks.line_point) - blocks.scalar[0]) * normal;
-  return blocks.type == DyadType::kPR ? PlanarDyad::PR(point, line_point, direction)
-                                      : PlanarDyad::RP(point, line_point, direction);
-}
-
 bool IsFinite(const PlanarDyad& dyad) {
   switch (dyad.type) {
     case DyadType::kRR:
@@ -112,18 +57,6 @@ bool IsFinite(const PlanarDyad& dyad) {
              dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
   }
   return false;
-}
-
-// Unit normal of a PR or RP block (the manifold keeps it unit up to rounding).
-template <typename T>
-bool UnitNormal(const T* normal, T* nx, T* ny) {
-  using std::sqrt;
-  const T norm_squared = normal[0] * normal[0] + normal[1] * normal[1];
-  if (!(norm_squared > T(0.0))) return false;
-  const T norm = sqrt(norm_squared);
-  *nx = normal[0] / norm;
-  *ny = normal[1] / norm;
-  return true;
 }
 
 // Penalty stage, task pose j = (D, Theta) with weight w and its free configuration
@@ -574,12 +507,6 @@ struct Unknowns {
   DyadBlocks output;
   std::vector<Eigen::Vector3d> configurations;  // (x, y, theta) of E
 };
-
-ceres::Manifold* UnitCircle() {
-  // SphereManifold<2> does not compile in Ceres 2.1 (its 2x1 row-major Jacobian type); the
-  // dynamic-size manifold of size 2 is the same manifold.
-  return new ceres::SphereManifold<ceres::DYNAMIC>(2);
-}
 
 // Stops a solve where its iterates reach coincident dyads (Coincident): the cost can keep
 // falling toward that limit (the coupler's second freedom fits anything), which is no

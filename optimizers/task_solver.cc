@@ -355,12 +355,7 @@ TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
   if (task.problem == ProblemKind::kMotion && task.space == Space::kSpatial) {
     return SolveSpatialTask(task, options);
   }
-  PlanarMotionResult result;
-  result.problem = task.problem;
-  result.space = task.space;
-  if (task.scale) result.scale = *task.scale;
-  result.notes.push_back("path synthesis with timed points is not available in this version");
-  return result;
+  return SolvePathTask(task, options);
 }
 
 }  // namespace linkfit

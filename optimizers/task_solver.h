@@ -9,16 +9,24 @@
 //   - spatial motion: fitting/spatial_motion.h; more than seven poses (effort balanced or
 //     thorough) refine every dyad on its geometric residual (spatial_dyad_refiner.h), then the
 //     platform is built and traced;
-//   - path problems: not available yet (a note).
+//   - path problems (timed points): five points with input angles are solved exactly
+//     (fitting/timed_path.h); more are least squares: fast = the four-bars of exact solves of
+//     five-point subsets, balanced = those refined on the point errors (path_refiner.h),
+//     thorough = as balanced plus an NLopt search over the crank (path_search.h). Points without
+//     input angles (free timing) are fitted with the angles as unknowns, from timing guesses
+//     (evenly spaced angles over several spans, both directions) solved as above.
 #ifndef LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 #define LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_motion.h"
+#include "fitting/timed_path.h"
 #include "lib/result.h"
 #include "lib/task.h"
 #include "optimizers/four_bar_refiner.h"
 #include "optimizers/global_search.h"
+#include "optimizers/path_refiner.h"
+#include "optimizers/path_search.h"
 #include "optimizers/planar_dyad_refiner.h"
 #include "optimizers/spatial_dyad_refiner.h"
 
@@ -32,8 +40,14 @@ struct TaskSolverOptions {
   FourBarRefinerOptions four_bar_refiner;   // planar least squares, mechanism level
   GlobalSearchOptions search;               // planar least squares, effort thorough
   int seed_subsets = 6;                     // five-pose subsets solved exactly for seeds
-  int max_dyads = 10;          // dyads kept (best RMS residual first) to build four-bars from
-  int refined_mechanisms = 3;  // best-ranked four-bars refined at the mechanism level
+  int max_dyads = 10;               // dyads kept (best RMS residual first) to build four-bars from
+  int refined_mechanisms = 3;       // best-ranked four-bars refined at the mechanism level
+  TimedPathOptions timed_path;      // path problems: the five-point solver
+  PathRefinerOptions path_refiner;  // path problems, least squares
+  PathSearchOptions path_search;    // path problems, effort thorough
+  int path_seed_subsets = 6;        // five-point subsets solved exactly for seeds
+  int path_refined = 6;             // best seed four-bars refined (balanced and thorough)
+  int path_reported = 12;           // four-bars listed at most (least squares)
 };
 
 // Never throws for numerical trouble: what could not be done is said in the result's notes.
@@ -41,6 +55,10 @@ TaskResult SolveTask(const Task& task, const TaskSolverOptions& options = {});
 
 // Planar motion only: exact for five poses or fewer, approximate beyond (see above).
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options = {});
+
+// Path problems only: exact for five timed points, least squares beyond, free timing when the
+// points have no input angles.
+PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options = {});
 
 // Spatial motion only: solve, refine (more than seven poses, unless effort is fast), and add
 // the platform.

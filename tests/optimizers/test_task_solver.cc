@@ -3,21 +3,147 @@
 #include <random>
 
 #include "lib/four_bar_motion.h"
+#include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
+#include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
 
 namespace linkfit {
 namespace {
 
-TEST(TaskSolver, PathProblemsReturnANote) {
+// A path task of `count` points of a random crank-driven four-bar, with noise sigma * L on the
+// points; without input angles when `free_timing`.
+Task PathTask(const testing::GeneratedPathTask& generated, double sigma, bool free_timing,
+              std::mt19937_64& rng, std::vector<Eigen::Vector2d>* noisy) {
   Task task;
   task.problem = ProblemKind::kPath;
-  const TaskResult result = SolveTask(task);
-  ASSERT_TRUE(std::holds_alternative<PlanarMotionResult>(result));
-  const PlanarMotionResult& planar = std::get<PlanarMotionResult>(result);
-  EXPECT_TRUE(planar.dyads.empty());
-  ASSERT_EQ(planar.notes.size(), 1u);
+  const double length = testing::PathLength(generated.points);
+  std::normal_distribution<double> normal;
+  noisy->clear();
+  for (size_t j = 0; j < generated.points.size(); ++j) {
+    TimedPoint point;
+    point.point_in_fixed =
+        generated.points[j] + sigma * length * Eigen::Vector2d(normal(rng), normal(rng));
+    if (!free_timing) point.input_angle = generated.input_angles[j];
+    noisy->push_back(point.point_in_fixed);
+    task.points.push_back(point);
+  }
+  return task;
+}
+
+// The best RMS (or largest) point error of a defect-free listed four-bar.
+double BestError(const PathResult& result, bool rms) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const PathMechanismReport& mechanism : result.mechanisms) {
+    const std::optional<double>& error =
+        rms ? mechanism.rms_point_error : mechanism.max_point_error;
+    if (error && mechanism.defects.empty()) best = std::min(best, *error);
+  }
+  return best;
+}
+
+TEST(TaskSolver, FiveTimedPointsGiveTheGeneratingFourBarFirstAmongTheExact) {
+  std::mt19937_64 rng(81);
+  for (int t = 0; t < 20; ++t) {
+    SCOPED_TRACE("seed 81, task " + std::to_string(t));
+    const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR);
+    std::vector<Eigen::Vector2d> points;
+    const Task task = PathTask(generated, 0.0, false, rng, &points);
+    const TaskResult any = SolveTask(task);
+    ASSERT_TRUE(std::holds_alternative<PathResult>(any));
+    const PathResult& result = std::get<PathResult>(any);
+    const double length = testing::PathLength(points);
+    EXPECT_EQ(result.method, "exact");
+    EXPECT_EQ(result.crank_roots_total, 4);
+    EXPECT_LE(result.mechanisms.size(), 12u);
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const PathMechanismReport& mechanism : result.mechanisms) {
+      nearest = std::min(
+          nearest, testing::PathFourBarDistance(mechanism.design, generated.four_bar, length));
+    }
+    EXPECT_LE(nearest, 1e-8);
+    // Ranked: the defect-free four-bars first, each through every point.
+    ASSERT_FALSE(result.mechanisms.empty());
+    EXPECT_TRUE(result.mechanisms.front().defects.empty());
+    EXPECT_LE(*result.mechanisms.front().max_point_error, 1e-8 * length);
+  }
+}
+
+TEST(TaskSolver, MoreTimedPointsAreFittedExactlyWhenExact) {
+  std::mt19937_64 rng(82);
+  for (int count : {10, 20}) {
+    for (int t = 0; t < 4; ++t) {
+      SCOPED_TRACE("seed 82, " + std::to_string(count) + " points, task " + std::to_string(t));
+      const testing::GeneratedPathTask generated =
+          testing::RandomPathTask(rng, DyadType::kRR, count);
+      std::vector<Eigen::Vector2d> points;
+      Task task = PathTask(generated, 0.0, false, rng, &points);
+      const PathResult result = SolvePathTask(task);
+      EXPECT_EQ(result.method, "least-squares");
+      EXPECT_LE(BestError(result, false), 1e-9 * testing::PathLength(points));
+    }
+  }
+}
+
+TEST(TaskSolver, NoisyTimedPointsFitAsWellAsTheGeneratingFourBar) {
+  std::mt19937_64 rng(83);
+  int within = 0, cases = 0;
+  for (double sigma : {1e-3, 1e-2}) {
+    for (int count : {10, 20}) {
+      for (int t = 0; t < 3; ++t) {
+        SCOPED_TRACE("seed 83, sigma " + std::to_string(sigma) + ", " + std::to_string(count) +
+                     " points, task " + std::to_string(t));
+        const testing::GeneratedPathTask generated =
+            testing::RandomPathTask(rng, DyadType::kRR, count);
+        std::vector<Eigen::Vector2d> points;
+        const Task task = PathTask(generated, sigma, false, rng, &points);
+        const PathResult result = SolvePathTask(task);
+        const double length = testing::PathLength(points);
+        const double reference =
+            *AnalyzePathFourBar(generated.four_bar, points, generated.input_angles, length)
+                 .rms_point_error;
+        const double best = BestError(result, true);
+        ++cases;
+        within += best <= 1.10 * reference;
+      }
+    }
+  }
+  // Every case within 10 % of the generating four-bar (balanced effort).
+  EXPECT_EQ(within, cases);
+}
+
+TEST(TaskSolver, UntimedPointsAreFittedWithTheirAngles) {
+  std::mt19937_64 rng(84);
+  const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 12);
+  std::vector<Eigen::Vector2d> points;
+  const Task task = PathTask(generated, 1e-3, true, rng, &points);
+  const PathResult result = SolvePathTask(task);
+  EXPECT_EQ(result.timing, "free");
+  ASSERT_FALSE(result.mechanisms.empty());
+  const PathMechanismReport& best = result.mechanisms.front();
+  ASSERT_EQ(best.input_angles.size(), points.size());
+  // Monotonic fitted angles, and a fit at least as good as the generating four-bar's (whose
+  // timing is one of the admissible ones).
+  const double direction = best.input_angles.back() > best.input_angles.front() ? 1.0 : -1.0;
+  for (size_t j = 1; j < best.input_angles.size(); ++j) {
+    EXPECT_GE(direction * (best.input_angles[j] - best.input_angles[j - 1]), 0.0);
+  }
+  const double length = testing::PathLength(points);
+  const double reference =
+      *AnalyzePathFourBar(generated.four_bar, points, generated.input_angles, length)
+           .rms_point_error;
+  EXPECT_LE(*best.rms_point_error, 1.10 * reference);
+}
+
+TEST(TaskSolver, FewerThanFiveTimedPointsGiveANote) {
+  std::mt19937_64 rng(85);
+  const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 4);
+  std::vector<Eigen::Vector2d> points;
+  const PathResult result = SolvePathTask(PathTask(generated, 0.0, false, rng, &points));
+  EXPECT_TRUE(result.mechanisms.empty());
+  ASSERT_EQ(result.notes.size(), 1u);
+  EXPECT_NE(result.notes[0].find("family"), std::string::npos);
 }
 
 // Ten noisy poses on three planted dyads: the least-squares seeds are refined, every refined

@@ -1,0 +1,300 @@
+// Path problems (timed points) end to end: see task_solver.h.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "fitting/planar_motion.h"
+#include "lib/mechanism.h"
+#include "optimizers/task_solver.h"
+
+namespace linkfit {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Two reported four-bars closer than this (relative to L, every pivot, the coupler point and
+// the crank length) are one.
+constexpr double kSameFourBar = 1e-4;
+// Free timing: the spans of the evenly spaced timing guesses, as fractions of a turn (the
+// first is a closed curve: n points over (n - 1) / n of a turn).
+constexpr double kGuessSpans[] = {-1.0, 0.5, 0.25};
+// Free timing: seed four-bars refined per timing guess.
+constexpr int kFreeTimingStarts = 2;
+// Free timing: five-point subsets solved per timing guess.
+constexpr int kFreeTimingSubsets = 2;
+
+double Seconds(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The task's data as the path solvers take them.
+struct PathData {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;  // prescribed input angles (empty for free timing)
+  std::vector<double> weights;
+  std::vector<bool> exact;
+  double length = 1.0;
+};
+
+PathData Data(const Task& task) {
+  PathData data;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const TimedPoint& point : task.points) {
+    data.points.push_back(point.point_in_fixed);
+    if (point.input_angle) data.angles.push_back(*point.input_angle);
+    data.weights.push_back(point.weight);
+    data.exact.push_back(point.exact);
+    centroid += point.point_in_fixed / static_cast<double>(task.points.size());
+  }
+  double sum = 0.0;
+  for (const Eigen::Vector2d& point : data.points) sum += (point - centroid).squaredNorm();
+  data.length = task.scale ? *task.scale : std::sqrt(sum / static_cast<double>(task.points.size()));
+  if (!(data.length > 0.0)) data.length = 1.0;
+  return data;
+}
+
+PathMechanismReport Report(const PathFourBar& design, const PathData& data,
+                           const std::vector<double>& angles) {
+  PathMechanismReport report;
+  report.design = design;
+  report.type = ClassifyFourBar(design.input.type, design.output.type);
+  PathAnalysisOptions options;
+  options.transmission_samples = 64;
+  const PathFourBarAnalysis analysis =
+      AnalyzePathFourBar(design, data.points, angles, data.length, options);
+  report.max_point_error = analysis.max_point_error;
+  report.rms_point_error = analysis.rms_point_error;
+  report.error_note = analysis.error_note;
+  report.defects = analysis.defects;
+  report.input_rotates_fully = analysis.input_rotates_fully;
+  report.transmission_min_deg = analysis.transmission_min_deg;
+  report.transmission_max_deg = analysis.transmission_max_deg;
+  if (report.type == FourBarType::k4R) {
+    report.grashof = GrashofType(design.input, design.output, data.length);
+  }
+  return report;
+}
+
+// Defect-free first, then those that meet every point, then by error (RMS for least squares,
+// largest for exact synthesis).
+void Rank(bool least_squares, std::vector<PathMechanismReport>* mechanisms) {
+  const auto key = [least_squares](const PathMechanismReport& report) {
+    const std::optional<double>& error =
+        least_squares ? report.rms_point_error : report.max_point_error;
+    return std::make_tuple(!report.defects.empty(), !error.has_value(),
+                           error.value_or(std::numeric_limits<double>::infinity()));
+  };
+  std::stable_sort(
+      mechanisms->begin(), mechanisms->end(),
+      [&](const PathMechanismReport& a, const PathMechanismReport& b) { return key(a) < key(b); });
+}
+
+bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
+  if (a.output.type != b.output.type) return false;
+  const double tolerance = kSameFourBar * length;
+  const auto near = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
+    return (p - q).norm() <= tolerance * std::max(1.0, p.norm() / length);
+  };
+  return near(a.input.fixed_pivot, b.input.fixed_pivot) &&
+         near(a.input.moving_pivot, b.input.moving_pivot) &&
+         near(a.output.fixed_pivot, b.output.fixed_pivot) &&
+         near(a.output.moving_pivot, b.output.moving_pivot) &&
+         near(a.output.LineFoot(), b.output.LineFoot()) && near(a.coupler_point, b.coupler_point);
+}
+
+// Adds `report` unless an equal four-bar is listed (then the better of the two stays).
+void AddDistinct(const PathMechanismReport& report, double length,
+                 std::vector<PathMechanismReport>* reports) {
+  for (PathMechanismReport& listed : *reports) {
+    if (!SameFourBar(listed.design, report.design, length)) continue;
+    if (report.rms_point_error.value_or(std::numeric_limits<double>::infinity()) <
+        listed.rms_point_error.value_or(std::numeric_limits<double>::infinity())) {
+      listed = report;
+    }
+    return;
+  }
+  reports->push_back(report);
+}
+
+// The four-bars of exact solves of spread five-point subsets under `angles`, each measured on
+// every point; the `keep` best (RMS point error) that meet every point.
+std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
+                                             const std::vector<double>& angles, int subsets,
+                                             int keep, const TimedPathOptions& options) {
+  std::vector<PathMechanismReport> seeds;
+  const int count = static_cast<int>(data.points.size());
+  for (const std::vector<int>& subset : SpreadSubsets(count, subsets)) {
+    std::vector<Eigen::Vector2d> points;
+    std::vector<double> subset_angles;
+    for (int index : subset) {
+      points.push_back(data.points[index]);
+      subset_angles.push_back(angles[index]);
+    }
+    std::vector<PathFourBar> four_bars;
+    SolveTimedPath(points, subset_angles, options, &four_bars);
+    for (const PathFourBar& four_bar : four_bars) {
+      PathMechanismReport report = Report(four_bar, data, angles);
+      if (report.rms_point_error) AddDistinct(report, data.length, &seeds);
+    }
+  }
+  Rank(true, &seeds);
+  if (static_cast<int>(seeds.size()) > keep) seeds.resize(keep);
+  return seeds;
+}
+
+std::optional<double> BestMaxError(const std::vector<PathMechanismReport>& reports) {
+  std::optional<double> best;
+  for (const PathMechanismReport& report : reports) {
+    if (report.max_point_error && (!best || *report.max_point_error < *best)) {
+      best = report.max_point_error;
+    }
+  }
+  return best;
+}
+
+StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point start,
+                  const std::vector<PathMechanismReport>& reports) {
+  StageReport stage;
+  stage.name = name;
+  stage.seconds = Seconds(start);
+  stage.best_max_point_error = BestMaxError(reports);
+  return stage;
+}
+
+// Refines each report's four-bar (prescribed or free timing), re-measured after.
+void RefineAll(const PathData& data, bool free_timing, const PathRefinerOptions& options,
+               std::vector<PathMechanismReport>* reports) {
+  for (PathMechanismReport& report : *reports) {
+    std::vector<double> angles = free_timing ? report.input_angles : data.angles;
+    PathFourBar design = report.design;
+    try {
+      RefinePathFourBar(data.points, data.weights, data.exact, data.length, free_timing, &angles,
+                        &design, options);
+    } catch (const std::invalid_argument&) {
+      continue;  // a seed the refiner cannot take (e.g. timing not monotonic) stays as it is
+    }
+    const std::optional<double> seed_max = report.max_point_error;
+    PathMechanismReport refined = Report(design, data, angles);
+    refined.seed_max_point_error = seed_max;
+    if (free_timing) refined.input_angles = angles;
+    report = refined;
+  }
+}
+
+void Finish(const PathData& data, int reported, std::vector<PathMechanismReport> candidates,
+            PathResult* result) {
+  std::vector<PathMechanismReport> distinct;
+  for (const PathMechanismReport& report : candidates) AddDistinct(report, data.length, &distinct);
+  Rank(true, &distinct);
+  if (static_cast<int>(distinct.size()) > reported) distinct.resize(reported);
+  result->mechanisms = distinct;
+}
+
+void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOptions& options,
+                     PathResult* result) {
+  const auto stage_start = std::chrono::steady_clock::now();
+  std::vector<PathMechanismReport> candidates = SubsetSeeds(
+      data, data.angles, options.path_seed_subsets, options.path_refined, options.timed_path);
+  result->stages.push_back(Stage("seed", stage_start, candidates));
+  if (task.effort != Effort::kFast) {
+    const auto refine_start = std::chrono::steady_clock::now();
+    RefineAll(data, false, options.path_refiner, &candidates);
+    result->stages.push_back(Stage("refine", refine_start, candidates));
+  }
+  if (task.effort == Effort::kThorough) {
+    const auto search_start = std::chrono::steady_clock::now();
+    std::vector<PathFourBar> found;
+    PathSearchOptions search = options.path_search;
+    search.refiner = options.path_refiner;
+    SearchPathFourBars(data.points, data.weights, data.exact, data.angles, data.length, search,
+                       &found);
+    std::vector<PathMechanismReport> searched;
+    for (const PathFourBar& four_bar : found)
+      searched.push_back(Report(four_bar, data, data.angles));
+    result->stages.push_back(Stage("search", search_start, searched));
+    candidates.insert(candidates.end(), searched.begin(), searched.end());
+  }
+  Finish(data, options.path_reported, candidates, result);
+}
+
+// Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
+// four-bars of each guess, refined with the angles free.
+void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
+                     PathResult* result) {
+  const int count = static_cast<int>(data.points.size());
+  const auto stage_start = std::chrono::steady_clock::now();
+  std::vector<PathMechanismReport> candidates;
+  for (double span_turns : kGuessSpans) {
+    const double span =
+        2.0 * kPi * (span_turns < 0.0 ? static_cast<double>(count - 1) / count : span_turns);
+    for (double direction : {1.0, -1.0}) {
+      std::vector<double> angles;
+      for (int j = 0; j < count; ++j) angles.push_back(direction * span * j / (count - 1));
+      std::vector<PathMechanismReport> seeds =
+          SubsetSeeds(data, angles, kFreeTimingSubsets, kFreeTimingStarts, options.timed_path);
+      for (PathMechanismReport& seed : seeds) seed.input_angles = angles;
+      candidates.insert(candidates.end(), seeds.begin(), seeds.end());
+    }
+  }
+  result->stages.push_back(Stage("seed", stage_start, candidates));
+  if (task.effort != Effort::kFast) {
+    const auto refine_start = std::chrono::steady_clock::now();
+    RefineAll(data, true, options.path_refiner, &candidates);
+    result->stages.push_back(Stage("refine", refine_start, candidates));
+  }
+  Finish(data, options.path_reported, candidates, result);
+}
+
+}  // namespace
+
+PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  PathResult result;
+  const PathData data = Data(task);
+  result.scale = data.length;
+  const bool free_timing = data.angles.size() != data.points.size();
+  result.timing = free_timing ? "free" : "prescribed";
+  const int count = static_cast<int>(data.points.size());
+  if (count < 5) {
+    result.notes.push_back(std::to_string(count) + " point(s): a four-bar has 10 parameters, so " +
+                           (free_timing ? "fewer than nine untimed points leave"
+                                        : "fewer than five timed points leave") +
+                           " a family of solutions; give at least five points");
+  } else if (!free_timing && count == 5) {
+    std::vector<PathFourBar> four_bars;
+    TimedPathSummary summary;
+    SolveTimedPath(data.points, data.angles, options.timed_path, &four_bars, &summary);
+    result.crank_roots_total = summary.crank_roots_total;
+    result.crank_roots_real = summary.crank_roots_real;
+    result.four_bars_total = summary.four_bars_total;
+    result.notes = summary.notes;
+    for (const PathFourBar& four_bar : four_bars) {
+      result.mechanisms.push_back(Report(four_bar, data, data.angles));
+    }
+    Rank(false, &result.mechanisms);
+    if (four_bars.empty() && !summary.degenerate) {
+      result.notes.push_back("no real four-bar passes the five points with this timing");
+    }
+  } else {
+    result.method = "least-squares";
+    result.effort = EffortName(task.effort);
+    if (free_timing) {
+      SolveFreeTiming(task, data, options, &result);
+      if (count < 9) {
+        result.notes.push_back(
+            "fewer than nine untimed points: a family of four-bars passes "
+            "them; these are some of it");
+      }
+    } else {
+      SolvePrescribed(task, data, options, &result);
+    }
+    if (result.mechanisms.empty()) {
+      result.notes.push_back("no four-bar found: the seeds failed (degenerate points?)");
+    }
+  }
+  result.solve_seconds = Seconds(start);
+  return result;
+}
+
+}  // namespace linkfit

@@ -1,0 +1,47 @@
+#include "tests/support/random_path.h"
+
+#include <cmath>
+
+#include "lib/mechanism.h"
+#include "tests/support/random_mechanism.h"
+
+namespace linkfit::testing {
+
+GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count) {
+  const GeneratedTask motion = RandomTask(rng, DyadType::kRR, output, count);
+  std::uniform_real_distribution<double> box(-1.0, 1.0);
+  PathFourBar four_bar;
+  four_bar.input = motion.input;
+  four_bar.output = motion.output;
+  four_bar.coupler_point = Eigen::Vector2d(box(rng), box(rng));
+  GeneratedPathTask task;
+  task.four_bar = MoveToFirstConfiguration(four_bar, motion.poses.front());
+  double previous = InputValue(motion.input, motion.poses.front());
+  double unwrapped = previous;
+  for (const PlanarPose& pose : motion.poses) {
+    const double value = InputValue(motion.input, pose);
+    unwrapped += WrapAngle(value - previous);
+    previous = value;
+    task.input_angles.push_back(unwrapped);
+    task.points.push_back(pose.ToFixed(four_bar.coupler_point));
+  }
+  return task;
+}
+
+double PathFourBarDistance(const PathFourBar& found, const PathFourBar& expected, double length) {
+  const double input = DyadDistance(found.input, expected.input, length);
+  const double output = DyadDistance(found.output, expected.output, length);
+  const double point = (found.coupler_point - expected.coupler_point).norm() / length;
+  return std::max({input, output, point});
+}
+
+double PathLength(const std::vector<Eigen::Vector2d>& points) {
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& point : points) centroid += point;
+  centroid /= static_cast<double>(points.size());
+  double sum = 0.0;
+  for (const Eigen::Vector2d& point : points) sum += (point - centroid).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(points.size()));
+}
+
+}  // namespace linkfit::testing

@@ -1,0 +1,35 @@
+// Random crank-driven four-bars and the timed-point (path) tasks they make, for the tests and
+// the benchmark.
+#ifndef LINKFIT_TESTS_SUPPORT_RANDOM_PATH_H_
+#define LINKFIT_TESTS_SUPPORT_RANDOM_PATH_H_
+
+#include <Eigen/Core>
+#include <random>
+#include <vector>
+
+#include "lib/dyad.h"
+#include "lib/path_motion.h"
+
+namespace linkfit::testing {
+
+struct GeneratedPathTask {
+  PathFourBar four_bar;  // in the first point's configuration (lib/path_motion.h)
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> input_angles;  // radians, unwrapped (psi_0 is the first crank angle)
+};
+
+// A random four-bar with an RR crank and an `output` dyad (RandomTask, random_mechanism.h,
+// driven by the crank in one direction on one branch), a random coupler point in a box of
+// half-width 1 about E's origin, and the `count` points it passes with their crank angles.
+GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count = 5);
+
+// The largest of DyadDistance over both dyads and |coupler point difference|, relative to
+// `length` (infinity for different types).
+double PathFourBarDistance(const PathFourBar& found, const PathFourBar& expected, double length);
+
+// The task's L: the RMS distance of the points from their centroid.
+double PathLength(const std::vector<Eigen::Vector2d>& points);
+
+}  // namespace linkfit::testing
+
+#endif  // LINKFIT_TESTS_SUPPORT_RANDOM_PATH_H_

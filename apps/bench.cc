@@ -408,12 +408,8 @@ void RunPathExact(const char* name, DyadType output, int tasks, uint64_t seed, F
   for (const linkfit::testing::GeneratedPathTask& task : generated) {
     const double length = linkfit::testing::PathLength(task.points);
     const auto begin = std::chrono::steady_clock::now();
-    linkfit::SolveTimedPath(task.points, task.input_angles, {}, &four_bars);
     std::vector<linkfit::PathFourBarAnalysis> analyses;
-    for (const linkfit::PathFourBar& four_bar : four_bars) {
-      analyses.push_back(
-          linkfit::AnalyzePathFourBar(four_bar, task.points, task.input_angles, length));
-    }
+    linkfit::SolveTimedPath(task.points, task.input_angles, {}, &four_bars, nullptr, &analyses);
     times.push_back(MicrosecondsSince(begin));
     double best = std::numeric_limits<double>::infinity();
     for (size_t m = 0; m < four_bars.size(); ++m) {
@@ -530,7 +526,7 @@ void RunPath(int tasks, int ls_tasks, uint64_t seed, const std::string& csv_path
   RunPathExact("4R (crank+RR)", DyadType::kRR, tasks, seed, csv);
   RunPathExact("slider-crank (crank+PR)", DyadType::kPR, tasks, seed + 1, csv);
   RunPathExact("inverted s-c (crank+RP)", DyadType::kRP, tasks, seed + 2, csv);
-  RunPathLeastSquares(ls_tasks, seed, csv);
+  if (ls_tasks > 0) RunPathLeastSquares(ls_tasks, seed, csv);
   if (csv) {
     std::fclose(csv);
     std::printf("written to %s\n", csv_path.c_str());

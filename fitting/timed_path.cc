@@ -21,6 +21,8 @@ using Vector4d = Eigen::Vector4d;
 constexpr double kDoubleRoot = 1e-4;
 // Newton iterations before the roots are compared (the full polish comes after).
 constexpr int kClusterIterations = 2;
+// Newton iterations on a complex (non-real) crank after the comparison.
+constexpr int kComplexIterations = 2;
 // Two output dyads of one crank closer than this (relative, scaled frame) are one.
 constexpr double kSameDyad = 1e-6;
 
@@ -173,24 +175,6 @@ bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, double tolerance) {
   return false;
 }
 
-// Whether the four-bar, assembled at each input angle (either assembly), misses a point by
-// more than `tolerance`.
-bool MissesAPoint(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
-                  const std::vector<double>& input_angles, double tolerance) {
-  const double alpha0 = FirstCrankAngle(four_bar);
-  std::vector<PlanarPose> poses;
-  for (size_t j = 0; j < points.size(); ++j) {
-    AssembleFourBar(four_bar.input, four_bar.output, alpha0 + input_angles[j] - input_angles[0],
-                    tolerance, &poses);
-    bool met = false;
-    for (const PlanarPose& pose : poses) {
-      met = met || (pose.ToFixed(four_bar.coupler_point) - points[j]).norm() <= tolerance;
-    }
-    if (!met) return true;
-  }
-  return false;
-}
-
 }  // namespace
 
 int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
@@ -229,8 +213,9 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
     return -1;
   }
   // The null space: every root b (x) sym2(u) lies in it (6 roots, two at the circular points).
-  const Eigen::Matrix<double, 18, 18> q = qr.householderQ();
-  const Eigen::Matrix<double, 18, 6> null_space = q.rightCols<6>();
+  Eigen::Matrix<double, 18, 6> null_space = Eigen::Matrix<double, 18, 6>::Zero();
+  null_space.bottomRows<6>().setIdentity();
+  null_space.applyOnTheLeft(qr.householderQ());
   // Eigenvalues lambda = l(b) / h(b) of two fixed generic linear forms in b: with
   // N_i the rows of b_i, N_l = N_h T^-1 diag(lambda) T.
   const Eigen::Vector3d h(0.5371, -0.3124, 0.7829), ell(0.2467, 0.8813, -0.4032);
@@ -306,8 +291,9 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
       }
     }
     if (!crank.real) {
-      residual = is_double ? PolishDoubleCrank<Complex>(forms, options.newton_iterations, &root)
-                           : PolishCrank<Complex>(forms, options.newton_iterations, &root);
+      // A complex crank makes no four-bar: a little polish to report it is enough.
+      residual = is_double ? PolishDoubleCrank<Complex>(forms, kComplexIterations, &root)
+                           : PolishCrank<Complex>(forms, kComplexIterations, &root);
     }
     if (!root.allFinite()) continue;
     // Back to the task's frame.
@@ -327,8 +313,10 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
 
 int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
                    const std::vector<double>& input_angles, const TimedPathOptions& options,
-                   std::vector<PathFourBar>* four_bars, TimedPathSummary* summary) {
+                   std::vector<PathFourBar>* four_bars, TimedPathSummary* summary,
+                   std::vector<PathFourBarAnalysis>* analyses) {
   four_bars->clear();
+  if (analyses != nullptr) analyses->clear();
   TimedPathSummary local;
   TimedPathSummary& report = summary != nullptr ? *summary : local;
   std::vector<TimedCrank> cranks;
@@ -338,6 +326,8 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
   unscale.scale = scaled.length;
   unscale.translation = scaled.centroid;
 
+  std::vector<Eigen::Matrix2d> rotations;  // the crank's rotations R(beta_j)
+  for (double beta : scaled.betas) rotations.push_back(Rotation2(beta));
   for (const TimedCrank& root : cranks) {
     if (!root.real) continue;
     const Eigen::Vector2d pivot = (root.fixed_pivot.real() - scaled.centroid) / scaled.length;
@@ -355,7 +345,7 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
     // coupler turns by the angle of the line A_j R_j; E = Sigma at the first point.
     std::vector<PlanarPose> poses;
     for (size_t j = 0; j < 5; ++j) {
-      const Eigen::Vector2d pin_j = pivot + Rotation2(scaled.betas[j]) * crank;
+      const Eigen::Vector2d pin_j = pivot + rotations[j] * crank;
       const Eigen::Vector2d link_j = scaled.points[j] - pin_j;
       PlanarPose pose;
       pose.theta = std::atan2(link_j.y(), link_j.x()) - std::atan2(link.y(), link.x());
@@ -397,11 +387,15 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
       four_bar.input = TransformDyad(input, unscale, unscale);
       four_bar.output = TransformDyad(dyads[d], unscale, unscale);
       four_bar.coupler_point = points[0];
-      if (MissesAPoint(four_bar, points, input_angles, options.verify_tolerance * scaled.length)) {
+      // Assembled and driven through the points (lib/path_motion.h).
+      PathFourBarAnalysis analysis =
+          AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
+      if (!(analysis.nearest_max_error <= options.verify_tolerance * scaled.length)) {
         ++report.four_bars_dropped;
         continue;
       }
       four_bars->push_back(four_bar);
+      if (analyses != nullptr) analyses->push_back(std::move(analysis));
     }
   }
   if (report.four_bars_dropped > 0) {

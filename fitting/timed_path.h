@@ -81,10 +81,12 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
                      std::vector<TimedCrank>* cranks, TimedPathSummary* summary = nullptr);
 
 // Every real four-bar through the five timed points, in the first point's configuration
-// (lib/path_motion.h). Returns the count.
+// (lib/path_motion.h), each assembled and driven through the points (AnalyzePathFourBar; the
+// analyses are returned in `analyses` when given, one per four-bar). Returns the count.
 int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
                    const std::vector<double>& input_angles, const TimedPathOptions& options,
-                   std::vector<PathFourBar>* four_bars, TimedPathSummary* summary = nullptr);
+                   std::vector<PathFourBar>* four_bars, TimedPathSummary* summary = nullptr,
+                   std::vector<PathFourBarAnalysis>* analyses = nullptr);
 
 }  // namespace linkfit
 

@@ -151,13 +151,15 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
 
   double alpha = alpha0;
   bool branch = false, circuit = false;
-  double sum_squared = 0.0, largest = 0.0;
+  double sum_squared = 0.0, largest = 0.0, nearest_largest = 0.0;
   for (size_t j = 0; j < points.size(); ++j) {
     const double step = j == 0 ? 0.0 : input_angles[j] - input_angles[j - 1];
     if (j > 0 && !closure.Holds(alpha, step, tolerance)) branch = true;
     alpha += step;
     std::vector<PlanarPose> poses;
-    const int here = AssembleFourBar(four_bar.input, four_bar.output, alpha, tolerance, &poses);
+    const int here =
+        j == 0 ? count : AssembleFourBar(four_bar.input, four_bar.output, alpha, tolerance, &poses);
+    if (j == 0) poses = first;
     if (here == 0) {
       analysis.error_note =
           "cannot be assembled at the input angle of points[" + std::to_string(j) + "]";
@@ -169,6 +171,7 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
     const PlanarPose& other = poses[here == 2 ? 1 - analysis.label : 0];
     const double error = (tracked.ToFixed(four_bar.coupler_point) - points[j]).norm();
     const double other_error = (other.ToFixed(four_bar.coupler_point) - points[j]).norm();
+    nearest_largest = std::max(nearest_largest, std::min(error, other_error));
     // Met on the other assembly only (at less than half the error).
     if (error > tolerance && other_error < 0.5 * error) {
       if (analysis.input_rotates_fully) {
@@ -187,6 +190,7 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   if (analysis.point_errors.size() == points.size()) {
     analysis.max_point_error = largest;
     analysis.rms_point_error = std::sqrt(sum_squared / static_cast<double>(points.size()));
+    analysis.nearest_max_error = nearest_largest;
   }
 
   if (options.transmission_samples > 0 && !branch && analysis.max_point_error) {

@@ -17,6 +17,7 @@
 #define LINKFIT_LIB_PATH_MOTION_H_
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -49,7 +50,10 @@ struct PathFourBarAnalysis {
   std::optional<double> max_point_error;
   std::optional<double> rms_point_error;
   std::string error_note;
-  std::vector<double> point_errors;            // per point (empty when max_point_error is absent)
+  std::vector<double> point_errors;  // per point (empty when max_point_error is absent)
+  // The largest over the points of the nearer of the two assemblies' errors (infinity when some
+  // input angle does not assemble): whether the four-bar passes the points at all.
+  double nearest_max_error = std::numeric_limits<double>::infinity();
   std::vector<PlanarPose> configurations;      // coupler pose at each point (same condition)
   std::vector<std::string> defects;            // "branch", "circuit"
   bool input_rotates_fully = false;            // the crank can turn a full revolution

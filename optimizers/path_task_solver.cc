@@ -18,11 +18,18 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kSameFourBar = 1e-4;
 // Free timing: the spans of the evenly spaced timing guesses, as fractions of a turn (the
 // first is a closed curve: n points over (n - 1) / n of a turn).
-constexpr double kGuessSpans[] = {-1.0, 0.5, 0.25};
+constexpr double kGuessSpans[] = {-1.0, 0.75, 0.5, 0.25};
 // Free timing: seed four-bars refined per timing guess.
-constexpr int kFreeTimingStarts = 2;
+constexpr int kFreeTimingStarts = 1;
 // Free timing: five-point subsets solved per timing guess.
 constexpr int kFreeTimingSubsets = 2;
+// Free timing: crank samples per turn of the timing projection, and the rounds of
+// refinement under a fixed timing and projection before the angles are freed.
+constexpr int kProjectionSamples = 180;
+constexpr int kAlternations = 3;
+// Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
+// converges slowly near the end; the other solves keep the refiner's default).
+constexpr int kFreeTimingIterations = 400;
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -218,29 +225,151 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
   Finish(data, options.path_reported, candidates, result);
 }
 
+// The timing a four-bar gives the points: for each point the crank angle (relative to the first
+// point's, on the first point's assembly) at which the coupler point passes nearest, sampled
+// every 1/kProjectionSamples turn and refined by golden-section search over a sample step,
+// turning in `direction`. Nothing when the four-bar does not assemble at the first point.
+std::optional<std::vector<double>> ProjectTiming(const PathFourBar& four_bar, const PathData& data,
+                                                 double direction) {
+  const double alpha0 = FirstCrankAngle(four_bar);
+  std::vector<PlanarPose> first;
+  const double tolerance = 1e-9 * data.length;
+  const int count = AssembleFourBar(four_bar.input, four_bar.output, alpha0, tolerance, &first);
+  if (count == 0) return std::nullopt;
+  const int label = count == 2 && PoseError(first[1], PlanarPose(), data.length) <
+                                      PoseError(first[0], PlanarPose(), data.length)
+                        ? 1
+                        : 0;
+  std::vector<PlanarPose> poses;
+  // The squared distance of point j from the coupler point at crank offset t (infinity where
+  // the four-bar does not assemble).
+  const auto distance = [&](size_t j, double t) {
+    const int here =
+        AssembleFourBar(four_bar.input, four_bar.output, alpha0 + t, tolerance, &poses);
+    if (here == 0) return std::numeric_limits<double>::infinity();
+    return (poses[std::min(label, here - 1)].ToFixed(four_bar.coupler_point) - data.points[j])
+        .squaredNorm();
+  };
+  const double step = 2.0 * kPi / kProjectionSamples;
+  std::vector<Eigen::Vector2d> curve(kProjectionSamples);
+  std::vector<bool> assembled(kProjectionSamples, false);
+  for (int k = 0; k < kProjectionSamples; ++k) {
+    const int here = AssembleFourBar(four_bar.input, four_bar.output, alpha0 + direction * k * step,
+                                     tolerance, &poses);
+    if (here == 0) continue;
+    assembled[k] = true;
+    curve[k] = poses[std::min(label, here - 1)].ToFixed(four_bar.coupler_point);
+  }
+  std::vector<double> angles = {0.0};
+  for (size_t j = 1; j < data.points.size(); ++j) {
+    int nearest = -1;
+    for (int k = 1; k < kProjectionSamples; ++k) {
+      if (assembled[k] && (nearest < 0 || (curve[k] - data.points[j]).squaredNorm() <
+                                              (curve[nearest] - data.points[j]).squaredNorm())) {
+        nearest = k;
+      }
+    }
+    if (nearest < 0) return std::nullopt;
+    // Golden section over [nearest - 1, nearest + 1] steps.
+    double a = (nearest - 1) * step, b = (nearest + 1) * step;
+    const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int iteration = 0; iteration < 30; ++iteration) {
+      const double c = b - ratio * (b - a), d = a + ratio * (b - a);
+      if (distance(j, direction * c) < distance(j, direction * d)) {
+        b = d;
+      } else {
+        a = c;
+      }
+    }
+    angles.push_back(direction * 0.5 * (a + b));
+  }
+  return angles;
+}
+
+bool Monotonic(const std::vector<double>& angles) {
+  const double direction = angles.back() >= angles.front() ? 1.0 : -1.0;
+  for (size_t j = 1; j < angles.size(); ++j) {
+    if (direction * (angles[j] - angles[j - 1]) < 0.0) return false;
+  }
+  return true;
+}
+
+// Free timing, one seed: alternately refine the four-bar under the timing (prescribed) and
+// take the timing the four-bar gives the points (ProjectTiming), kAlternations times, then
+// refine with the angles free when that timing is monotonic.
+void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
+                      PathMechanismReport* report) {
+  std::vector<double> angles = report->input_angles;
+  const double direction = angles.back() >= angles.front() ? 1.0 : -1.0;
+  PathFourBar design = report->design;
+  const std::optional<double> seed_max = report->max_point_error;
+  for (int round = 0; round < kAlternations; ++round) {
+    try {
+      RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
+                        options);
+    } catch (const std::invalid_argument&) {
+      return;
+    }
+    const std::optional<std::vector<double>> projected = ProjectTiming(design, data, direction);
+    if (!projected) break;
+    angles = *projected;
+  }
+  if (Monotonic(angles)) {
+    PathRefinerOptions free_options = options;
+    free_options.max_iterations = kFreeTimingIterations;
+    try {
+      RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &angles, &design,
+                        free_options);
+    } catch (const std::invalid_argument&) {
+    }
+  }
+  PathMechanismReport refined = Report(design, data, angles);
+  refined.seed_max_point_error = seed_max;
+  refined.input_angles = angles;
+  if (!Monotonic(angles)) refined.defects.push_back("order");
+  *report = refined;
+}
+
 // Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
-// four-bars of each guess, refined with the angles free.
+// four-bars of each guess, refined with the angles free (RefineFreeTiming).
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
                      PathResult* result) {
   const int count = static_cast<int>(data.points.size());
   const auto stage_start = std::chrono::steady_clock::now();
   std::vector<PathMechanismReport> candidates;
+  std::vector<double> chords;
+  double chord_sum = 0.0;
+  for (int j = 1; j < count; ++j) {
+    chords.push_back((data.points[j] - data.points[j - 1]).norm());
+    chord_sum += chords.back();
+  }
+  if (!(chord_sum > 0.0)) chord_sum = 1.0;
   for (double span_turns : kGuessSpans) {
     const double span =
         2.0 * kPi * (span_turns < 0.0 ? static_cast<double>(count - 1) / count : span_turns);
     for (double direction : {1.0, -1.0}) {
-      std::vector<double> angles;
-      for (int j = 0; j < count; ++j) angles.push_back(direction * span * j / (count - 1));
-      std::vector<PathMechanismReport> seeds =
-          SubsetSeeds(data, angles, kFreeTimingSubsets, kFreeTimingStarts, options.timed_path);
-      for (PathMechanismReport& seed : seeds) seed.input_angles = angles;
-      candidates.insert(candidates.end(), seeds.begin(), seeds.end());
+      // Evenly spaced, and spaced as the chords between consecutive points (a crank turning
+      // evenly moves the coupler point about evenly along its path).
+      for (bool by_chord : {false, true}) {
+        std::vector<double> angles = {0.0};
+        for (int j = 1; j < count; ++j) {
+          angles.push_back(angles.back() +
+                           (by_chord ? chords[j - 1] / chord_sum : 1.0 / (count - 1)));
+        }
+        for (double& angle : angles) angle *= direction * span;
+        std::vector<PathMechanismReport> seeds =
+            SubsetSeeds(data, angles, kFreeTimingSubsets, kFreeTimingStarts, options.timed_path);
+        for (PathMechanismReport& seed : seeds) seed.input_angles = angles;
+        candidates.insert(candidates.end(), seeds.begin(), seeds.end());
+      }
     }
   }
   result->stages.push_back(Stage("seed", stage_start, candidates));
   if (task.effort != Effort::kFast) {
     const auto refine_start = std::chrono::steady_clock::now();
-    RefineAll(data, true, options.path_refiner, &candidates);
+    for (PathMechanismReport& candidate : candidates) {
+      RefineFreeTiming(data, options.path_refiner, &candidate);
+    }
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
   Finish(data, options.path_reported, candidates, result);

@@ -309,6 +309,72 @@ TEST_F(CliTest, DrawsAndAnimatesTheBundledFourBar) {
   EXPECT_NE(ReadFile(page).find("<script"), std::string::npos);
 }
 
+// The bundled five timed points (a crank-rocker in mm, points rounded to 0.001 mm, angles to
+// 0.1 degree): every four-bar through them, the designed one among them, drawn.
+TEST_F(CliTest, SolvesAndDrawsTheBundledTimedPath) {
+  const std::string output = Path("path.json"), svg = Path("path.svg"), png = Path("path.png");
+  const RunResult run = Run("solve '" + DataPath("path_5_points.json") + "' -o '" + output +
+                            "' --svg '" + svg + "' --animate '" + Path("path_animation.svg") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(output));
+  EXPECT_EQ(result["problem"], "path");
+  EXPECT_EQ(result["method"], "exact");
+  EXPECT_EQ(result["roots"]["cranks"], 4);
+  EXPECT_EQ(result["roots"]["four_bars"], 12);
+  ASSERT_FALSE(result["mechanisms"].empty());
+  EXPECT_LE(result["mechanisms"].size(), 12u);
+  // The designed crank-rocker: crank pivot (0, 0), pin (34.641, 20), rocker pivot (120, 0). The
+  // rounding of the angles moves the pivots by some hundredths of a millimetre.
+  constexpr double kRounding = 0.05;
+  bool designed = false;
+  for (const nlohmann::json& mechanism : result["mechanisms"]) {
+    EXPECT_TRUE(mechanism.contains("coupler_point"));
+    if (mechanism["type"] == "4R" && mechanism["defects"].empty() &&
+        std::hypot(mechanism["input_pivot"][0].get<double>(),
+                   mechanism["input_pivot"][1].get<double>()) < kRounding &&
+        std::hypot(mechanism["output_pivot"][0].get<double>() - 120.0,
+                   mechanism["output_pivot"][1].get<double>()) < kRounding) {
+      designed = true;
+      EXPECT_LT(mechanism["max_point_error"].get<double>(), 1e-9);  // exact through the data
+      EXPECT_EQ(mechanism["grashof"], "crank-rocker");
+    }
+  }
+  EXPECT_TRUE(designed) << result.dump(2);
+  EXPECT_EQ(std::system(("xmllint --noout '" + svg + "'").c_str()), 0);
+  EXPECT_NE(ReadFile(svg).find("coupler curve (coupler point)"), std::string::npos);
+  ASSERT_EQ(std::system(("rsvg-convert -o '" + png + "' '" + svg + "'").c_str()), 0);
+  EXPECT_GT(std::filesystem::file_size(png), 10000u);
+  EXPECT_NE(ReadFile(Path("path_animation.svg")).find("<animate"), std::string::npos);
+}
+
+// Twelve timed points of the same crank-rocker: least squares; without the angles: free timing.
+TEST_F(CliTest, FitsTwelvePointsWithAndWithoutTiming) {
+  const RunResult timed = Run("solve '" + DataPath("path_12_points.json") + "'");
+  ASSERT_EQ(timed.status, 0) << timed.err;
+  const nlohmann::json result = nlohmann::json::parse(timed.out);
+  EXPECT_EQ(result["method"], "least-squares");
+  EXPECT_EQ(result["timing"], "prescribed");
+  ASSERT_FALSE(result["mechanisms"].empty());
+  // Angles rounded to 0.1 degree on a 40 mm crank: about 0.03 mm.
+  EXPECT_LT(result["mechanisms"][0]["max_point_error"].get<double>(), 0.05);
+  EXPECT_TRUE(result["mechanisms"][0].contains("before_refinement"));
+
+  const RunResult untimed = Run("solve '" + DataPath("path_12_points_untimed.json") + "'");
+  ASSERT_EQ(untimed.status, 0) << untimed.err;
+  const nlohmann::json free = nlohmann::json::parse(untimed.out);
+  EXPECT_EQ(free["timing"], "free");
+  ASSERT_FALSE(free["mechanisms"].empty());
+  const nlohmann::json& best = free["mechanisms"][0];
+  EXPECT_LT(best["max_point_error"].get<double>(), 0.01);
+  ASSERT_EQ(best["input_deg"].size(), 12u);
+  // The designed crank turns 300/11 degrees between points.
+  for (size_t j = 1; j < 12; ++j) {
+    EXPECT_NEAR(
+        std::abs(best["input_deg"][j].get<double>() - best["input_deg"][j - 1].get<double>()),
+        300.0 / 11.0, 0.5);
+  }
+}
+
 TEST_F(CliTest, AnimatingAMechanismThatIsNotListedWritesNothing) {
   const std::string animation = Path("animation.svg");
   const RunResult run = Run("solve '" + DataPath("four_bar_5_poses.json") + "' -o '" +

@@ -328,6 +328,14 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
     problem.AddResidualBlock(TurnLimitResidual::Create(direction, static_cast<int>(blocks.size())),
                              nullptr, blocks);
   }
+  // A start past the crank's reach at some point cannot be evaluated: Ceres would stop at once
+  // (and say so on stderr, whatever its logging type); leave it as it is.
+  double start_cost = 0.0;
+  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &start_cost, nullptr, nullptr,
+                        nullptr)) {
+    *message = "the start does not assemble at every point";
+    return;
+  }
   ceres::Solver::Summary summary;
   ceres::Solve(options, &problem, &summary);
   *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;

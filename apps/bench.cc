@@ -27,7 +27,8 @@
 //
 // Then path generation with prescribed timing (seed 002): random five-point tasks made by random
 // crank-driven four-bars (4R, slider-crank, inverted slider-crank): the share with the generating
-// four-bar recovered (relative error <= 1e-8 in every pivot, line and the coupler point), the
+// four-bar recovered (error <= 1e-8 in every pivot, line and the coupler point, relative to the
+// four-bar's size: its largest pivot or point distance from the points, never less than L), the
 // mean and largest number of four-bars returned, the worst point error over L of a returned
 // four-bar without defects (assembled and driven through the points), and the median and
 // 99th-percentile time of SolveTimedPath plus the simulation of every four-bar it returns
@@ -411,10 +412,22 @@ void RunPathExact(const char* name, DyadType output, int tasks, uint64_t seed, F
     std::vector<linkfit::PathFourBarAnalysis> analyses;
     linkfit::SolveTimedPath(task.points, task.input_angles, {}, &four_bars, nullptr, &analyses);
     times.push_back(MicrosecondsSince(begin));
+    // Relative to the four-bar's own size: its largest pivot or point distance from the points'
+    // centroid, never less than L (a pivot 1000 L away is known to a relative accuracy).
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& point : task.points) centroid += point / 5.0;
+    const linkfit::PathFourBar& g = task.four_bar;
+    double size = length;
+    for (const Eigen::Vector2d& p :
+         {g.input.fixed_pivot, g.input.moving_pivot, g.output.fixed_pivot, g.output.moving_pivot,
+          g.output.line_point, g.coupler_point}) {
+      size = std::max(size, (p - centroid).norm());
+    }
     double best = std::numeric_limits<double>::infinity();
     for (size_t m = 0; m < four_bars.size(); ++m) {
       best = std::min(best,
-                      linkfit::testing::PathFourBarDistance(four_bars[m], task.four_bar, length));
+                      linkfit::testing::PathFourBarDistance(four_bars[m], task.four_bar, length) *
+                          length / size);
       if (analyses[m].defects.empty() && analyses[m].max_point_error) {
         worst = std::max(worst, *analyses[m].max_point_error / length);
       }

@@ -152,14 +152,16 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   double alpha = alpha0;
   bool branch = false, circuit = false;
   double sum_squared = 0.0, largest = 0.0, nearest_largest = 0.0;
+  analysis.point_errors.reserve(points.size());
+  analysis.configurations.reserve(points.size());
+  std::vector<PlanarPose> poses = first;
+  poses.reserve(2);
   for (size_t j = 0; j < points.size(); ++j) {
     const double step = j == 0 ? 0.0 : input_angles[j] - input_angles[j - 1];
     if (j > 0 && !closure.Holds(alpha, step, tolerance)) branch = true;
     alpha += step;
-    std::vector<PlanarPose> poses;
     const int here =
         j == 0 ? count : AssembleFourBar(four_bar.input, four_bar.output, alpha, tolerance, &poses);
-    if (j == 0) poses = first;
     if (here == 0) {
       analysis.error_note =
           "cannot be assembled at the input angle of points[" + std::to_string(j) + "]";

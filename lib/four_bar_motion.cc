@@ -353,24 +353,18 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
               : (circuit.input_rotates_fully ? PositiveAngle(end - start) : WrapAngle(end - start));
     }
     const int steps = 180;
-    double low = 90.0, high = 0.0;
     const int label = analysis.locations.front().branch >= 0 && circuit.label < 0
                           ? analysis.locations.front().branch
                           : std::max(circuit.label, 0);
-    for (int s = 0; s <= steps; ++s) {
-      const double value = start + extent * s / steps;
-      const int count = Assemble(input, output, value, length, &configurations);
-      if (count == 0) continue;
-      const PlanarPose& coupler = configurations[std::min(label, count - 1)];
-      const std::optional<double> angle = TransmissionAngleDeg(input, output, coupler);
-      if (!angle) continue;
-      low = std::min(low, *angle);
-      high = std::max(high, *angle);
-    }
-    if (low <= high) {
-      analysis.transmission_min_deg = low;
-      analysis.transmission_max_deg = high;
-    }
+    TransmissionRangeDeg(
+        input, output, steps,
+        [&](int s) -> std::optional<PlanarPose> {
+          const int count =
+              Assemble(input, output, start + extent * s / steps, length, &configurations);
+          if (count == 0) return std::nullopt;
+          return configurations[std::min(label, count - 1)];
+        },
+        &analysis.transmission_min_deg, &analysis.transmission_max_deg);
   }
   return analysis;
 }

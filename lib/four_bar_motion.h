@@ -15,6 +15,7 @@
 #ifndef LINKFIT_LIB_FOUR_BAR_MOTION_H_
 #define LINKFIT_LIB_FOUR_BAR_MOTION_H_
 
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -105,6 +106,28 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
 // is the classical coupler-rocker angle folded to [0, 90]. Returns nothing when a dyad is RP.
 std::optional<double> TransmissionAngleDeg(const PlanarDyad& input, const PlanarDyad& output,
                                            const PlanarPose& coupler);
+
+// The four-bar's transmission angle over a motion: the smallest and largest TransmissionAngleDeg
+// of the coupler poses `sample(k)`, k = 0..steps, where `sample` gives the pose at step k or
+// nothing (no assembly there). Written to *min_deg and *max_deg when some angle is defined.
+template <typename Sample>
+void TransmissionRangeDeg(const PlanarDyad& input, const PlanarDyad& output, int steps,
+                          const Sample& sample, std::optional<double>* min_deg,
+                          std::optional<double>* max_deg) {
+  double low = 90.0, high = 0.0;
+  for (int k = 0; k <= steps; ++k) {
+    const std::optional<PlanarPose> coupler = sample(k);
+    if (!coupler) continue;
+    const std::optional<double> angle = TransmissionAngleDeg(input, output, *coupler);
+    if (!angle) continue;
+    low = std::min(low, *angle);
+    high = std::max(high, *angle);
+  }
+  if (low <= high) {
+    *min_deg = low;
+    *max_deg = high;
+  }
+}
 
 }  // namespace linkfit
 

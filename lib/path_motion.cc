@@ -198,21 +198,13 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   if (options.transmission_samples > 0 && !branch && analysis.max_point_error) {
     double sweep = 0.0;
     for (size_t j = 1; j < input_angles.size(); ++j) sweep += input_angles[j] - input_angles[j - 1];
-    double low = kInfinity, high = -kInfinity;
-    for (int k = 0; k <= options.transmission_samples; ++k) {
-      const double at = alpha0 + sweep * k / options.transmission_samples;
-      const std::optional<PlanarPose> pose = Configuration(four_bar, at, analysis.label, tolerance);
-      if (!pose) continue;
-      const std::optional<double> angle =
-          TransmissionAngleDeg(four_bar.input, four_bar.output, *pose);
-      if (!angle) continue;
-      low = std::min(low, *angle);
-      high = std::max(high, *angle);
-    }
-    if (low <= high) {
-      analysis.transmission_min_deg = low;
-      analysis.transmission_max_deg = high;
-    }
+    const int steps = options.transmission_samples;
+    TransmissionRangeDeg(
+        four_bar.input, four_bar.output, steps,
+        [&](int k) {
+          return Configuration(four_bar, alpha0 + sweep * k / steps, analysis.label, tolerance);
+        },
+        &analysis.transmission_min_deg, &analysis.transmission_max_deg);
   }
   return analysis;
 }
@@ -258,6 +250,15 @@ std::vector<PlanarPose> CouplerCycle(const PathFourBar& four_bar, double length,
   }
   if (!curve.empty()) curve.push_back(curve.front());
   return curve;
+}
+
+Similarity2 ScaledPointFrame(const std::vector<Eigen::Vector2d>& points, double length) {
+  Similarity2 frame;
+  frame.scale = length;
+  for (const Eigen::Vector2d& point : points) {
+    frame.translation += point / static_cast<double>(points.size());
+  }
+  return frame;
 }
 
 PathFourBar MoveToFirstConfiguration(const PathFourBar& four_bar, const PlanarPose& first_pose) {

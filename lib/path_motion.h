@@ -76,6 +76,10 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
 // limited. The coupler point's curve is their images of coupler_point.
 std::vector<PlanarPose> CouplerCycle(const PathFourBar& four_bar, double length, int samples = 360);
 
+// The frame the path solvers work in: Sigma (and E alike) centred on the points' centroid and
+// scaled by `length`. Returns the similarity that maps that frame back to the task's.
+Similarity2 ScaledPointFrame(const std::vector<Eigen::Vector2d>& points, double length);
+
 // Re-expresses a design whose first configuration is `first_pose` (the coupler pose at the first
 // point, not the identity) in the convention above: E is moved onto that pose.
 PathFourBar MoveToFirstConfiguration(const PathFourBar& four_bar, const PlanarPose& first_pose);

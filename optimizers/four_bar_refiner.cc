@@ -15,6 +15,7 @@
 #include "lib/mechanism.h"
 #include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
+#include "optimizers/solver_options.h"
 
 namespace linkfit {
 namespace {
@@ -854,15 +855,9 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   seed.input = ToBlocks(TransformDyad(*input, to_sigma, to_epsilon));
   seed.output = ToBlocks(TransformDyad(*output, to_sigma, to_epsilon));
 
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.num_threads = 1;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.gradient_tolerance = kGradientTolerance;
-  solver_options.minimizer_progress_to_stdout = false;
-  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Options solver_options =
+      RefinerSolverOptions(options.max_iterations, options.function_tolerance,
+                           options.parameter_tolerance, kGradientTolerance);
 
   // The exact elimination from a start (the seed itself, or where the penalty stage took it),
   // with its assembly labels read off the start's configurations; exact poses met by

@@ -16,6 +16,7 @@
 #include "lib/planar_pose.h"
 #include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
+#include "optimizers/solver_options.h"
 
 namespace linkfit {
 namespace {
@@ -452,12 +453,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   }
 
   // Sigma' = E' = (Sigma - centroid) / L; `sigma` maps them back.
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector2d& point : points) centroid += point;
-  centroid /= static_cast<double>(points.size());
-  Similarity2 sigma;
-  sigma.scale = length;
-  sigma.translation = centroid;
+  const Similarity2 sigma = ScaledPointFrame(points, length);
   const Similarity2 to_scaled = sigma.Inverse();
   ScaledTask task;
   for (size_t j = 0; j < points.size(); ++j) {
@@ -488,15 +484,9 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     sign = -1.0;
   }
 
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.num_threads = 1;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.gradient_tolerance = kGradientTolerance;
-  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Options solver_options =
+      RefinerSolverOptions(options.max_iterations, options.function_tolerance,
+                           options.parameter_tolerance, kGradientTolerance);
 
   // Least squares, then the method of multipliers for the exact points.
   std::vector<double> point_weights = task.weights;

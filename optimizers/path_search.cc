@@ -219,12 +219,7 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
   report.algorithm = GlobalAlgorithmName(options.algorithm);
 
   // Centre on the points' centroid, scale by L; weights normalized to sum 1.
-  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
-  for (const Eigen::Vector2d& point : points) centroid += point;
-  centroid /= static_cast<double>(points.size());
-  Similarity2 to_task;
-  to_task.scale = length;
-  to_task.translation = centroid;
+  const Similarity2 to_task = ScaledPointFrame(points, length);
   const Similarity2 to_scaled = to_task.Inverse();
   ScaledTask task;
   double weight_sum = 0.0;

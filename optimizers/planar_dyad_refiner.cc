@@ -12,6 +12,7 @@
 
 #include "optimizers/nested_model_test.h"
 #include "optimizers/refiner_input.h"
+#include "optimizers/solver_options.h"
 
 namespace linkfit {
 namespace {
@@ -432,16 +433,9 @@ RefinerSummary RefinePlanarDyad(const std::vector<PlanarPose>& poses,
   if (seed.type != DyadType::kRR) seed.line_direction.normalize();
   const Fit initial = Evaluate(task, seed, options.exact_tolerance);
 
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.num_threads = 1;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.gradient_tolerance = kGradientTolerance;
-  solver_options.minimizer_progress_to_stdout = false;
-  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Options solver_options =
+      RefinerSolverOptions(options.max_iterations, options.function_tolerance,
+                           options.parameter_tolerance, kGradientTolerance);
   solver_options.max_num_consecutive_invalid_steps = kMaxInvalidSteps;
 
   // A slider seed stays a slider. An RR seed is refined as RR; an RR (the seed or the refined

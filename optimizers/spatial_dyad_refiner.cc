@@ -10,6 +10,7 @@
 #include <string>
 
 #include "optimizers/refiner_input.h"
+#include "optimizers/solver_options.h"
 
 namespace linkfit {
 namespace {
@@ -253,16 +254,9 @@ RefinerSummary RefineSpatialDyad(const std::vector<DualQuaternion>& poses,
   if (seed.type == SpatialDyadType::kPS) seed.plane_normal.normalize();
   const Fit initial = Evaluate(task, seed);
 
-  ceres::Solver::Options solver_options;
-  solver_options.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.num_threads = 1;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.gradient_tolerance = kGradientTolerance;
-  solver_options.minimizer_progress_to_stdout = false;
-  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Options solver_options =
+      RefinerSolverOptions(options.max_iterations, options.function_tolerance,
+                           options.parameter_tolerance, kGradientTolerance);
 
   // The model rule of the header comment.
   Attempt best;

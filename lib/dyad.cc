@@ -51,6 +51,20 @@ double PlanarDyad::Residual(const PlanarPose& pose) const {
   return Residual(Rotation2(pose.theta), pose.origin_in_fixed);
 }
 
+bool PlanarDyad::AllFinite() const {
+  switch (type) {
+    case DyadType::kRR:
+      return fixed_pivot.allFinite() && moving_pivot.allFinite() && std::isfinite(radius);
+    case DyadType::kPR:
+      return moving_pivot.allFinite() && line_point.allFinite() && line_direction.allFinite() &&
+             line_direction.norm() > 0.0;
+    case DyadType::kRP:
+      return fixed_pivot.allFinite() && line_point.allFinite() && line_direction.allFinite() &&
+             line_direction.norm() > 0.0;
+  }
+  return false;
+}
+
 double PlanarDyad::MaxResidual(const std::vector<PlanarPose>& poses) const {
   double worst = 0.0;
   for (const PlanarPose& pose : poses) worst = std::max(worst, std::abs(Residual(pose)));

@@ -56,6 +56,8 @@ struct PlanarDyad {
     }
     return 0.0;
   }
+  // Whether the parameters its type uses are finite (and a line direction is not zero).
+  bool AllFinite() const;
   // Largest |residual| over the poses.
   double MaxResidual(const std::vector<PlanarPose>& poses) const;
 

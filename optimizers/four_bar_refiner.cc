@@ -45,21 +45,6 @@ constexpr double kSliderRadius = 1e3;
 // than this (sine of their angle) has no configuration; AssembleFourBar's threshold.
 constexpr double kParallelLines = 1e-12;
 
-bool IsFinite(const PlanarDyad& dyad) {
-  switch (dyad.type) {
-    case DyadType::kRR:
-      return dyad.fixed_pivot.allFinite() && dyad.moving_pivot.allFinite() &&
-             std::isfinite(dyad.radius);
-    case DyadType::kPR:
-      return dyad.moving_pivot.allFinite() && dyad.line_point.allFinite() &&
-             dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
-    case DyadType::kRP:
-      return dyad.fixed_pivot.allFinite() && dyad.line_point.allFinite() &&
-             dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
-  }
-  return false;
-}
-
 // Penalty stage, task pose j = (D, Theta) with weight w and its free configuration
 // q = (d, theta), dyad penalty weight mu, scaled frames (L = 1):
 //   e[0..2] = sqrt(w) (d - D, wrap(theta - Theta))                      the pose error
@@ -417,7 +402,7 @@ Judgement Judge(const PlanarDyad& input, const PlanarDyad& output,
                 const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
                 const std::vector<bool>& exact, double length) {
   Judgement judgement;
-  if (!IsFinite(input) || !IsFinite(output)) return judgement;
+  if (!input.AllFinite() || !output.AllFinite()) return judgement;
   judgement.coincident = Coincident(input, output, length);
   if (judgement.coincident) return judgement;
   const FourBarMotion motion = TraceFourBar(input, output, poses, length);
@@ -820,7 +805,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
     summary.seconds = elapsed();
     return summary;
   }
-  if (!IsFinite(*input) || !IsFinite(*output)) {
+  if (!input->AllFinite() || !output->AllFinite()) {
     return give_up("seed not finite: returned unchanged");
   }
   const Judgement initial = Judge(*input, *output, poses, weights, exact, length);

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "optimizers/nested_model_test.h"
+#include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
 #include "optimizers/solver_options.h"
 
@@ -207,29 +208,9 @@ PlanarDyad FromParameters(const Parameters& p) {
                                  : PlanarDyad::RP(p.first, p.third * normal, direction);
 }
 
-// The unit normal's manifold, the circle S^1 = ceres::SphereManifold of ambient size 2. Ceres 2.1
-// cannot instantiate SphereManifold<2> (its plus-Jacobian type, a 2 x 1 row-major Eigen
-// matrix, is ill-formed), so the dynamic-size one is used with size 2: the same manifold.
-ceres::Manifold* NewUnitNormalManifold() { return new ceres::SphereManifold<ceres::DYNAMIC>(2); }
-
-bool IsFinite(const PlanarDyad& dyad) {
-  switch (dyad.type) {
-    case DyadType::kRR:
-      return dyad.fixed_pivot.allFinite() && dyad.moving_pivot.allFinite() &&
-             std::isfinite(dyad.radius);
-    case DyadType::kPR:
-      return dyad.moving_pivot.allFinite() && dyad.line_point.allFinite() &&
-             dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
-    case DyadType::kRP:
-      return dyad.fixed_pivot.allFinite() && dyad.line_point.allFinite() &&
-             dyad.line_direction.allFinite() && dyad.line_direction.norm() > 0.0;
-  }
-  return false;
-}
-
 Fit Evaluate(const ScaledTask& task, const PlanarDyad& dyad, double exact_tolerance) {
   Fit fit;
-  if (!IsFinite(dyad)) return fit;
+  if (!dyad.AllFinite()) return fit;
   fit.cost = fit.max = fit.exact_max = 0.0;
   for (size_t j = 0; j < task.rotations.size(); ++j) {
     const double residual = std::abs(dyad.Residual(task.rotations[j], task.origins[j]));
@@ -253,7 +234,7 @@ Attempt RefineModel(const ScaledTask& task, const PlanarDyad& start,
   Attempt best;
   best.dyad = start;
   best.fit = Evaluate(task, start, options.exact_tolerance);
-  if (!IsFinite(start)) {
+  if (!start.AllFinite()) {
     best.message = "start not finite";
     return best;
   }
@@ -280,12 +261,12 @@ Attempt RefineModel(const ScaledTask& task, const PlanarDyad& start,
     case DyadType::kPR:
       problem.AddResidualBlock(FixedLineResiduals::Create(&task, &sqrt_weights), nullptr, first,
                                second, third);
-      problem.SetManifold(second, NewUnitNormalManifold());
+      problem.SetManifold(second, UnitCircle());
       break;
     case DyadType::kRP:
       problem.AddResidualBlock(MovingLineResiduals::Create(&task, &sqrt_weights), nullptr, first,
                                second, third);
-      problem.SetManifold(second, NewUnitNormalManifold());
+      problem.SetManifold(second, UnitCircle());
       break;
   }
 
@@ -395,7 +376,7 @@ RefinerSummary RefinePlanarDyad(const std::vector<PlanarPose>& poses,
     summary.seconds = elapsed();
     return summary;
   }
-  if (!IsFinite(*dyad)) {
+  if (!dyad->AllFinite()) {
     summary.initial_cost = summary.final_cost = kInfinity;
     summary.initial_rms = summary.final_rms = kInfinity;
     summary.initial_max = summary.final_max = kInfinity;

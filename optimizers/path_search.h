@@ -10,9 +10,10 @@
 // + the best output dyad's cost on the poses q_j (the algebraic least-squares dyads of
 //   fitting/planar_burmester.h for the poses, measured by their geometric residuals),
 // in data centred and scaled by L; a point it cannot evaluate gets a large finite value, never
-// NaN. NLopt runs (algorithm from GlobalSearchOptions) within the budget; the best distinct
-// cranks (pivots more than 1e-3 L apart), with their output dyads and coupler point R_0, are
-// refined by RefinePathFourBar and returned best first (duplicates after refinement dropped).
+// NaN. NLopt runs (algorithm from GlobalSearchOptions) within the budget and keeps an archive of
+// the best crank of each basin (cranks more than 0.1 L apart); the best refine_count of them,
+// each with every output dyad of its coupler poses and the coupler point R_0, are refined by
+// RefinePathFourBar and returned best first (four-bars within 1e-3 L after refinement are one).
 #ifndef LINKFIT_OPTIMIZERS_PATH_SEARCH_H_
 #define LINKFIT_OPTIMIZERS_PATH_SEARCH_H_
 

@@ -148,6 +148,7 @@ double PolishDoubleCrank(const std::vector<Matrix3>& forms, int iterations,
     if (!step.allFinite()) break;
     *x -= step.template head<4>();
     v -= step.template tail<4>();
+    if (step.norm() <= 1e-15 * std::max(1.0, x->norm())) break;
   }
   CrankEquations<T>(forms, *x, &value, nullptr);
   return value.cwiseAbs().maxCoeff();

@@ -95,6 +95,35 @@ double InputValue(const PlanarDyad& dyad, const PlanarPose& pose) {
   return 0.0;
 }
 
+void OutputTurnEquation(const PlanarDyad& output, const Eigen::Vector2d& m1,
+                        const Eigen::Vector2d& pivot, double* a, double* b, double* c,
+                        double* scale) {
+  if (output.type == DyadType::kRR) {
+    // |R v + w| = r2 with v = m2 - m1 (E), w = M1 - F2 (Sigma):
+    // 2 w . R v = r2^2 - |v|^2 - |w|^2.
+    const Eigen::Vector2d v = output.moving_pivot - m1, w = pivot - output.fixed_pivot;
+    *a = 2.0 * w.dot(v);
+    *b = 2.0 * (w.y() * v.x() - w.x() * v.y());
+    *c = output.radius * output.radius - v.squaredNorm() - w.squaredNorm();
+    // A length slack t on the radius moves c by 2 r2 t against rho = 2 |v||w|.
+    *scale = std::max(v.norm() * w.norm(), 1e-300) / std::max(output.radius, 1e-300);
+  } else if (output.type == DyadType::kPR) {
+    // n . (R v + M1) = n . line_point, n the line normal.
+    const Eigen::Vector2d v = output.moving_pivot - m1, n = Perp(output.line_direction);
+    *a = n.dot(v);
+    *b = n.y() * v.x() - n.x() * v.y();
+    *c = n.dot(output.line_point - pivot);
+    *scale = std::max(v.norm(), 1e-300);
+  } else {
+    // The fixed pivot F2 lies on the line of E: (R n_E) . (F2 - M1) = n_E . (q_E - m1).
+    const Eigen::Vector2d n = Perp(output.line_direction), u = output.fixed_pivot - pivot;
+    *a = n.dot(u);
+    *b = n.x() * u.y() - n.y() * u.x();
+    *c = n.dot(output.line_point - m1);
+    *scale = std::max(u.norm(), 1e-300);
+  }
+}
+
 int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double input_value,
                     double tolerance, std::vector<PlanarPose>* coupler_poses) {
   coupler_poses->clear();
@@ -105,30 +134,7 @@ int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double in
     const Eigen::Vector2d pivot = InputPivotInFixed(input, input_value);
     const Eigen::Vector2d& m1 = input.moving_pivot;
     double a = 0.0, b = 0.0, c = 0.0, scale = 1.0;
-    if (output.type == DyadType::kRR) {
-      // |R v + w| = r2 with v = m2 - m1 (E), w = M1 - F2 (Sigma):
-      // 2 w . R v = r2^2 - |v|^2 - |w|^2.
-      const Eigen::Vector2d v = output.moving_pivot - m1, w = pivot - output.fixed_pivot;
-      a = 2.0 * w.dot(v);
-      b = 2.0 * (w.y() * v.x() - w.x() * v.y());
-      c = output.radius * output.radius - v.squaredNorm() - w.squaredNorm();
-      // A length slack t on the radius moves c by 2 r2 t against rho = 2 |v||w|.
-      scale = std::max(v.norm() * w.norm(), 1e-300) / std::max(output.radius, 1e-300);
-    } else if (output.type == DyadType::kPR) {
-      // n . (R v + M1) = n . line_point, n the line normal.
-      const Eigen::Vector2d v = output.moving_pivot - m1, n = Perp(output.line_direction);
-      a = n.dot(v);
-      b = n.y() * v.x() - n.x() * v.y();
-      c = n.dot(output.line_point - pivot);
-      scale = std::max(v.norm(), 1e-300);
-    } else {
-      // The fixed pivot F2 lies on the line of E: (R n_E) . (F2 - M1) = n_E . (q_E - m1).
-      const Eigen::Vector2d n = Perp(output.line_direction), u = output.fixed_pivot - pivot;
-      a = n.dot(u);
-      b = n.x() * u.y() - n.y() * u.x();
-      c = n.dot(output.line_point - m1);
-      scale = std::max(u.norm(), 1e-300);
-    }
+    OutputTurnEquation(output, m1, pivot, &a, &b, &c, &scale);
     double thetas[2];
     const int count = SolveTrigLinear(a, b, c, tolerance / scale, thetas);
     for (int i = 0; i < count; ++i) {

@@ -45,6 +45,14 @@ double InputValue(const PlanarDyad& dyad, const PlanarPose& pose);
 int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double input_value,
                     double tolerance, std::vector<PlanarPose>* coupler_poses);
 
+// The output dyad's condition on the coupler's turn theta about the input pin: with the input
+// pin at `pivot` (Sigma) and m1 its point of E, the coupler at R(theta) (p_E - m1) + pivot closes
+// the output when a cos(theta) + b sin(theta) = c. `scale` converts a slack in length into one
+// relative to hypot(a, b) (AssembleFourBar's tangency tolerance).
+void OutputTurnEquation(const PlanarDyad& output, const Eigen::Vector2d& m1,
+                        const Eigen::Vector2d& pivot, double* a, double* b, double* c,
+                        double* scale);
+
 // For each task pose: assemble at the input value taken from that pose and keep the
 // configuration nearest the pose. Returns the largest pose error (see PoseError), or nothing
 // when the mechanism does not assemble at some pose.

@@ -31,9 +31,16 @@ struct ClosureCondition {
     const double s = c0 + c1 * std::cos(alpha) + c2 * std::sin(alpha);
     return squared ? std::sqrt(std::max(s, 0.0)) : s;
   }
+  double amplitude = 0.0;  // hypot(c1, c2)
+  double peak = 0.0;       // atan2(c2, c1): where the sinusoid is largest
+
+  // Sets amplitude and peak from the coefficients.
+  void Finish() {
+    amplitude = std::hypot(c1, c2);
+    peak = std::atan2(c2, c1);
+  }
   // Smallest and largest f over the crank angles from `start` over `sweep` (either sign).
   void Range(double start, double sweep, double* smallest, double* largest) const {
-    const double amplitude = std::hypot(c1, c2);
     double low_s, high_s;
     if (std::abs(sweep) >= 2.0 * kPi) {
       low_s = c0 - amplitude;
@@ -44,8 +51,7 @@ struct ClosureCondition {
       const double at_b = c0 + c1 * std::cos(b) + c2 * std::sin(b);
       low_s = std::min(at_a, at_b);
       high_s = std::max(at_a, at_b);
-      // The extremes of the sinusoid: alpha* = atan2(c2, c1) (maximum) and alpha* + pi.
-      const double peak = std::atan2(c2, c1);
+      // The extremes of the sinusoid: the peak (maximum) and the peak + pi.
       for (int k = 0; k < 2; ++k) {
         const double extreme = peak + k * kPi;
         // The first angle >= a congruent to the extreme.
@@ -86,6 +92,7 @@ ClosureCondition Closure(const PathFourBar& four_bar) {
     condition.c2 = r * n.y();
     condition.low = -link;
     condition.high = link;
+    condition.Finish();
     return condition;
   }
   const Eigen::Vector2d offset = input.fixed_pivot - output.fixed_pivot;
@@ -101,7 +108,37 @@ ClosureCondition Closure(const PathFourBar& four_bar) {
     condition.low =
         std::abs(Perp(output.line_direction).dot(input.moving_pivot - output.line_point));
   }
+  condition.Finish();
   return condition;
+}
+
+// The coupler's turns (cos(theta), sin(theta)) that close the output with the crank pin at `pin`
+// (Sigma): AssembleFourBar's equation a cos + b sin = c (OutputTurnEquation) and its label order
+// (label 0: theta = atan2(b, a) + acos(c / rho)), solved for the unit vectors without angles,
+//   (a c -+ b s, b c +- a s) / rho^2,  s = sqrt(rho^2 - c^2),
+// with AssembleFourBar's tangency slack. Returns 0 or 2.
+int TurnsAtPin(const PathFourBar& four_bar, const Eigen::Vector2d& pin, double tolerance,
+               Eigen::Vector2d turns[2]) {
+  double a = 0.0, b = 0.0, c = 0.0, scale = 1.0;
+  OutputTurnEquation(four_bar.output, four_bar.input.moving_pivot, pin, &a, &b, &c, &scale);
+  const double rho_squared = a * a + b * b;
+  if (!(rho_squared > 0.0) || !std::isfinite(rho_squared)) return 0;
+  const double rho = std::sqrt(rho_squared);
+  double ratio = c / rho;
+  if (std::abs(ratio) > 1.0) {
+    if (std::abs(ratio) - 1.0 > tolerance / scale) return 0;
+    ratio = std::copysign(1.0, ratio);
+  }
+  const double across = std::sqrt(std::max(1.0 - ratio * ratio, 0.0));
+  const double ua = a / rho, ub = b / rho;
+  turns[0] = Eigen::Vector2d(ua * ratio - ub * across, ub * ratio + ua * across);
+  turns[1] = Eigen::Vector2d(ua * ratio + ub * across, ub * ratio - ua * across);
+  return 2;
+}
+
+// R(theta) v for the unit vector (cos(theta), sin(theta)).
+Eigen::Vector2d Turn(const Eigen::Vector2d& unit, const Eigen::Vector2d& v) {
+  return Eigen::Vector2d(unit.x() * v.x() - unit.y() * v.y(), unit.y() * v.x() + unit.x() * v.y());
 }
 
 // The configuration with assembly label `label` at crank angle `alpha`, if it assembles.
@@ -135,17 +172,33 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   const ClosureCondition closure = Closure(four_bar);
   analysis.input_rotates_fully = closure.Holds(alpha0, 2.0 * kPi, tolerance);
 
-  // The first point's assembly: the configuration nearest E = Sigma.
-  std::vector<PlanarPose> first;
-  const int count = AssembleFourBar(four_bar.input, four_bar.output, alpha0, tolerance, &first);
-  if (count == 0) {
+  // The crank pin at each point: the arm B -> A turned by psi_j - psi_0.
+  const Eigen::Vector2d pivot = four_bar.input.fixed_pivot;
+  const Eigen::Vector2d arm = four_bar.input.moving_pivot - pivot;
+  const Eigen::Vector2d& m1 = four_bar.input.moving_pivot;        // the pin, in E
+  const Eigen::Vector2d point_arm = four_bar.coupler_point - m1;  // pin -> coupler point, in E
+  const auto pin_at = [&](size_t j) {
+    const double turn = input_angles[j] - input_angles[0];
+    return Eigen::Vector2d(pivot + Turn(Eigen::Vector2d(std::cos(turn), std::sin(turn)), arm));
+  };
+
+  // The first point's assembly: the configuration nearest E = Sigma (turn nearest 0, the pin
+  // being where E has it).
+  Eigen::Vector2d turns[2];
+  if (TurnsAtPin(four_bar, m1, tolerance, turns) == 0) {
     analysis.error_note = "does not assemble at the first point";
     return analysis;
   }
   analysis.assembles = true;
   analysis.label = 0;
-  if (count == 2 &&
-      PoseError(first[1], PlanarPose(), length) < PoseError(first[0], PlanarPose(), length)) {
+  const auto pose_of = [&](const Eigen::Vector2d& pin, const Eigen::Vector2d& unit) {
+    PlanarPose pose;
+    pose.theta = std::atan2(unit.y(), unit.x());
+    pose.origin_in_fixed = pin - Turn(unit, m1);
+    return pose;
+  };
+  if (PoseError(pose_of(m1, turns[1]), PlanarPose(), length) <
+      PoseError(pose_of(m1, turns[0]), PlanarPose(), length)) {
     analysis.label = 1;
   }
 
@@ -154,25 +207,22 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   double sum_squared = 0.0, largest = 0.0, nearest_largest = 0.0;
   analysis.point_errors.reserve(points.size());
   analysis.configurations.reserve(points.size());
-  std::vector<PlanarPose> poses = first;
-  poses.reserve(2);
   for (size_t j = 0; j < points.size(); ++j) {
     const double step = j == 0 ? 0.0 : input_angles[j] - input_angles[j - 1];
     if (j > 0 && !closure.Holds(alpha, step, tolerance)) branch = true;
     alpha += step;
-    const int here =
-        j == 0 ? count : AssembleFourBar(four_bar.input, four_bar.output, alpha, tolerance, &poses);
-    if (here == 0) {
+    const Eigen::Vector2d pin = j == 0 ? m1 : pin_at(j);
+    if (j > 0 && TurnsAtPin(four_bar, pin, tolerance, turns) == 0) {
       analysis.error_note =
           "cannot be assembled at the input angle of points[" + std::to_string(j) + "]";
       analysis.point_errors.clear();
       analysis.configurations.clear();
       break;
     }
-    const PlanarPose& tracked = poses[std::min(analysis.label, here - 1)];
-    const PlanarPose& other = poses[here == 2 ? 1 - analysis.label : 0];
-    const double error = (tracked.ToFixed(four_bar.coupler_point) - points[j]).norm();
-    const double other_error = (other.ToFixed(four_bar.coupler_point) - points[j]).norm();
+    const Eigen::Vector2d& tracked = turns[analysis.label];
+    const Eigen::Vector2d& other = turns[1 - analysis.label];
+    const double error = (pin + Turn(tracked, point_arm) - points[j]).norm();
+    const double other_error = (pin + Turn(other, point_arm) - points[j]).norm();
     nearest_largest = std::max(nearest_largest, std::min(error, other_error));
     // Met on the other assembly only (at less than half the error).
     if (error > tolerance && other_error < 0.5 * error) {
@@ -183,7 +233,7 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
       }
     }
     analysis.point_errors.push_back(error);
-    analysis.configurations.push_back(tracked);
+    analysis.configurations.push_back(pose_of(pin, tracked));
     sum_squared += error * error;
     largest = std::max(largest, error);
   }

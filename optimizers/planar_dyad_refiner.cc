@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
 #include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
@@ -298,22 +299,13 @@ Attempt RefineModel(const ScaledTask& task, const PlanarDyad& start,
 // P_j = R_j M + d_j, at the weighted mean of n . P_j (the best offset for that normal); same M.
 PlanarDyad LimitLineInFixed(const ScaledTask& task, const PlanarDyad& circle) {
   std::vector<Eigen::Vector2d> points(task.rotations.size());
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  double weight_sum = 0.0;
   for (size_t j = 0; j < points.size(); ++j) {
     points[j] = task.rotations[j] * circle.moving_pivot + task.origins[j];
-    mean += task.weights[j] * points[j];
-    weight_sum += task.weights[j];
   }
-  mean /= weight_sum;
-  Eigen::Vector2d normal = mean - circle.fixed_pivot;
-  if (!(normal.norm() > 0.0) || !normal.allFinite()) normal = Eigen::Vector2d::UnitY();
-  normal.normalize();
-  double offset = 0.0;
-  for (size_t j = 0; j < points.size(); ++j) offset += task.weights[j] * normal.dot(points[j]);
-  offset /= weight_sum;
-  return PlanarDyad::PR(circle.moving_pivot, offset * normal,
-                        Eigen::Vector2d(normal.y(), -normal.x()));
+  const Hyperplane<2> line =
+      LimitHyperplane<2>(points, task.weights, circle.fixed_pivot, true, Eigen::Vector2d::UnitY());
+  return PlanarDyad::PR(circle.moving_pivot, line.offset * line.normal,
+                        Eigen::Vector2d(line.normal.y(), -line.normal.x()));
 }
 
 // The RP limit of an RR dyad whose moving pivot runs off to infinity in E: the fixed pivot seen
@@ -321,22 +313,13 @@ PlanarDyad LimitLineInFixed(const ScaledTask& task, const PlanarDyad& circle) {
 // weighted mean of the e_j to M, at the weighted mean of n . e_j; same F.
 PlanarDyad LimitLineInMoving(const ScaledTask& task, const PlanarDyad& circle) {
   std::vector<Eigen::Vector2d> seen(task.rotations.size());
-  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
-  double weight_sum = 0.0;
   for (size_t j = 0; j < seen.size(); ++j) {
     seen[j] = task.rotations[j].transpose() * (circle.fixed_pivot - task.origins[j]);
-    mean += task.weights[j] * seen[j];
-    weight_sum += task.weights[j];
   }
-  mean /= weight_sum;
-  Eigen::Vector2d normal = circle.moving_pivot - mean;
-  if (!(normal.norm() > 0.0) || !normal.allFinite()) normal = Eigen::Vector2d::UnitY();
-  normal.normalize();
-  double offset = 0.0;
-  for (size_t j = 0; j < seen.size(); ++j) offset += task.weights[j] * normal.dot(seen[j]);
-  offset /= weight_sum;
-  return PlanarDyad::RP(circle.fixed_pivot, offset * normal,
-                        Eigen::Vector2d(normal.y(), -normal.x()));
+  const Hyperplane<2> line =
+      LimitHyperplane<2>(seen, task.weights, circle.moving_pivot, false, Eigen::Vector2d::UnitY());
+  return PlanarDyad::RP(circle.fixed_pivot, line.offset * line.normal,
+                        Eigen::Vector2d(line.normal.y(), -line.normal.x()));
 }
 
 // Whether a slider (4 parameters) suffices against the circle (RR, 5) on n poses: a slider that

@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimizers/limit_hyperplane.h"
 #include "optimizers/refiner_input.h"
 #include "optimizers/solver_options.h"
 
@@ -135,20 +136,12 @@ Fit Evaluate(const ScaledTask& task, const SpatialDyad& dyad) {
 // that normal and c), same moving pivot.
 SpatialDyad LimitPlane(const ScaledTask& task, const SpatialDyad& sphere) {
   std::vector<Eigen::Vector3d> points(task.rotations.size());
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  double weight_sum = 0.0;
   for (size_t j = 0; j < points.size(); ++j) {
     points[j] = task.rotations[j] * sphere.moving_pivot + task.translations[j];
-    centroid += task.weights[j] * points[j];
-    weight_sum += task.weights[j];
   }
-  centroid /= weight_sum;
-  Eigen::Vector3d normal = centroid - sphere.fixed_pivot;
-  if (!(normal.norm() > 0.0) || !normal.allFinite()) normal = Eigen::Vector3d::UnitZ();
-  normal.normalize();
-  double offset = 0.0;
-  for (size_t j = 0; j < points.size(); ++j) offset += task.weights[j] * normal.dot(points[j]);
-  return SpatialDyad::PS(sphere.moving_pivot, normal, offset / weight_sum);
+  const Hyperplane<3> plane =
+      LimitHyperplane<3>(points, task.weights, sphere.fixed_pivot, true, Eigen::Vector3d::UnitZ());
+  return SpatialDyad::PS(sphere.moving_pivot, plane.normal, plane.offset);
 }
 
 Attempt RefineSphere(const ScaledTask& task, const SpatialDyad& seed,

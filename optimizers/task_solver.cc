@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
 
 namespace linkfit {
@@ -19,34 +20,25 @@ constexpr double kFarMovingPoint = 10.0;
 // the plane of E normal to the moving point's direction (as seen from the points e_j where E
 // sees A), through their weighted mean; returned as the PS dyad of the inverted motion.
 SpatialDyad LimitPlaneInMoving(const SpatialDyad& dyad, const Task& task) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  double weight_sum = 0.0;
   std::vector<Eigen::Vector3d> seen;
-  for (size_t j = 0; j < task.spatial_poses.size(); ++j) {
-    const DualQuaternion& pose = task.spatial_poses[j];
+  for (const DualQuaternion& pose : task.spatial_poses) {
     seen.push_back(pose.Rotation().transpose() * (dyad.fixed_pivot - pose.Translation()));
-    const double weight = task.pose_weights.empty() ? 1.0 : task.pose_weights[j];
-    mean += weight * seen.back();
-    weight_sum += weight;
   }
-  mean /= weight_sum;
-  const Eigen::Vector3d normal = (dyad.moving_pivot - mean).normalized();
-  return SpatialDyad::PS(dyad.fixed_pivot, normal, normal.dot(mean));
+  const Hyperplane<3> plane = LimitHyperplane<3>(seen, task.pose_weights, dyad.moving_pivot, false,
+                                                 Eigen::Vector3d::UnitZ());
+  return SpatialDyad::PS(dyad.fixed_pivot, plane.normal, plane.offset);
 }
 
 // The PS limit of an SS dyad whose center runs off to infinity: the plane normal to the
 // center's direction, through the weighted mean of the moving point's positions.
 SpatialDyad LimitPlaneInFixed(const SpatialDyad& dyad, const Task& task) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  double weight_sum = 0.0;
-  for (size_t j = 0; j < task.spatial_poses.size(); ++j) {
-    const double weight = task.pose_weights.empty() ? 1.0 : task.pose_weights[j];
-    mean += weight * task.spatial_poses[j].ToFixed(dyad.moving_pivot);
-    weight_sum += weight;
+  std::vector<Eigen::Vector3d> points;
+  for (const DualQuaternion& pose : task.spatial_poses) {
+    points.push_back(pose.ToFixed(dyad.moving_pivot));
   }
-  mean /= weight_sum;
-  const Eigen::Vector3d normal = (mean - dyad.fixed_pivot).normalized();
-  return SpatialDyad::PS(dyad.moving_pivot, normal, normal.dot(mean));
+  const Hyperplane<3> plane = LimitHyperplane<3>(points, task.pose_weights, dyad.fixed_pivot, true,
+                                                 Eigen::Vector3d::UnitZ());
+  return SpatialDyad::PS(dyad.moving_pivot, plane.normal, plane.offset);
 }
 
 // The nested-model test between a plane (6 parameters) and a sphere (7) fitted to n poses:

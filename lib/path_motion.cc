@@ -27,10 +27,6 @@ struct ClosureCondition {
   bool squared = false;  // the sinusoid is f^2 (a distance), not f
   double low = -kInfinity, high = kInfinity;
 
-  double Value(double alpha) const {
-    const double s = c0 + c1 * std::cos(alpha) + c2 * std::sin(alpha);
-    return squared ? std::sqrt(std::max(s, 0.0)) : s;
-  }
   double amplitude = 0.0;  // hypot(c1, c2)
   double peak = 0.0;       // atan2(c2, c1): where the sinusoid is largest
 

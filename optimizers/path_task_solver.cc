@@ -169,23 +169,21 @@ StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point
   return stage;
 }
 
-// Refines each report's four-bar (prescribed or free timing), re-measured after.
-void RefineAll(const PathData& data, bool free_timing, const PathRefinerOptions& options,
+// Refines each report's four-bar under the prescribed timing, re-measured after.
+void RefineAll(const PathData& data, const PathRefinerOptions& options,
                std::vector<PathMechanismReport>* reports) {
   for (PathMechanismReport& report : *reports) {
-    std::vector<double> angles = free_timing ? report.input_angles : data.angles;
+    std::vector<double> angles = data.angles;
     PathFourBar design = report.design;
     try {
-      RefinePathFourBar(data.points, data.weights, data.exact, data.length, free_timing, &angles,
-                        &design, options);
+      RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
+                        options);
     } catch (const std::invalid_argument&) {
-      continue;  // a seed the refiner cannot take (e.g. timing not monotonic) stays as it is
+      continue;  // a seed the refiner cannot take stays as it is
     }
     const std::optional<double> seed_max = report.max_point_error;
-    PathMechanismReport refined = Report(design, data, angles);
-    refined.seed_max_point_error = seed_max;
-    if (free_timing) refined.input_angles = angles;
-    report = refined;
+    report = Report(design, data, angles);
+    report.seed_max_point_error = seed_max;
   }
 }
 
@@ -206,7 +204,7 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
   result->stages.push_back(Stage("seed", stage_start, candidates));
   if (task.effort != Effort::kFast) {
     const auto refine_start = std::chrono::steady_clock::now();
-    RefineAll(data, false, options.path_refiner, &candidates);
+    RefineAll(data, options.path_refiner, &candidates);
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
   if (task.effort == Effort::kThorough) {

@@ -93,6 +93,24 @@ std::pair<size_t, size_t> LineColumn(const std::string& text, size_t offset) {
   return {line, column};
 }
 
+// "7 poses given" ("1 pose given"): `plural` is "poses" or "points".
+std::string ItemCount(const std::string& plural, size_t count) {
+  const std::string noun = count == 1 ? plural.substr(0, plural.size() - 1) : plural;
+  return std::to_string(count) + " " + noun + " given";
+}
+
+// The message for more poses or points than the limit, the same from the parser and from the
+// later count.
+std::string OverLimit(const std::string& plural, size_t count, size_t limit) {
+  return ItemCount(plural, count) + ", more than the limit of " + std::to_string(limit);
+}
+
+// JSON values per pose or point that a task may hold before it is refused as too large. The
+// largest pose form (rotation matrix, translation, weight, exact) is 20 values; pivots, platform
+// and options add a few hundred at most, covered by kExtraItems.
+constexpr size_t kValuesPerItem = 32;
+constexpr size_t kExtraItems = 128;
+
 // Tracks where the parser is (for messages about a value the parser itself rejects, such as
 // 1e999) and rejects duplicate keys, which nlohmann would otherwise silently resolve.
 class ParsePath {
@@ -101,9 +119,25 @@ class ParsePath {
   std::string Current() const {
     std::string item;
     for (const Frame& frame : frames_) {
+      // An object before its first key is itself the item.
+      if (!frame.is_array && frame.keys.empty()) break;
       item = frame.is_array ? IndexItem(item, frame.count) : KeyItem(item, frame.key);
     }
     return item;
+  }
+
+  // Open containers, the top-level value included.
+  size_t depth() const { return frames_.size(); }
+  // The elements completed so far in the innermost container when it is an array.
+  size_t ArrayCount() const {
+    return !frames_.empty() && frames_.back().is_array ? frames_.back().count : 0;
+  }
+  // "poses" or "points" when the innermost container is that array of the top-level object,
+  // else empty.
+  std::string ItemList() const {
+    if (frames_.size() != 2 || frames_[0].is_array || !frames_[1].is_array) return "";
+    const std::string& key = frames_[0].key;
+    return key == "poses" || key == "points" ? key : "";
   }
 
   void Start(bool is_array) { frames_.push_back(Frame{is_array, 0, {}, {}}); }
@@ -134,41 +168,69 @@ class ParsePath {
 
 // SAX handler: nlohmann's own DOM builder, with the path tracked alongside. (nlohmann's
 // callback parser is quadratic in the length of an array of objects, so it is not used.)
+// Memory stays bounded while parsing: "poses" or "points" beyond options.max_items are
+// counted but not built (the count is then reported as by TaskParser::Items), and a text of
+// more JSON values than such a task can hold is refused at the first value too many.
 class TrackingSax {
  public:
-  TrackingSax(Json* root, const std::string& source) : dom_(*root, true), source_(source) {}
+  TrackingSax(Json* root, const std::string& source, const TaskReadOptions& options)
+      : dom_(*root, true),
+        source_(source),
+        max_items_(options.max_items),
+        max_values_(options.max_items >
+                            std::numeric_limits<size_t>::max() / kValuesPerItem - kExtraItems
+                        ? std::numeric_limits<size_t>::max()
+                        : kValuesPerItem * (options.max_items + kExtraItems)) {}
   const ParsePath& path() const { return path_; }
 
-  bool null() { return Scalar(dom_.null()); }
-  bool boolean(bool value) { return Scalar(dom_.boolean(value)); }
-  bool number_integer(Json::number_integer_t value) { return Scalar(dom_.number_integer(value)); }
+  bool null() {
+    return Scalar([&] { return dom_.null(); });
+  }
+  bool boolean(bool value) {
+    return Scalar([&] { return dom_.boolean(value); });
+  }
+  bool number_integer(Json::number_integer_t value) {
+    return Scalar([&] { return dom_.number_integer(value); });
+  }
   bool number_unsigned(Json::number_unsigned_t value) {
-    return Scalar(dom_.number_unsigned(value));
+    return Scalar([&] { return dom_.number_unsigned(value); });
   }
   bool number_float(Json::number_float_t value, const std::string& text) {
-    return Scalar(dom_.number_float(value, text));
+    return Scalar([&] { return dom_.number_float(value, text); });
   }
-  bool string(std::string& value) { return Scalar(dom_.string(value)); }
-  bool binary(Json::binary_t& value) { return Scalar(dom_.binary(value)); }
+  bool string(std::string& value) {
+    return Scalar([&] { return dom_.string(value); });
+  }
+  bool binary(Json::binary_t& value) {
+    return Scalar([&] { return dom_.binary(value); });
+  }
   bool start_object(std::size_t size) {
+    const bool keep = Keep();
     path_.Start(false);
-    return dom_.start_object(size);
+    return !keep || dom_.start_object(size);
   }
   bool key(std::string& key) {
     if (!path_.Key(key)) throw InputError(source_ + ": " + path_.Current() + ": field given twice");
-    return dom_.key(key);
+    return skip_depth_ > 0 || dom_.key(key);
   }
   bool end_object() {
     path_.End();
-    return dom_.end_object();
+    return skip_depth_ > 0 || dom_.end_object();
   }
   bool start_array(std::size_t size) {
+    const bool keep = Keep();
     path_.Start(true);
-    return dom_.start_array(size);
+    return !keep || dom_.start_array(size);
   }
   bool end_array() {
+    if (skip_depth_ > 0 && path_.depth() == skip_depth_) {
+      // The end of the poses or points beyond the limit: all are counted now.
+      const std::string list = path_.ItemList();
+      throw InputError(source_ + ": " + list + ": " +
+                       OverLimit(list, path_.ArrayCount(), max_items_));
+    }
     path_.End();
-    return dom_.end_array();
+    return skip_depth_ > 0 || dom_.end_array();
   }
   template <class Exception>
   bool parse_error(std::size_t position, const std::string& last_token, const Exception& error) {
@@ -176,7 +238,26 @@ class TrackingSax {
   }
 
  private:
-  bool Scalar(bool result) {
+  // Called as a value begins: whether it goes into the DOM. Starts skipping at the first pose
+  // or point beyond the limit; refuses the value beyond the budget.
+  bool Keep() {
+    if (skip_depth_ > 0) return false;
+    if (path_.ArrayCount() >= max_items_ && !path_.ItemList().empty()) {
+      skip_depth_ = path_.depth();
+      return false;
+    }
+    if (++values_ > max_values_) {
+      const std::string item = path_.Current();
+      throw InputError(source_ + ": " + (item.empty() ? "top level" : item) +
+                       ": too many JSON values (more than " + std::to_string(max_values_) +
+                       "; a task has at most " + std::to_string(max_items_) + " poses or points)");
+    }
+    return true;
+  }
+
+  template <typename Add>
+  bool Scalar(const Add& add) {
+    const bool result = !Keep() || add();
     path_.Value();
     return result;
   }
@@ -184,6 +265,10 @@ class TrackingSax {
   nlohmann::detail::json_sax_dom_parser<Json> dom_;
   ParsePath path_;
   std::string source_;
+  size_t max_items_;
+  size_t max_values_;
+  size_t values_ = 0;      // values built into the DOM so far
+  size_t skip_depth_ = 0;  // when skipping: the depth of the poses or points array, else 0
 };
 
 // Validates the fields of one task; `source` prefixes every message.
@@ -333,7 +418,7 @@ class TaskParser {
     }
     CheckDepth(text);
     Json root;
-    TrackingSax sax(&root, source_);
+    TrackingSax sax(&root, source_, options_);
     const ParsePath& path = sax.path();
     try {
       Json::sax_parse(text, &sax);
@@ -533,14 +618,13 @@ class TaskParser {
                     const std::string& purpose) const {
     const Json& items = Field(root, "", key);
     if (!items.is_array()) Fail(key, "expected an array, got " + Describe(items));
-    const std::string plural = key;  // "poses" or "points"
-    const std::string noun = items.size() == 1 ? plural.substr(0, plural.size() - 1) : plural;
-    const std::string count = std::to_string(items.size()) + " " + noun + " given";
     if (items.size() < minimum) {
-      Fail(key, count + ", " + purpose + " needs at least " + std::to_string(minimum));
+      Fail(key, ItemCount(key, items.size()) + ", " + purpose + " needs at least " +
+                    std::to_string(minimum));
     }
+    // TrackingSax already stops at the limit while parsing; this is the check of record.
     if (items.size() > options_.max_items) {
-      Fail(key, count + ", more than the limit of " + std::to_string(options_.max_items));
+      Fail(key, OverLimit(key, items.size(), options_.max_items));
     }
     return items;
   }

@@ -293,6 +293,74 @@ TEST(TaskIoErrors, Counts) {
   EXPECT_EQ(ErrorOf(json, options), "task.json: poses: 7 poses given, more than the limit of 6");
 }
 
+// The item limit bites while parsing: poses or points beyond it are counted, not built, and
+// the message is the one of the count check (before the unknown field, which a complete parse
+// would name first).
+TEST(TaskIoErrors, ItemLimitWhileParsing) {
+  TaskReadOptions options;
+  options.max_items = 6;
+  std::string poses;
+  for (int i = 0; i < 10; ++i) {
+    poses += std::string(i ? ", " : "") + "{\"x\": " + std::to_string(i) +
+             ", \"y\": " + std::to_string(i * i) + ", \"theta_deg\": " + std::to_string(3 * i) +
+             "}";
+  }
+  EXPECT_EQ(ErrorOf("{\"poses\": [" + poses + "], \"bogus\": 1}", options),
+            "task.json: poses: 10 poses given, more than the limit of 6");
+  EXPECT_EQ(ErrorOf("{\"bogus\": 1, \"poses\": [" + poses + "]}", options),
+            "task.json: poses: 10 poses given, more than the limit of 6");
+  // Poses beyond the limit are still read as JSON.
+  const std::string malformed = "{\"poses\": [" + poses + ", {\"x\": 1,, }]}";
+  EXPECT_TRUE(StartsWith(ErrorOf(malformed, options),
+                         "task.json: malformed JSON at line 1, column " +
+                             std::to_string(malformed.find(",,") + 2) + " (near poses[10].x): "))
+      << ErrorOf(malformed, options);
+  // Nested arrays inside the poses beyond the limit do not end the count.
+  Json spatial = {{"space", "spatial"}, {"poses", Json::array()}};
+  for (int i = 0; i < 8; ++i) {
+    spatial["poses"].push_back(
+        {{"rotation", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}, {"translation", {i, 0, 0}}});
+  }
+  options.max_items = 3;
+  EXPECT_EQ(ErrorOf(spatial, options), "task.json: poses: 8 poses given, more than the limit of 3");
+  // The limit is on poses and points, not on other arrays (q has four numbers).
+  options.max_items = 2;
+  const Json two = {{"space", "spatial"},
+                    {"poses",
+                     {{{"q", {0.0, 0.0, 0.0, 1.0}}, {"g", {0.0, 0.0, 0.0, 0.0}}},
+                      {{"q", {0.0, 0.0, 0.0, 1.0}}, {"g", {0.5, 0.0, 0.0, 0.0}}}}}};
+  EXPECT_EQ(ErrorOf(two, options), "<no error>");
+  Json path = PathTaskJson();
+  options.max_items = 4;
+  EXPECT_EQ(ErrorOf(path, options), "task.json: points: 5 points given, more than the limit of 4");
+  options.max_items = 0;
+  EXPECT_EQ(ErrorOf(path, options), "task.json: points: 5 points given, more than the limit of 0");
+}
+
+// Junk elsewhere cannot build a DOM larger than a task within the limit: the JSON values are
+// budgeted at 32 per pose or point (the largest pose form has 20) plus 32 * 128.
+TEST(TaskIoErrors, ValueBudget) {
+  TaskReadOptions options;
+  options.max_items = 10;  // budget 32 * (10 + 128) = 4416 values
+  std::string junk = "{\"junk\": [0";
+  for (int i = 1; i < 5000; ++i) junk += ",0";
+  junk += "]}";
+  // The root object and the array are values 1 and 2, junk[4414] is value 4417.
+  EXPECT_EQ(ErrorOf(junk, options),
+            "task.json: junk[4414]: too many JSON values (more than 4416; a task has at most 10 "
+            "poses or points)");
+  EXPECT_TRUE(StartsWith(ErrorOf(junk), "task.json: junk: unknown field"));
+  // A task as large as the limit allows: ten spatial poses in the largest form.
+  Json json = {{"space", "spatial"}, {"poses", Json::array()}, {"options", {{"effort", "fast"}}}};
+  for (int i = 0; i < 10; ++i) {
+    json["poses"].push_back({{"rotation", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+                             {"translation", {i, 0, 0}},
+                             {"weight", 2.0},
+                             {"exact", false}});
+  }
+  EXPECT_EQ(ErrorOf(json, options), "<no error>");
+}
+
 TEST(TaskIoErrors, NonFiniteNumbers) {
   const std::string five = PlanarTaskJson().dump();
   std::string text = five;
@@ -325,6 +393,15 @@ TEST(TaskIoErrors, MalformedJson) {
       StartsWith(ErrorOf("{\"poses\": [tru]}"), "task.json: malformed JSON at line 1, column"));
   EXPECT_TRUE(StartsWith(ErrorOf("{\"poses\": ["),
                          "task.json: malformed JSON at line 1, column 12 (near poses[0]): "));
+  // An object cut before its first key is itself the item.
+  EXPECT_TRUE(StartsWith(ErrorOf("{\"poses\": [{"),
+                         "task.json: malformed JSON at line 1, column 13 (near poses[0]): "))
+      << ErrorOf("{\"poses\": [{");
+  EXPECT_TRUE(StartsWith(ErrorOf("{"), "task.json: malformed JSON at line 1, column 2: syntax"))
+      << ErrorOf("{");
+  EXPECT_TRUE(StartsWith(ErrorOf("{\"\": 1"),
+                         "task.json: malformed JSON at line 1, column 7 (near \"\"): "))
+      << ErrorOf("{\"\": 1");
   EXPECT_TRUE(StartsWith(ErrorOf("{} {}"), "task.json: malformed JSON at line 1, column 4: "));
   EXPECT_EQ(ErrorOf(""), "task.json: no JSON text (empty input)");
   EXPECT_EQ(ErrorOf(" \n\t"), "task.json: no JSON text (empty input)");

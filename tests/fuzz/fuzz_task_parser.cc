@@ -1,0 +1,123 @@
+// libFuzzer target for the task parser: any text given to ParseTask (and ParseDesign) either
+// parses into a task that holds what validation promises, or ends in an InputError with one
+// printable line naming the source. Anything else (another exception, a crash, a sanitizer
+// report, a message that breaks the contract, an accepted task with a non-finite number) is
+// a finding. Built with -fsanitize=fuzzer by scripts/fuzz.sh; replay_main.cc runs it on the
+// seed corpus in every build.
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
+
+#include "lib/task_io.h"
+
+namespace {
+
+constexpr char kSource[] = "fuzz.json";
+
+[[noreturn]] void Finding(const std::string& what) {
+  std::fprintf(stderr, "fuzz_task_parser: %s\n", what.c_str());
+  std::abort();
+}
+
+// The error contract of task_io.h: "<source>: ..." on one printable line.
+void CheckMessage(const char* what) {
+  const std::string message = what;
+  if (message.rfind(std::string(kSource) + ": ", 0) != 0) {
+    Finding("message does not start with the source: " + message);
+  }
+  for (const char c : message) {
+    if (c < 0x20 || c >= 0x7f) Finding("unprintable byte in message: " + message);
+  }
+}
+
+template <typename Matrix>
+void CheckFinite(const Matrix& value, const char* what) {
+  if (!value.allFinite()) Finding(std::string("accepted a non-finite ") + what);
+}
+
+void CheckTask(const linkfit::Task& task, const linkfit::TaskReadOptions& options) {
+  const size_t poses = task.planar_poses.size() + task.spatial_poses.size();
+  if (poses > options.max_items || task.points.size() > options.max_items) {
+    Finding("accepted more poses or points than the limit");
+  }
+  if (task.problem == linkfit::ProblemKind::kMotion) {
+    if (poses == 0 || !task.points.empty()) Finding("motion task without poses or with points");
+    if (task.space == linkfit::Space::kPlanar && task.planar_poses.size() < 3) {
+      Finding("planar motion task with fewer than three poses");
+    }
+  } else if (task.points.empty() || poses != 0) {
+    Finding("path task without points or with poses");
+  }
+  if (task.pose_weights.size() != poses || task.pose_exact.size() != poses) {
+    Finding("one weight and one exact flag per pose");
+  }
+  for (const double weight : task.pose_weights) {
+    if (!(weight > 0.0) || !std::isfinite(weight)) Finding("accepted a bad weight");
+  }
+  for (const auto& pose : task.planar_poses) {
+    CheckFinite(pose.origin_in_fixed, "planar pose");
+    if (!std::isfinite(pose.theta)) Finding("accepted a non-finite angle");
+  }
+  for (const auto& pose : task.spatial_poses) {
+    CheckFinite(pose.q, "quaternion");
+    CheckFinite(pose.g, "dual part");
+    if (!(std::abs(pose.q.norm() - 1.0) <= 1e-9)) Finding("accepted a non-unit quaternion");
+  }
+  for (const auto& point : task.points) {
+    CheckFinite(point.point_in_fixed, "path point");
+    if (point.input_angle && !std::isfinite(*point.input_angle)) {
+      Finding("accepted a non-finite input angle");
+    }
+    if (!(point.weight > 0.0) || !std::isfinite(point.weight)) Finding("accepted a bad weight");
+  }
+  for (const auto& pivot : task.moving_pivots) CheckFinite(pivot, "pivot");
+  for (const auto& pivot : task.fixed_pivots) CheckFinite(pivot, "pivot");
+  for (const auto& pivot : task.spatial_moving_pivots) CheckFinite(pivot, "pivot");
+  for (const auto& pivot : task.spatial_fixed_pivots) CheckFinite(pivot, "pivot");
+  if (task.scale && !(*task.scale > 0.0 && std::isfinite(*task.scale))) {
+    Finding("accepted a bad scale");
+  }
+}
+
+void CheckDesign(const linkfit::PlanarDesign& design) {
+  if (design.dyads.empty()) Finding("design without dyads");
+  for (const auto& dyad : design.dyads) {
+    CheckFinite(dyad.fixed_pivot, "fixed pivot");
+    CheckFinite(dyad.moving_pivot, "moving pivot");
+    CheckFinite(dyad.line_point, "line point");
+    CheckFinite(dyad.line_direction, "line direction");
+    if (!std::isfinite(dyad.radius)) Finding("accepted a non-finite radius");
+  }
+  const int count = static_cast<int>(design.dyads.size());
+  for (const auto& [input, output] : design.mechanisms) {
+    if (input < 0 || input >= count || output < 0 || output >= count || input == output) {
+      Finding("accepted a mechanism with bad dyad indices");
+    }
+  }
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  // The default options, and a limit small enough for inputs of a few kB to reach the limit
+  // on poses or points and the budget of JSON values (32 * (8 + 128)).
+  linkfit::TaskReadOptions small;
+  small.max_items = 8;
+  for (const linkfit::TaskReadOptions& options : {linkfit::TaskReadOptions(), small}) {
+    try {
+      CheckTask(linkfit::ParseTask(text, kSource, options), options);
+    } catch (const linkfit::InputError& error) {
+      CheckMessage(error.what());
+    }
+  }
+  try {
+    CheckDesign(linkfit::ParseDesign(text, kSource));
+  } catch (const linkfit::InputError& error) {
+    CheckMessage(error.what());
+  }
+  return 0;
+}

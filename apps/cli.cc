@@ -2,6 +2,7 @@
 // solves and writes; this file only maps outcomes to output and exit status.
 #include "apps/cli.h"
 
+#include <glog/logging.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -18,6 +19,7 @@
 #include <vector>
 
 #include "apps/picture.h"
+#include "apps/trade_bench.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
@@ -438,6 +440,20 @@ int Run(int argc, char** argv) {
                    "which mechanism of the design to refine (1 = the first listed)")
       ->check(CLI::PositiveNumber);
 
+  BenchOptions bench_options;
+  bool trade_only = false, extremes_only = false;
+  CLI::App* bench = app.add_subcommand(
+      "bench",
+      "Measure the speed/accuracy trade of every solver path and effort level on generated "
+      "tasks (trade.csv, trade.svg) and the stability sweep at the numerical extremes "
+      "(extremes.csv).");
+  bench->add_flag("--quick", bench_options.quick, "few tasks per cell: about a minute on one core");
+  bench->add_option("-o,--output-dir", bench_options.output_dir,
+                    "directory for trade.csv, trade.svg and extremes.csv (default: .)");
+  bench->add_option("--seed", bench_options.seed, "seed of the random task families");
+  bench->add_flag("--trade-only", trade_only, "only the speed/accuracy trade");
+  bench->add_flag("--extremes-only", extremes_only, "only the extremes sweep");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
@@ -449,12 +465,21 @@ int Run(int argc, char** argv) {
   }
   if (solve->parsed()) return Solve(task_path, outputs);
   if (refine->parsed()) return Refine(refine_task, design_path, refine_output, refine_index);
+  if (bench->parsed()) {
+    bench_options.trade = !extremes_only;
+    bench_options.extremes = !trade_only;
+    return RunBench(bench_options);
+  }
   return kExitBadInput;  // unreachable: a subcommand is required
 }
 
 }  // namespace
 
 int RunCli(int argc, char** argv) {
+  // Ceres reports through glog at ERROR level even when its logging is SILENT (e.g. "Residual
+  // and Jacobian evaluation failed" when a refinement steps onto a stationary configuration,
+  // which the refiners handle). stderr belongs to the error contract: one line for bad input.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   try {
     return Run(argc, argv);
   } catch (const InputError& error) {

@@ -111,6 +111,14 @@ int ReadingsOf(const ConstraintVector& z, const std::vector<PoseFrame>& frames, 
 }
 
 int ChooseReading(const DyadReading readings[3], int count, double slider_tolerance) {
+  // A circle of radius r is itself evaluated to about 4 eps r (its centre is stored to
+  // ulp(r)): a slider fitting within that is as good as the circle can be.
+  for (int i = 0; i < count; ++i) {
+    if (readings[i].dyad.type == DyadType::kRR) {
+      slider_tolerance = std::max(
+          slider_tolerance, 4.0 * std::numeric_limits<double>::epsilon() * readings[i].dyad.radius);
+    }
+  }
   int best = -1;
   for (int i = 0; i < count; ++i) {
     if (best < 0 || (readings[i].max_residual < readings[best].max_residual &&

@@ -113,7 +113,8 @@ int ReadingsOf(const ConstraintVector& z, const std::vector<PoseFrame>& frames, 
                DyadReading readings[3]);
 
 // The typing rule: a slider reading (listed first) is taken when it fits the poses within
-// `slider_tolerance` or at least as well as the circle reading, so that a radius beyond what
+// `slider_tolerance` (raised to the circle's own rounding floor, 4 eps r: a centre r away is
+// stored to ulp(r)) or at least as well as the circle reading, so that a radius beyond what
 // rounding can tell from infinity is reported as a slider, consistently in both directions.
 // Returns the index of the chosen reading (-1 when count is 0).
 int ChooseReading(const DyadReading readings[3], int count, double slider_tolerance);

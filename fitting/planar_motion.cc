@@ -97,10 +97,18 @@ void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
   result->roots_real = summary.roots_real;
   if (summary.degenerate) {
     result->notes.push_back(
-        "the pose constraints are dependent (condition estimate " +
+        "the pose constraints are dependent to working precision (ill-conditioned: condition "
+        "estimate " +
         Format("%.3g", summary.condition) +
         "): the poses admit a family of dyads, not isolated ones (e.g. all poses of one "
-        "orientation)");
+        "orientation, or two poses nearly coincident)");
+  } else if (poses.size() == 5 && summary.condition > options.ill_conditioned) {
+    // Measured on random four-bars with two nearly coincident poses (linkfit bench): the
+    // dyads' relative error is about condition * 1e-15, at worst condition * 3e-13.
+    result->notes.push_back(
+        "ill-conditioned: the five poses nearly admit a family of dyads (condition estimate " +
+        Format("%.3g", summary.condition) + "); the dyads may be off by up to about " +
+        Format("%.1g", 3e-13 * summary.condition) + " of their size");
   }
   for (const PlanarDyad& dyad : dyads) result->dyads.push_back({dyad, dyad.MaxResidual(poses)});
   std::sort(result->dyads.begin(), result->dyads.end(), DyadBefore);

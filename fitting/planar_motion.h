@@ -12,6 +12,9 @@ namespace linkfit {
 
 struct PlanarMotionOptions {
   PlanarBurmesterOptions burmester;  // root finding and typing
+  // Five poses whose constraint matrix has a condition estimate (sigma_1 / sigma_5) above this
+  // get an "ill-conditioned" note: their dyads may be off by more than about 1e-7 relative.
+  double ill_conditioned = 1e6;
 };
 
 // Solves a validated planar motion task (at least five poses). Never throws for numerical

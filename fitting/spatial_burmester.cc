@@ -280,6 +280,8 @@ int SolveBilinearSystem(const BilinearMatrices& matrices, const BilinearSolverOp
     }
     if (duplicate) continue;
     local.real_roots += root.real;
+    local.nearly_real += !root.real && std::max(ImaginaryShare(root.a), ImaginaryShare(root.c)) <=
+                                           options.nearly_real_share;
     roots->push_back(root);
   }
   local.roots = static_cast<int>(roots->size());
@@ -474,6 +476,7 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
   local.roots_total = count;
   local.roots_real = bilinear.real_roots;
   local.roots_verified = count - bilinear.unconverged;
+  local.nearly_real = bilinear.nearly_real;
 
   // P0 of eq. 10 for a real root: minus the weighted mean of the other terms.
   double weight_sum = 0.0;

@@ -56,6 +56,9 @@ struct BilinearSolverSummary {
   int roots = 0;        // roots returned (20 when generic)
   int real_roots = 0;   // of which real
   int unconverged = 0;  // roots whose polish did not reach the residual tolerance
+  // Complex roots whose imaginary share is at most nearly_real_share: near a double real root,
+  // where a one-ulp change of the data can turn two real dyads into a complex pair.
+  int nearly_real = 0;
 };
 
 struct BilinearSolverOptions {
@@ -64,6 +67,8 @@ struct BilinearSolverOptions {
   double rank_tolerance = 1e-10;
   // Imaginary part (relative) below which a root is polished in real arithmetic.
   double real_tolerance = 1e-6;
+  // Complex roots with an imaginary part (relative) below this are counted as nearly real.
+  double nearly_real_share = 1e-3;
   // Newton iterations on the bilinear equations per root.
   int newton_iterations = 4;
   // A polished root is verified when its residual is below this.
@@ -95,6 +100,7 @@ struct SpatialBurmesterSummary {
   double condition = 0.0;     // sigma_1 / sigma_6 of the centered n x 16 constraint rows
   double fit_residual = 0.0;  // more than seven poses: RMS algebraic residual of the seed space
   bool degenerate = false;    // rank-deficient rows or Macaulay matrix: a family of dyads
+  int nearly_real = 0;        // complex roots near a double real root (BilinearSolverSummary)
   double seconds = 0.0;       // wall time of the solve
 };
 

@@ -254,7 +254,8 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   result.condition = summary.condition;
   if (summary.degenerate) {
     result.notes.push_back(
-        "the constraint equations are rank-deficient (condition " +
+        "the constraint equations are rank-deficient to working precision (ill-conditioned: "
+        "condition " +
         Format("%.3g", summary.condition) +
         "): the poses admit a family of dyads, not finitely many; nearly planar or repeated "
         "motions do this");
@@ -263,7 +264,17 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   if (summary.roots_verified < summary.roots_total) {
     result.notes.push_back(std::to_string(summary.roots_total - summary.roots_verified) +
                            " of the " + std::to_string(summary.roots_total) +
-                           " roots did not polish to full accuracy (ill-conditioned task)");
+                           " roots did not polish to full accuracy (ill-conditioned task: "
+                           "condition estimate " +
+                           Format("%.3g", summary.condition) + ")");
+  }
+  if (summary.nearly_real > 0) {
+    result.notes.push_back(
+        std::to_string(summary.nearly_real) +
+        " complex roots are nearly real (imaginary part below 1e-3): ill-conditioned near a "
+        "double root, where rounding of the data can turn two real dyads into a complex pair "
+        "(condition estimate " +
+        Format("%.3g", summary.condition) + ")");
   }
   if (summary.imaginary_spheres > 0) {
     result.notes.push_back(std::to_string(summary.imaginary_spheres) +

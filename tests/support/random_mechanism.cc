@@ -48,6 +48,13 @@ bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, in
   start.theta = std::uniform_real_distribution<double>(-M_PI, M_PI)(rng);
   task->input = RandomDyadAt(rng, input_type, start);
   task->output = RandomDyadAt(rng, output_type, start);
+  return DriveFourBar(rng, start, count, task);
+}
+
+}  // namespace
+
+bool DriveFourBar(std::mt19937_64& rng, const PlanarPose& start, int count, GeneratedTask* task) {
+  const DyadType input_type = task->input.type;
   task->poses.assign(1, start);
 
   // The input advances by random steps between poses, in sub-steps of 1 degree (0.01 for a
@@ -95,8 +102,6 @@ bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, in
   }
   return true;
 }
-
-}  // namespace
 
 GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, int count) {
   GeneratedTask task;

@@ -26,6 +26,11 @@ struct GeneratedTask {
 // 0.05 L (scaled likewise), are drawn again.
 GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, int count = 5);
 
+// Drives the four-bar task->input + task->output (both satisfied at `start`) as RandomTask
+// does, writing `count` poses from `start` to task->poses. False when it locks up or two poses
+// come closer than RandomTask allows.
+bool DriveFourBar(std::mt19937_64& rng, const PlanarPose& start, int count, GeneratedTask* task);
+
 inline GeneratedTask RandomFourBarTask(std::mt19937_64& rng, int count = 5) {
   return RandomTask(rng, DyadType::kRR, DyadType::kRR, count);
 }

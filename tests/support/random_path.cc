@@ -7,7 +7,9 @@
 
 namespace linkfit::testing {
 
-GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count) {
+namespace {
+
+GeneratedPathTask TryPathTask(std::mt19937_64& rng, DyadType output, int count) {
   const GeneratedTask motion = RandomTask(rng, DyadType::kRR, output, count);
   std::uniform_real_distribution<double> box(-1.0, 1.0);
   PathFourBar four_bar;
@@ -26,6 +28,24 @@ GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int coun
     task.points.push_back(pose.ToFixed(four_bar.coupler_point));
   }
   return task;
+}
+
+}  // namespace
+
+GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count) {
+  // The motion generator follows the nearest configuration in 1-degree sub-steps, which can hop
+  // across a stationary configuration to the other branch. Driven by its crank from the first
+  // point, such a four-bar does not pass its own points: drawn again.
+  for (;;) {
+    GeneratedPathTask task = TryPathTask(rng, output, count);
+    const double length = PathLength(task.points);
+    const PathFourBarAnalysis analysis =
+        AnalyzePathFourBar(task.four_bar, task.points, task.input_angles, length);
+    if (analysis.defects.empty() && analysis.max_point_error &&
+        *analysis.max_point_error <= 1e-9 * length) {
+      return task;
+    }
+  }
 }
 
 double PathFourBarDistance(const PathFourBar& found, const PathFourBar& expected, double length) {

@@ -21,6 +21,8 @@ struct GeneratedPathTask {
 // A random four-bar with an RR crank and an `output` dyad (RandomTask, random_mechanism.h,
 // driven by the crank in one direction on one branch), a random coupler point in a box of
 // half-width 1 about E's origin, and the `count` points it passes with their crank angles.
+// Four-bars that, driven by the crank from the first point (AnalyzePathFourBar), show a defect
+// or miss a point by more than 1e-9 L are drawn again.
 GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count = 5);
 
 // The largest of DyadDistance over both dyads and |coupler point difference|, relative to

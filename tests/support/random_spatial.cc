@@ -79,10 +79,19 @@ std::vector<SpatialDyad> DyadsThroughPose(std::mt19937_64& rng, const DualQuater
 std::vector<DualQuaternion> PosesOnDyads(std::mt19937_64& rng,
                                          const std::vector<SpatialDyad>& dyads,
                                          const DualQuaternion& start, int count) {
+  std::vector<DualQuaternion> poses = TryPosesOnDyads(rng, dyads, start, count, 100000);
+  if (poses.empty()) std::abort();  // the dyads do not fit `start`
+  return poses;
+}
+
+std::vector<DualQuaternion> TryPosesOnDyads(std::mt19937_64& rng,
+                                            const std::vector<SpatialDyad>& dyads,
+                                            const DualQuaternion& start, int count,
+                                            int max_attempts) {
   std::vector<DualQuaternion> poses = {start};
   const int k = static_cast<int>(dyads.size());
   for (int attempt = 0; static_cast<int>(poses.size()) < count; ++attempt) {
-    if (attempt > 100000) std::abort();  // the dyads do not fit `start`
+    if (attempt > max_attempts) return {};
     Eigen::Matrix3d rotation = Exp(RandomVector(rng, 1.5)) * start.Rotation();
     Eigen::Vector3d translation = start.Translation() + RandomVector(rng, 1.5);
     bool converged = k == 0;

@@ -32,6 +32,13 @@ std::vector<DualQuaternion> PosesOnDyads(std::mt19937_64& rng,
                                          const std::vector<SpatialDyad>& dyads,
                                          const DualQuaternion& start, int count);
 
+// As PosesOnDyads, but gives up after `max_attempts` random starts (an empty result): five
+// dyads leave a one-degree-of-freedom motion that may be too short for `count` distinct poses.
+std::vector<DualQuaternion> TryPosesOnDyads(std::mt19937_64& rng,
+                                            const std::vector<SpatialDyad>& dyads,
+                                            const DualQuaternion& start, int count,
+                                            int max_attempts);
+
 // Relative difference of two spatial dyads: the largest of the pivot, radius and plane
 // differences divided by max(1, the dyad's size). Infinity for different types.
 double SpatialDyadDistance(const SpatialDyad& found, const SpatialDyad& expected);

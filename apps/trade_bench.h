@@ -1,0 +1,67 @@
+// `linkfit bench`: the speed/accuracy trade of every solver path at every effort level, on
+// generated task families (random mechanisms, their exact tasks, with noise), and the stability
+// sweep at the numerical extremes (apps/extremes_bench.h).
+//
+// Families: planar motion (5, 10, 50, 200 poses from a random four-bar), spatial motion (7, 10,
+// 30 poses of a random 5-SS platform), timed path (5, 10, 20 points of a random crank-driven
+// four-bar, prescribed timing; 10 and 20 also with free timing); noise 0, 1e-3 L and 1e-2 L
+// (positions, and L times the angles). Each task is solved end to end (SolvePlanarTask,
+// SolveSpatialTask, SolvePathTask) at each effort level; minimal data are solved exactly.
+//
+// Final error: noise 0, in units of L: the best four-bar's pose or point error (planar and path:
+// RMS over the task, the largest for minimal data; only four-bars without a circuit or branch
+// defect count), or for spatial tasks the largest over the five generating dyads of the RMS
+// residual of the returned dyad nearest it. With noise, the same measure divided by the
+// generating mechanism's own on the same noisy data (below 1: the fit beats the truth, as a
+// least-squares optimum should). Success: the generating mechanism, or a better one, is found:
+// error <= 1e-9 (exact data; free timing 1e-6), or <= 1.10 with noise.
+#ifndef LINKFIT_APPS_TRADE_BENCH_H_
+#define LINKFIT_APPS_TRADE_BENCH_H_
+
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace linkfit {
+
+struct BenchOptions {
+  bool quick = false;            // few tasks per cell: about a minute on one core
+  std::string output_dir = ".";  // trade.csv, trade.svg and extremes.csv are written here
+  uint64_t seed = 2026;          // random task families
+  bool trade = true;             // the speed/accuracy table
+  bool extremes = true;          // the extremes sweep
+};
+
+// One cell of the trade table: a task family at one noise level, solved by one solver path at
+// one effort level.
+struct TradeRow {
+  std::string family;  // "planar motion", "spatial motion", "timed path"
+  int items = 0;       // poses or points per task
+  double noise = 0.0;  // sigma / L
+  std::string path;    // the solver path, e.g. "planar least squares"
+  std::string effort;  // "exact" (minimal data) | "fast" | "balanced" | "thorough"
+  int tasks = 0;
+  double median_ms = 0.0, worst_ms = 0.0;
+  double median_error = 0.0, worst_error = 0.0;  // see the header comment
+  double success_share = 0.0;
+};
+
+// Runs every cell, printing each row to `table` (if not null) as it finishes.
+std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* table);
+
+// The table as CSV: family, path, effort, tasks, median_ms, worst_ms, median_error,
+// worst_error, success_share, items, noise, error_unit ("L" for noise 0, "ratio" otherwise).
+std::string TradeCsv(const std::vector<TradeRow>& rows);
+
+// The trade as an SVG plot: one panel per noise level, median time (log axis) against median
+// final error (log axis), one curve per solver path and task size through its effort levels.
+std::string TradeSvg(const std::vector<TradeRow>& rows);
+
+// `linkfit bench`: runs what `options` asks, prints the tables to stdout and writes the files.
+// Returns the exit status (2 when the output directory cannot be written).
+int RunBench(const BenchOptions& options);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_APPS_TRADE_BENCH_H_

@@ -1,0 +1,159 @@
+// `linkfit bench`: the extremes sweep must find no wrong and no non-finite answer, the planar /
+// spatial switch must not flap, and the trade table must come out as CSV and SVG.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "apps/extremes_bench.h"
+#include "apps/trade_bench.h"
+#include "gtest/gtest.h"
+
+namespace linkfit {
+namespace {
+
+std::string ReadFile(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << file.rdbuf();
+  return buffer.str();
+}
+
+int Count(const std::string& text, const std::string& what) {
+  int count = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) {
+    ++count;
+  }
+  return count;
+}
+
+TEST(ExtremesBench, NoWrongOrNonFiniteAnswerAndNoFlapping) {
+  BenchOptions options;
+  options.quick = true;
+  const std::vector<ExtremeRow> rows = RunExtremesBench(options, nullptr);
+  ASSERT_GE(rows.size(), 50u);
+  int tasks = 0, right = 0;
+  for (const ExtremeRow& row : rows) {
+    SCOPED_TRACE(row.family + ": " + row.variant);
+    EXPECT_GT(row.tasks, 0);
+    EXPECT_EQ(row.right + row.noted + row.wrong + row.non_finite, row.tasks);
+    EXPECT_EQ(row.wrong, 0) << "worst error " << row.worst_error << ", " << row.detail;
+    EXPECT_EQ(row.non_finite, 0) << row.detail;
+    tasks += row.tasks;
+    right += row.right;
+    if (row.family == "planarity") {
+      // Every task of a tilt level gets the same model: planar below the tolerance (1e-8 L),
+      // spatial above it.
+      const bool below = row.variant.find("tilted 0 ") != std::string::npos ||
+                         row.variant.find("tilted 1e-09") != std::string::npos ||
+                         row.variant.find("tilted 3e-09") != std::string::npos;
+      EXPECT_EQ(row.detail,
+                std::string(below ? "planar " : "spatial ") + std::to_string(row.tasks));
+    }
+    if (row.family == "slider" && row.variant.find("slider-crank") != std::string::npos) {
+      EXPECT_EQ(row.detail, "PR " + std::to_string(row.tasks));  // a slider is a slider
+    }
+    if (row.family == "slider" && (row.variant.find("radius 100 L") != std::string::npos ||
+                                   row.variant.find("radius 10000 L") != std::string::npos)) {
+      EXPECT_EQ(row.detail, "RR " + std::to_string(row.tasks));  // a circle is a circle
+    }
+    if (row.family == "slider" && row.variant.find("radius 1e+08 L") != std::string::npos) {
+      // A centre 1e8 L away is stored to ulp(1e8): no better than the slider.
+      EXPECT_EQ(row.detail, "PR " + std::to_string(row.tasks));
+    }
+  }
+  // Notes are for the truly ill-conditioned cases: most tasks come back right.
+  EXPECT_GE(right, 0.9 * tasks);
+  const std::string csv = ExtremesCsv(rows);
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "family,variant,tolerance,tasks,right,noted,wrong,non_finite,worst_error,detail");
+  EXPECT_EQ(Count(csv, "\n"), static_cast<int>(rows.size()) + 1);
+}
+
+TEST(TradeBench, CsvAndSvgOfATable) {
+  std::vector<TradeRow> rows;
+  for (const double noise : {0.0, 1e-3, 1e-2}) {
+    for (const char* effort : {"fast", "balanced", "thorough"}) {
+      TradeRow row;
+      row.family = "planar motion";
+      row.items = 10;
+      row.noise = noise;
+      row.path = "planar least squares";
+      row.effort = effort;
+      row.tasks = 4;
+      row.median_ms = effort[0] == 'f' ? 2.0 : effort[0] == 'b' ? 20.0 : 200.0;
+      row.worst_ms = 2 * row.median_ms;
+      row.median_error = noise == 0.0 ? 1e-15 : effort[0] == 'f' ? 3.0 : 0.9;
+      row.worst_error = noise == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
+      row.success_share = 0.75;
+      rows.push_back(row);
+    }
+    TradeRow exact;
+    exact.family = "timed path";
+    exact.items = 5;
+    exact.noise = noise;
+    exact.path = "path exact";
+    exact.effort = "exact";
+    exact.tasks = 10;
+    exact.median_ms = 0.05;
+    exact.median_error = noise == 0.0 ? 1e-14 : 1e-12;
+    exact.success_share = 1.0;
+    rows.push_back(exact);
+  }
+  const std::string csv = TradeCsv(rows);
+  std::istringstream lines(csv);
+  std::string header, first;
+  std::getline(lines, header);
+  std::getline(lines, first);
+  EXPECT_EQ(header,
+            "family,path,effort,tasks,median_ms,worst_ms,median_error,worst_error,success_share,"
+            "items,noise,error_unit");
+  EXPECT_EQ(first,
+            "planar motion 10 poses noise 0,planar least squares,fast,4,2,4,1e-15,0,0.75,"
+            "10,0,L");
+  EXPECT_NE(csv.find("timed path 5 points noise 0.01,path exact,exact,10,0.05,0,1e-12,0,1,5,"
+                     "0.01,ratio"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find(",inf,0.75,10,0.001,ratio"), std::string::npos);  // no solution: inf
+  const std::string svg = TradeSvg(rows);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_EQ(Count(svg, "</svg>"), 1);
+  // Three panels, two curves each (the least-squares path and the exact one).
+  EXPECT_EQ(Count(svg, "<polyline"), 6);
+  EXPECT_EQ(Count(svg, "nan"), 0);
+  EXPECT_EQ(Count(svg, "inf"), 0);
+}
+
+TEST(BenchCli, WritesTheSweepAndRefusesAnUnwritableDirectory) {
+  char pattern[] = "/tmp/linkfit_bench_XXXXXX";
+  ASSERT_NE(mkdtemp(pattern), nullptr);
+  const std::string dir = pattern;
+  const std::string command = std::string("'") + LINKFIT_BINARY +
+                              "' bench --quick --extremes-only -o '" + dir + "/out' >'" + dir +
+                              "/stdout' 2>'" + dir + "/stderr'";
+  int raw = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 0) << ReadFile(dir + "/stderr");
+  EXPECT_EQ(ReadFile(dir + "/stderr"), "");
+  const std::string csv = ReadFile(dir + "/out/extremes.csv");
+  EXPECT_EQ(csv.rfind("family,variant,", 0), 0u);
+  EXPECT_NE(ReadFile(dir + "/stdout").find("stability at the extremes"), std::string::npos);
+  // A file where the directory should be: exit 2, one line.
+  std::ofstream(dir + "/file") << "x";
+  raw = std::system((std::string("'") + LINKFIT_BINARY + "' bench --quick -o '" + dir +
+                     "/file' >/dev/null 2>'" + dir + "/stderr'")
+                        .c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 2);
+  const std::string error = ReadFile(dir + "/stderr");
+  EXPECT_EQ(Count(error, "\n"), 1) << error;
+  EXPECT_NE(error.find("cannot create the output directory"), std::string::npos) << error;
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace linkfit

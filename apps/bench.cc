@@ -237,23 +237,14 @@ void RunSpatialPlanted(int tasks, uint64_t seed) {
 // (nearest returned seed) before and after refinement, and the whole task's time.
 void RunSpatialLeastSquares(int tasks, int count, double noise, uint64_t seed) {
   std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal;
   std::vector<double> e2e_us, before, after, planted_rms;
   for (int t = 0; t < tasks; ++t) {
     const DualQuaternion start = linkfit::testing::RandomSpatialPose(rng);
     const std::vector<SpatialDyad> planted = linkfit::testing::DyadsThroughPose(
         rng, start, {SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kSS});
     std::vector<DualQuaternion> poses = linkfit::testing::PosesOnDyads(rng, planted, start, count);
-    for (DualQuaternion& pose : poses) {
-      const Eigen::Vector3d w(normal(rng), normal(rng), normal(rng));
-      const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
-      pose = linkfit::DualQuaternion::FromAxisAngle(w, noise * w.norm(), noise * v) * pose;
-    }
-    linkfit::Task task;
-    task.space = linkfit::Space::kSpatial;
-    task.spatial_poses = poses;
-    task.pose_weights.assign(poses.size(), 1.0);
-    task.pose_exact.assign(poses.size(), false);
+    linkfit::testing::PerturbSpatialPoses(rng, noise, &poses);
+    const linkfit::Task task = linkfit::SpatialMotionTask(poses);
     const auto begin = std::chrono::steady_clock::now();
     const linkfit::SpatialMotionResult result = linkfit::SolveSpatialTask(task);
     e2e_us.push_back(MicrosecondsSince(begin));
@@ -322,17 +313,9 @@ void RunLeastSquares(int tasks, uint64_t seed, const std::string& csv_path) {
           const linkfit::testing::GeneratedTask generated =
               linkfit::testing::RandomFourBarTask(rng, count);
           const double length = linkfit::CharacteristicLength(generated.poses);
-          std::normal_distribution<double> normal;
           std::vector<linkfit::PlanarPose> poses = generated.poses;
-          for (linkfit::PlanarPose& pose : poses) {
-            pose.origin_in_fixed += noise * length * Eigen::Vector2d(normal(rng), normal(rng));
-            pose.theta += noise * normal(rng);
-          }
-          linkfit::Task task;
-          task.planar_poses = poses;
-          task.pose_weights.assign(poses.size(), 1.0);
-          task.pose_exact.assign(poses.size(), false);
-          task.effort = effort;
+          linkfit::testing::PerturbPlanarPoses(rng, noise, length, &poses);
+          const linkfit::Task task = linkfit::PlanarMotionTask(poses, effort);
           const auto begin = std::chrono::steady_clock::now();
           const linkfit::PlanarMotionResult result = linkfit::SolvePlanarTask(task);
           times.push_back(MicrosecondsSince(begin) / 1000.0);

@@ -142,22 +142,13 @@ double PlanarRecovery(const testing::GeneratedTask& generated, const PlanarMotio
                                    testing::DyadScale(generated.output, generated.poses)));
 }
 
-Task PlanarTaskOf(const std::vector<PlanarPose>& poses, Effort effort = Effort::kBalanced) {
-  Task task;
-  task.planar_poses = poses;
-  task.pose_weights.assign(poses.size(), 1.0);
-  task.pose_exact.assign(poses.size(), false);
-  task.effort = effort;
-  return task;
-}
-
 // Solves the generated task seen through sigma (fixed frame) and epsilon (moving frame).
 Verdict SolveTransformedPlanar(const testing::GeneratedTask& generated, const Similarity2& sigma,
                                const Similarity2& epsilon) {
   std::vector<PlanarPose> poses;
   for (const PlanarPose& pose : generated.poses)
     poses.push_back(TransformPose(pose, sigma, epsilon));
-  const PlanarMotionResult result = SolvePlanarTask(PlanarTaskOf(poses));
+  const PlanarMotionResult result = SolvePlanarTask(PlanarMotionTask(poses));
   Verdict verdict;
   verdict.finite = AllFinite(result);
   verdict.noted = HasIllConditionedNote(result.notes);
@@ -183,15 +174,6 @@ PlantedSpatialTask RandomPlatformTask(std::mt19937_64& rng, int count) {
   return task;
 }
 
-Task SpatialTaskOf(const std::vector<DualQuaternion>& poses) {
-  Task task;
-  task.space = Space::kSpatial;
-  task.spatial_poses = poses;
-  task.pose_weights.assign(poses.size(), 1.0);
-  task.pose_exact.assign(poses.size(), false);
-  return task;
-}
-
 Verdict SolveTransformedSpatial(const PlantedSpatialTask& generated, const Similarity3& sigma,
                                 const Similarity3& epsilon) {
   // TransformSpatialPose takes the maps from the new frames to the old ones.
@@ -200,7 +182,7 @@ Verdict SolveTransformedSpatial(const PlantedSpatialTask& generated, const Simil
   for (const DualQuaternion& pose : generated.poses) {
     poses.push_back(TransformSpatialPose(pose, sigma_back, epsilon_back));
   }
-  const SpatialMotionResult result = SolveSpatialTask(SpatialTaskOf(poses));
+  const SpatialMotionResult result = SolveSpatialTask(SpatialMotionTask(poses));
   Verdict verdict;
   verdict.finite = AllFinite(result);
   verdict.noted = HasIllConditionedNote(result.notes);
@@ -475,7 +457,7 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
       } while (radius > 0.0 &&
                !testing::DriveFourBar(rng, PlanarPose(generated.poses.front()), 5, &generated));
       if (radius > 0.0) ExactOnCircle(generated.input, radius, &generated);
-      const PlanarMotionResult result = SolvePlanarTask(PlanarTaskOf(generated.poses));
+      const PlanarMotionResult result = SolvePlanarTask(PlanarMotionTask(generated.poses));
       const double length = CharacteristicLength(generated.poses);
       Verdict verdict;
       verdict.finite = AllFinite(result);
@@ -535,26 +517,14 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
                [&](std::mt19937_64& rng) {
                  const testing::GeneratedTask motion =
                      testing::RandomTask(rng, DyadType::kRR, DyadType::kPR, 5);
-                 PathFourBar four_bar;
-                 four_bar.input = motion.input;
-                 four_bar.output = motion.output;
                  const PlanarPose& start = motion.poses.front();
                  const Eigen::Vector2d direction_in_moving =
                      start.ToMoving(start.origin_in_fixed + motion.output.line_direction) -
                      start.ToMoving(start.origin_in_fixed);
-                 four_bar.coupler_point =
-                     motion.output.moving_pivot +
-                     delta * Eigen::Vector2d(-direction_in_moving.y(), direction_in_moving.x());
-                 testing::GeneratedPathTask generated;
-                 generated.four_bar = MoveToFirstConfiguration(four_bar, start);
-                 double previous = InputValue(motion.input, start), unwrapped = previous;
-                 for (const PlanarPose& pose : motion.poses) {
-                   const double value = InputValue(motion.input, pose);
-                   unwrapped += WrapAngle(value - previous);
-                   previous = value;
-                   generated.input_angles.push_back(unwrapped);
-                   generated.points.push_back(pose.ToFixed(four_bar.coupler_point));
-                 }
+                 const testing::GeneratedPathTask generated = testing::PathTaskOf(
+                     motion,
+                     motion.output.moving_pivot + delta * Eigen::Vector2d(-direction_in_moving.y(),
+                                                                          direction_in_moving.x()));
                  return SolveTransformedPath(generated, Similarity2());
                });
   }
@@ -587,7 +557,7 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
                                               tilt * length * unit(rng));
             poses.push_back(DualQuaternion::FromRotationTranslation(rotation, translation));
           }
-          const SpatialMotionResult result = SolveSpatialTask(SpatialTaskOf(poses));
+          const SpatialMotionResult result = SolveSpatialTask(SpatialMotionTask(poses));
           Verdict verdict;
           verdict.finite = AllFinite(result);
           verdict.noted = HasIllConditionedNote(result.notes);

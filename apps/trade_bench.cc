@@ -87,17 +87,9 @@ TradeRow RunCell(const std::string& family, int items, double noise, const std::
 Outcome RunPlanar(std::mt19937_64& rng, Effort effort, int count, double noise) {
   const testing::GeneratedTask generated = testing::RandomFourBarTask(rng, count);
   const double length = CharacteristicLength(generated.poses);
-  std::normal_distribution<double> normal;
   std::vector<PlanarPose> poses = generated.poses;
-  for (PlanarPose& pose : poses) {
-    pose.origin_in_fixed += noise * length * Eigen::Vector2d(normal(rng), normal(rng));
-    pose.theta += noise * normal(rng);
-  }
-  Task task;
-  task.planar_poses = poses;
-  task.pose_weights.assign(poses.size(), 1.0);
-  task.pose_exact.assign(poses.size(), false);
-  task.effort = effort;
+  testing::PerturbPlanarPoses(rng, noise, length, &poses);
+  const Task task = PlanarMotionTask(poses, effort);
   Outcome outcome;
   const auto begin = std::chrono::steady_clock::now();
   const PlanarMotionResult result = SolvePlanarTask(task);
@@ -144,18 +136,8 @@ Outcome RunSpatial(std::mt19937_64& rng, Effort effort, int count, double noise)
                                         std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
     poses = testing::TryPosesOnDyads(rng, planted, start, count, 2000);
   }
-  std::normal_distribution<double> normal;
-  for (DualQuaternion& pose : poses) {
-    const Eigen::Vector3d w(normal(rng), normal(rng), normal(rng));
-    const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
-    pose = DualQuaternion::FromAxisAngle(w, noise * w.norm(), noise * v) * pose;
-  }
-  Task task;
-  task.space = Space::kSpatial;
-  task.spatial_poses = poses;
-  task.pose_weights.assign(poses.size(), 1.0);
-  task.pose_exact.assign(poses.size(), false);
-  task.effort = effort;
+  testing::PerturbSpatialPoses(rng, noise, &poses);
+  const Task task = SpatialMotionTask(poses, effort);
   Outcome outcome;
   const auto begin = std::chrono::steady_clock::now();
   const SpatialMotionResult result = SolveSpatialTask(task);

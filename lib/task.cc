@@ -20,4 +20,23 @@ const char* EffortName(Effort effort) {
   return "balanced";
 }
 
+Task PlanarMotionTask(const std::vector<PlanarPose>& poses, Effort effort) {
+  Task task;
+  task.planar_poses = poses;
+  task.pose_weights.assign(poses.size(), 1.0);
+  task.pose_exact.assign(poses.size(), false);
+  task.effort = effort;
+  return task;
+}
+
+Task SpatialMotionTask(const std::vector<DualQuaternion>& poses, Effort effort) {
+  Task task;
+  task.space = Space::kSpatial;
+  task.spatial_poses = poses;
+  task.pose_weights.assign(poses.size(), 1.0);
+  task.pose_exact.assign(poses.size(), false);
+  task.effort = effort;
+  return task;
+}
+
 }  // namespace linkfit

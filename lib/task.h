@@ -57,6 +57,11 @@ struct PlanarDesign {
   std::vector<std::pair<int, int>> mechanisms;  // [input, output] dyad indices
 };
 
+// Motion tasks of the given poses, each of weight 1 and not exact (what a task file without
+// "weight" and "exact" gives).
+Task PlanarMotionTask(const std::vector<PlanarPose>& poses, Effort effort = Effort::kBalanced);
+Task SpatialMotionTask(const std::vector<DualQuaternion>& poses, Effort effort = Effort::kBalanced);
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_LIB_TASK_H_

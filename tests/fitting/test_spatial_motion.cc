@@ -13,14 +13,7 @@ namespace {
 
 constexpr double kRecoveryTolerance = 1e-8;  // relative dyad error, issue 4
 
-Task SpatialTask(const std::vector<DualQuaternion>& poses) {
-  Task task;
-  task.space = Space::kSpatial;
-  task.spatial_poses = poses;
-  task.pose_weights.assign(poses.size(), 1.0);
-  task.pose_exact.assign(poses.size(), false);
-  return task;
-}
+Task SpatialTask(const std::vector<DualQuaternion>& poses) { return SpatialMotionTask(poses); }
 
 // The planar poses placed in space on the plane through `origin` with unit normal `normal`;
 // E's plane frame is turned by `body` inside E.

@@ -153,7 +153,6 @@ TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
   for (int seed = 0; seed < 5; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     std::mt19937_64 rng(seed);
-    std::normal_distribution<double> normal;
     const DualQuaternion start = testing::RandomSpatialPose(rng);
     // Odd seeds plant an SP dyad (refined as a PS dyad of the inverted motion).
     const std::vector<SpatialDyad> planted =
@@ -162,17 +161,8 @@ TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
                                    seed % 2 ? SpatialDyadType::kSP : SpatialDyadType::kSS});
     std::vector<DualQuaternion> poses = testing::PosesOnDyads(rng, planted, start, 10);
     constexpr double kNoise = 1e-3;
-    for (DualQuaternion& pose : poses) {
-      const Eigen::Vector3d w(normal(rng), normal(rng), normal(rng));
-      const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
-      pose = DualQuaternion::FromAxisAngle(w, kNoise * w.norm(), kNoise * v) * pose;
-    }
-    Task task;
-    task.space = Space::kSpatial;
-    task.spatial_poses = poses;
-    task.pose_weights.assign(poses.size(), 1.0);
-    task.pose_exact.assign(poses.size(), false);
-    const SpatialMotionResult result = SolveSpatialTask(task);
+    testing::PerturbSpatialPoses(rng, kNoise, &poses);
+    const SpatialMotionResult result = SolveSpatialTask(SpatialMotionTask(poses));
     EXPECT_EQ(result.method, "least-squares");
     ASSERT_FALSE(result.dyads.empty());
     for (const SpatialDyadReport& report : result.dyads) {
@@ -201,12 +191,7 @@ TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
 }
 
 Task PlanarTask(const std::vector<PlanarPose>& poses, Effort effort) {
-  Task task;
-  task.planar_poses = poses;
-  task.pose_weights.assign(poses.size(), 1.0);
-  task.pose_exact.assign(poses.size(), false);
-  task.effort = effort;
-  return task;
+  return PlanarMotionTask(poses, effort);
 }
 
 // RMS pose error of a four-bar at the poses (each at its nearest configuration).
@@ -259,12 +244,8 @@ TEST(TaskSolver, PlanarNoisyTasksFitAsWellAsTheGeneratingMechanism) {
       std::mt19937_64 rng(800 + seed++);
       const testing::GeneratedTask generated = testing::RandomFourBarTask(rng, count);
       const double length = CharacteristicLength(generated.poses);
-      std::normal_distribution<double> normal;
       std::vector<PlanarPose> noisy = generated.poses;
-      for (PlanarPose& pose : noisy) {
-        pose.origin_in_fixed += noise * length * Eigen::Vector2d(normal(rng), normal(rng));
-        pose.theta += noise * normal(rng);
-      }
+      testing::PerturbPlanarPoses(rng, noise, length, &noisy);
       const PlanarMotionResult result = SolvePlanarTask(PlanarTask(noisy, Effort::kBalanced));
       const double generating = RmsPoseError(generated.input, generated.output, noisy, length);
       double best = 1e300;

@@ -110,6 +110,15 @@ GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, 
   return task;
 }
 
+void PerturbPlanarPoses(std::mt19937_64& rng, double noise, double length,
+                        std::vector<PlanarPose>* poses) {
+  std::normal_distribution<double> normal;
+  for (PlanarPose& pose : *poses) {
+    pose.origin_in_fixed += noise * length * Eigen::Vector2d(normal(rng), normal(rng));
+    pose.theta += noise * normal(rng);
+  }
+}
+
 double DyadDistance(const PlanarDyad& found, const PlanarDyad& expected, double length) {
   if (found.type != expected.type) return std::numeric_limits<double>::infinity();
   auto line_distance = [](const Eigen::Vector2d& dir_a, const Eigen::Vector2d& point_a,

@@ -41,6 +41,11 @@ inline GeneratedTask RandomInvertedSliderCrankTask(std::mt19937_64& rng, int cou
   return RandomTask(rng, DyadType::kRR, DyadType::kRP, count);
 }
 
+// Noise on planar poses: every origin moved by noise * length times a standard normal vector,
+// every angle turned by noise times a standard normal number (radians).
+void PerturbPlanarPoses(std::mt19937_64& rng, double noise, double length,
+                        std::vector<PlanarPose>* poses);
+
 // Relative difference of two dyads, in units of `length`: the largest of the pivot, radius
 // and line differences (lines compared as lines: direction up to sign, and the distance of
 // each line point from the other line). Infinity for different types.

@@ -7,15 +7,11 @@
 
 namespace linkfit::testing {
 
-namespace {
-
-GeneratedPathTask TryPathTask(std::mt19937_64& rng, DyadType output, int count) {
-  const GeneratedTask motion = RandomTask(rng, DyadType::kRR, output, count);
-  std::uniform_real_distribution<double> box(-1.0, 1.0);
+GeneratedPathTask PathTaskOf(const GeneratedTask& motion, const Eigen::Vector2d& coupler_point) {
   PathFourBar four_bar;
   four_bar.input = motion.input;
   four_bar.output = motion.output;
-  four_bar.coupler_point = Eigen::Vector2d(box(rng), box(rng));
+  four_bar.coupler_point = coupler_point;
   GeneratedPathTask task;
   task.four_bar = MoveToFirstConfiguration(four_bar, motion.poses.front());
   double previous = InputValue(motion.input, motion.poses.front());
@@ -25,19 +21,20 @@ GeneratedPathTask TryPathTask(std::mt19937_64& rng, DyadType output, int count) 
     unwrapped += WrapAngle(value - previous);
     previous = value;
     task.input_angles.push_back(unwrapped);
-    task.points.push_back(pose.ToFixed(four_bar.coupler_point));
+    task.points.push_back(pose.ToFixed(coupler_point));
   }
   return task;
 }
-
-}  // namespace
 
 GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count) {
   // The motion generator follows the nearest configuration in 1-degree sub-steps, which can hop
   // across a stationary configuration to the other branch. Driven by its crank from the first
   // point, such a four-bar does not pass its own points: drawn again.
   for (;;) {
-    GeneratedPathTask task = TryPathTask(rng, output, count);
+    const GeneratedTask motion = RandomTask(rng, DyadType::kRR, output, count);
+    std::uniform_real_distribution<double> box(-1.0, 1.0);
+    const Eigen::Vector2d coupler_point(box(rng), box(rng));
+    GeneratedPathTask task = PathTaskOf(motion, coupler_point);
     const double length = PathLength(task.points);
     const PathFourBarAnalysis analysis =
         AnalyzePathFourBar(task.four_bar, task.points, task.input_angles, length);

@@ -9,6 +9,7 @@
 
 #include "lib/dyad.h"
 #include "lib/path_motion.h"
+#include "tests/support/random_mechanism.h"
 
 namespace linkfit::testing {
 
@@ -24,6 +25,11 @@ struct GeneratedPathTask {
 // Four-bars that, driven by the crank from the first point (AnalyzePathFourBar), show a defect
 // or miss a point by more than 1e-9 L are drawn again.
 GeneratedPathTask RandomPathTask(std::mt19937_64& rng, DyadType output, int count = 5);
+
+// The timed-point task of a generated motion (random_mechanism.h) whose coupler carries
+// `coupler_point` (in E): the four-bar moved to the first pose's configuration, the points and
+// the unwrapped input angles.
+GeneratedPathTask PathTaskOf(const GeneratedTask& motion, const Eigen::Vector2d& coupler_point);
 
 // The largest of DyadDistance over both dyads and |coupler point difference|, relative to
 // `length` (infinity for different types).

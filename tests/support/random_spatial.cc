@@ -136,6 +136,15 @@ std::vector<DualQuaternion> TryPosesOnDyads(std::mt19937_64& rng,
   return poses;
 }
 
+void PerturbSpatialPoses(std::mt19937_64& rng, double noise, std::vector<DualQuaternion>* poses) {
+  std::normal_distribution<double> normal;
+  for (DualQuaternion& pose : *poses) {
+    const Eigen::Vector3d w(normal(rng), normal(rng), normal(rng));
+    const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
+    pose = DualQuaternion::FromAxisAngle(w, noise * w.norm(), noise * v) * pose;
+  }
+}
+
 double SpatialDyadDistance(const SpatialDyad& found, const SpatialDyad& expected) {
   if (found.type != expected.type) return std::numeric_limits<double>::infinity();
   double difference = 0.0;

@@ -39,6 +39,10 @@ std::vector<DualQuaternion> TryPosesOnDyads(std::mt19937_64& rng,
                                             const DualQuaternion& start, int count,
                                             int max_attempts);
 
+// Noise on spatial poses: each turned by about `noise` (a normal axis vector of length noise
+// |w|, w standard normal) and moved by noise times a standard normal vector, applied in Sigma.
+void PerturbSpatialPoses(std::mt19937_64& rng, double noise, std::vector<DualQuaternion>* poses);
+
 // Relative difference of two spatial dyads: the largest of the pivot, radius and plane
 // differences divided by max(1, the dyad's size). Infinity for different types.
 double SpatialDyadDistance(const SpatialDyad& found, const SpatialDyad& expected);

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "fitting/planar_motion.h"
+#include "lib/mechanism.h"
 #include "tests/support/random_mechanism.h"
 
 namespace linkfit {
@@ -251,6 +252,51 @@ TEST(PlanarMotion, DegenerateTaskSaysSo) {
   EXPECT_TRUE(result.mechanisms.empty());
   ASSERT_FALSE(result.notes.empty());
   EXPECT_NE(result.notes.front().find("family of dyads"), std::string::npos);
+}
+
+// Two of five poses an input step of 1e-7 rad apart: the task nearly has a family of dyads. The
+// result says so with the condition estimate, and the note's bound holds for the generating
+// dyads; well-separated poses get no such note.
+TEST(PlanarMotion, NearlyCoincidentPosesAreNotedWithTheirCondition) {
+  int noted = 0;
+  for (int seed = 0; seed < 20; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937_64 rng(2000 + seed);
+    GeneratedTask generated = RandomTask(rng, DyadType::kRR, DyadType::kRR, 5);
+    const PlanarMotionResult separated = SolvePlanarMotion(TaskOf(generated.poses));
+    for (const std::string& note : separated.notes) {
+      EXPECT_EQ(note.find("ill-conditioned"), std::string::npos) << note;
+    }
+    std::vector<PlanarPose> candidates;
+    const double value = InputValue(generated.input, generated.poses[3]);
+    if (AssembleFourBar(generated.input, generated.output, value + 1e-7, 0.0, &candidates) == 0) {
+      continue;
+    }
+    generated.poses[4] = *std::min_element(
+        candidates.begin(), candidates.end(), [&](const PlanarPose& a, const PlanarPose& b) {
+          return PoseError(a, generated.poses[3], 1.0) < PoseError(b, generated.poses[3], 1.0);
+        });
+    const PlanarMotionResult result = SolvePlanarMotion(TaskOf(generated.poses));
+    std::string note;
+    for (const std::string& text : result.notes) {
+      if (text.find("ill-conditioned") != std::string::npos) note = text;
+    }
+    ASSERT_FALSE(note.empty());
+    ++noted;
+    // "... (condition estimate C); the dyads may be off by up to about B of their size".
+    const size_t at = note.find("off by up to about ");
+    ASSERT_NE(at, std::string::npos) << note;
+    const double bound = std::stod(note.substr(at + 19));
+    EXPECT_NE(note.find("condition estimate "), std::string::npos) << note;
+    std::vector<PlanarDyad> dyads;
+    for (const DyadReport& report : result.dyads) dyads.push_back(report.dyad);
+    for (const PlanarDyad& expected : {generated.input, generated.output}) {
+      EXPECT_LE(testing::NearestDyadDistance(dyads, expected,
+                                             testing::DyadScale(expected, generated.poses)),
+                bound);
+    }
+  }
+  EXPECT_GE(noted, 15);
 }
 
 }  // namespace

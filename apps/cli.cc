@@ -451,8 +451,10 @@ int Run(int argc, char** argv) {
   bench->add_option("-o,--output-dir", bench_options.output_dir,
                     "directory for trade.csv, trade.svg and extremes.csv (default: .)");
   bench->add_option("--seed", bench_options.seed, "seed of the random task families");
-  bench->add_flag("--trade-only", trade_only, "only the speed/accuracy trade");
-  bench->add_flag("--extremes-only", extremes_only, "only the extremes sweep");
+  CLI::Option* trade_flag =
+      bench->add_flag("--trade-only", trade_only, "only the speed/accuracy trade");
+  bench->add_flag("--extremes-only", extremes_only, "only the extremes sweep")
+      ->excludes(trade_flag);
 
   try {
     app.parse(argc, argv);

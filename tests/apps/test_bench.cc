@@ -152,6 +152,13 @@ TEST(BenchCli, WritesTheSweepAndRefusesAnUnwritableDirectory) {
   const std::string error = ReadFile(dir + "/stderr");
   EXPECT_EQ(Count(error, "\n"), 1) << error;
   EXPECT_NE(error.find("cannot create the output directory"), std::string::npos) << error;
+  // Both "only" flags: a usage error.
+  raw = std::system((std::string("'") + LINKFIT_BINARY +
+                     "' bench --trade-only --extremes-only >/dev/null 2>'" + dir + "/stderr'")
+                        .c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 2);
+  EXPECT_EQ(Count(ReadFile(dir + "/stderr"), "\n"), 1);
   std::filesystem::remove_all(dir);
 }
 

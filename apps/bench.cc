@@ -16,15 +16,6 @@
 // dyads): the RMS residual of the planted dyads' seeds before and after the Ceres refinement,
 // and the end-to-end time of SolveSpatialTask (seed, refinement, platform).
 //
-// Then approximate planar synthesis (more poses than five): for N = 10, 50, 200 poses from a
-// random four-bar, noise 0, 1e-3 L and 1e-2 L on positions and L times the angles, and each
-// effort level (fast, balanced, thorough), the median and worst time of SolvePlanarTask and the
-// median and worst RMS pose error of its best four-bar without a circuit or branch defect (order
-// defects are left aside: dense noisy poses reorder neighbouring inputs), relative to the
-// generating mechanism's RMS pose error on the same noisy poses (for exact data: in units of L),
-// and the share of tasks where it fits within 10 % of the generating mechanism (or better). Written
-// to a CSV file (--csv, default least_squares.csv) as well.
-//
 // Then path generation with prescribed timing (seed 002): random five-point tasks made by random
 // crank-driven four-bars (4R, slider-crank, inverted slider-crank): the share with the generating
 // four-bar recovered (error <= 1e-8 in every pivot, line and the coupler point, relative to the
@@ -32,15 +23,13 @@
 // mean and largest number of four-bars returned, the worst point error over L of a returned
 // four-bar without defects (assembled and driven through the points), and the median and
 // 99th-percentile time of SolveTimedPath plus the simulation of every four-bar it returns
-// (AnalyzePathFourBar). Then least squares (10 and 20 points, noise 0, 1e-3 L, 1e-2 L, each
-// effort level; error = RMS point error of the best defect-free four-bar / the generating one's
-// on the same points, noise 0: largest point error / L), and free timing (points without input
-// angles, 10 and 20 points: time, final largest point error / L, and the share of tasks fitted to
-// 1e-6 L (noise 0) or within 10 % of the generating four-bar). Written to path.csv (--path-csv).
+// (AnalyzePathFourBar).
 //
-//   linkfit_bench [--tasks N] [--spatial-tasks M] [--ls-tasks K] [--path-tasks P]
-//                 [--path-ls-tasks Q] [--seed S]
-//                 [--only planar|spatial|least-squares|path] [--csv FILE] [--path-csv FILE]
+// The least-squares paths (more poses or points than the minimum, every effort level, noise) are
+// measured by `linkfit bench` (apps/trade_bench.h), which also sweeps the numerical extremes.
+//
+//   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--seed S]
+//                 [--only planar|spatial|path]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -274,90 +263,6 @@ void RunSpatialLeastSquares(int tasks, int count, double noise, uint64_t seed) {
               Percentile(e2e_us, 0.99));
 }
 
-// RMS pose error of a four-bar at the poses (each at its nearest configuration).
-double RmsPoseError(const linkfit::PlanarDyad& input, const linkfit::PlanarDyad& output,
-                    const std::vector<linkfit::PlanarPose>& poses, double length) {
-  const linkfit::FourBarAnalysis analysis = linkfit::AnalyzeFourBar(input, output, poses, length);
-  double sum = 0.0;
-  for (const linkfit::FourBarLocation& location : analysis.locations) {
-    sum += location.pose_error * location.pose_error;
-  }
-  return std::sqrt(sum / poses.size());
-}
-
-void RunLeastSquares(int tasks, uint64_t seed, const std::string& csv_path) {
-  std::printf(
-      "\napproximate planar synthesis (SolvePlanarTask), random four-bars; error = RMS pose "
-      "error of the best defect-free four-bar / that of the generating mechanism on the "
-      "same poses (noise 0: / L)\n");
-  std::printf("%-8s %-8s %-9s %6s %10s %10s %12s %12s %9s\n", "poses", "noise", "effort", "tasks",
-              "median_ms", "worst_ms", "median_err", "worst_err", "success");
-  FILE* csv = std::fopen(csv_path.c_str(), "w");
-  if (csv) {
-    std::fprintf(csv,
-                 "family,path,effort,tasks,median_ms,worst_ms,median_error,worst_error,"
-                 "success_share\n");
-  }
-  const linkfit::Effort efforts[] = {linkfit::Effort::kFast, linkfit::Effort::kBalanced,
-                                     linkfit::Effort::kThorough};
-  for (int count : {10, 50, 200}) {
-    for (double noise : {0.0, 1e-3, 1e-2}) {
-      for (linkfit::Effort effort : efforts) {
-        // The same tasks for every effort level.
-        std::mt19937_64 rng(seed + count * 7 + static_cast<uint64_t>(noise * 1e4));
-        const int cell_tasks =
-            effort == linkfit::Effort::kThorough ? std::max(1, tasks / 4) : tasks;
-        std::vector<double> times, errors;
-        int success = 0;
-        for (int t = 0; t < cell_tasks; ++t) {
-          const linkfit::testing::GeneratedTask generated =
-              linkfit::testing::RandomFourBarTask(rng, count);
-          const double length = linkfit::CharacteristicLength(generated.poses);
-          std::vector<linkfit::PlanarPose> poses = generated.poses;
-          linkfit::testing::PerturbPlanarPoses(rng, noise, length, &poses);
-          const linkfit::Task task = linkfit::PlanarMotionTask(poses, effort);
-          const auto begin = std::chrono::steady_clock::now();
-          const linkfit::PlanarMotionResult result = linkfit::SolvePlanarTask(task);
-          times.push_back(MicrosecondsSince(begin) / 1000.0);
-          double best = std::numeric_limits<double>::infinity();
-          // Order defects are not counted: with dense noisy poses the noise itself reorders
-          // neighbouring input values. Circuit and branch defects are.
-          for (const linkfit::MechanismReport& mechanism : result.mechanisms) {
-            const bool assembles_on_one_branch =
-                std::find(mechanism.defects.begin(), mechanism.defects.end(), "circuit") ==
-                    mechanism.defects.end() &&
-                std::find(mechanism.defects.begin(), mechanism.defects.end(), "branch") ==
-                    mechanism.defects.end();
-            if (mechanism.rms_pose_error && assembles_on_one_branch) {
-              best = std::min(best, *mechanism.rms_pose_error);
-            }
-          }
-          const double reference =
-              noise > 0.0 ? RmsPoseError(generated.input, generated.output, poses, length) : 0.0;
-          const double error = noise > 0.0 ? best / reference : best / length;
-          errors.push_back(error);
-          success += noise > 0.0 ? error <= 1.10 : error <= 1e-9;
-        }
-        const char* effort_name = linkfit::EffortName(effort);
-        std::printf("%-8d %-8.0e %-9s %6d %10.2f %10.2f %12.3e %12.3e %8.1f%%\n", count, noise,
-                    effort_name, cell_tasks, Percentile(times, 0.5), Percentile(times, 1.0),
-                    Percentile(errors, 0.5), Percentile(errors, 1.0), 100.0 * success / cell_tasks);
-        if (csv) {
-          std::fprintf(csv,
-                       "planar motion %d poses noise %g,four-bar,%s,%d,%.4f,%.4f,%.6g,%.6g,%.4f\n",
-                       count, noise, effort_name, cell_tasks, Percentile(times, 0.5),
-                       Percentile(times, 1.0), Percentile(errors, 0.5), Percentile(errors, 1.0),
-                       static_cast<double>(success) / cell_tasks);
-        }
-      }
-    }
-  }
-  if (csv) {
-    std::fclose(csv);
-    std::printf("written to %s\n", csv_path.c_str());
-  }
-}
-
 void RunSpatial(int tasks, uint64_t seed) {
   std::printf("\nseven-pose spatial Burmester solver (seed 000), %d random tasks\n", tasks);
   std::printf("%-30s %8s %12s %12s %12s %6s %10s %8s\n", "family", "tasks", "all_20_ok",
@@ -380,7 +285,7 @@ void RunSpatial(int tasks, uint64_t seed) {
 }
 
 // Five timed points: the exact solver and the simulation of what it returns.
-void RunPathExact(const char* name, DyadType output, int tasks, uint64_t seed, FILE* csv) {
+void RunPathExact(const char* name, DyadType output, int tasks, uint64_t seed) {
   std::mt19937_64 rng(seed);
   std::vector<linkfit::testing::GeneratedPathTask> generated;
   for (int t = 0; t < tasks; ++t)
@@ -422,111 +327,17 @@ void RunPathExact(const char* name, DyadType output, int tasks, uint64_t seed, F
   std::printf("%-24s %8d %10.3f%% %9.2f %6d %12.2e %10.1f %8.1f\n", name, tasks,
               100.0 * recovered / tasks, found / tasks, most, worst, Percentile(times, 0.5),
               Percentile(times, 0.99));
-  if (csv) {
-    std::fprintf(csv, "timed path 5 points %s,exact,-,%d,%.6f,%.6f,0,%.6g,%.6f\n", name, tasks,
-                 Percentile(times, 0.5) / 1000.0, Percentile(times, 1.0) / 1000.0, worst,
-                 static_cast<double>(recovered) / tasks);
-  }
 }
 
-// The RMS distance of the generating four-bar's coupler point from `points` at its own timing.
-double GeneratingRms(const linkfit::testing::GeneratedPathTask& task,
-                     const std::vector<Eigen::Vector2d>& points, double length) {
-  const linkfit::PathFourBarAnalysis analysis =
-      linkfit::AnalyzePathFourBar(task.four_bar, points, task.input_angles, length);
-  return analysis.rms_point_error.value_or(std::numeric_limits<double>::infinity());
-}
-
-// More than five points (prescribed or free timing): SolvePathTask end to end.
-void RunPathLeastSquares(int tasks, uint64_t seed, FILE* csv) {
-  std::printf(
-      "\npath generation, least squares (SolvePathTask), random four-bars; error = RMS point "
-      "error of the best defect-free four-bar / the generating one's (noise 0: max point error "
-      "/ L)\n");
-  std::printf("%-8s %-8s %-10s %-9s %6s %10s %10s %12s %12s %9s\n", "points", "noise", "timing",
-              "effort", "tasks", "median_ms", "worst_ms", "median_err", "worst_err", "success");
-  const linkfit::Effort efforts[] = {linkfit::Effort::kFast, linkfit::Effort::kBalanced,
-                                     linkfit::Effort::kThorough};
-  for (bool free_timing : {false, true}) {
-    for (int count : {10, 20}) {
-      for (double noise : {0.0, 1e-3, 1e-2}) {
-        for (linkfit::Effort effort : efforts) {
-          if (free_timing && effort == linkfit::Effort::kThorough) continue;  // same as balanced
-          std::mt19937_64 rng(seed + count * 7 + static_cast<uint64_t>(noise * 1e4));
-          const int cell_tasks =
-              effort == linkfit::Effort::kThorough ? std::max(1, tasks / 4) : tasks;
-          std::vector<double> times, errors;
-          int success = 0;
-          for (int t = 0; t < cell_tasks; ++t) {
-            const linkfit::testing::GeneratedPathTask generated =
-                linkfit::testing::RandomPathTask(rng, DyadType::kRR, count);
-            const double length = linkfit::testing::PathLength(generated.points);
-            std::normal_distribution<double> normal;
-            linkfit::Task task;
-            task.problem = linkfit::ProblemKind::kPath;
-            task.effort = effort;
-            std::vector<Eigen::Vector2d> points;
-            for (size_t j = 0; j < generated.points.size(); ++j) {
-              linkfit::TimedPoint point;
-              point.point_in_fixed =
-                  generated.points[j] + noise * length * Eigen::Vector2d(normal(rng), normal(rng));
-              if (!free_timing) point.input_angle = generated.input_angles[j];
-              points.push_back(point.point_in_fixed);
-              task.points.push_back(point);
-            }
-            const auto begin = std::chrono::steady_clock::now();
-            const linkfit::PathResult result = linkfit::SolvePathTask(task);
-            times.push_back(MicrosecondsSince(begin) / 1000.0);
-            double best = std::numeric_limits<double>::infinity();
-            for (const linkfit::PathMechanismReport& mechanism : result.mechanisms) {
-              const std::optional<double>& error =
-                  noise > 0.0 ? mechanism.rms_point_error : mechanism.max_point_error;
-              if (error && mechanism.defects.empty()) best = std::min(best, *error);
-            }
-            const double reference = noise > 0.0 ? GeneratingRms(generated, points, length) : 0.0;
-            const double error = noise > 0.0 ? best / reference : best / length;
-            errors.push_back(error);
-            success += noise > 0.0 ? error <= 1.10 : error <= (free_timing ? 1e-6 : 1e-9);
-          }
-          const char* timing = free_timing ? "free" : "prescribed";
-          const char* effort_name = linkfit::EffortName(effort);
-          std::printf("%-8d %-8.0e %-10s %-9s %6d %10.2f %10.2f %12.3e %12.3e %8.1f%%\n", count,
-                      noise, timing, effort_name, cell_tasks, Percentile(times, 0.5),
-                      Percentile(times, 1.0), Percentile(errors, 0.5), Percentile(errors, 1.0),
-                      100.0 * success / cell_tasks);
-          if (csv) {
-            std::fprintf(csv,
-                         "timed path %d points noise %g,%s timing,%s,%d,%.4f,%.4f,%.6g,%.6g,%.4f\n",
-                         count, noise, timing, effort_name, cell_tasks, Percentile(times, 0.5),
-                         Percentile(times, 1.0), Percentile(errors, 0.5), Percentile(errors, 1.0),
-                         static_cast<double>(success) / cell_tasks);
-          }
-        }
-      }
-    }
-  }
-}
-
-void RunPath(int tasks, int ls_tasks, uint64_t seed, const std::string& csv_path) {
-  FILE* csv = std::fopen(csv_path.c_str(), "w");
-  if (csv) {
-    std::fprintf(csv,
-                 "family,path,effort,tasks,median_ms,worst_ms,median_error,worst_error,"
-                 "success_share\n");
-  }
+void RunPath(int tasks, uint64_t seed) {
   std::printf(
       "\npath generation with prescribed timing (seed 002), five random timed points; time = "
       "SolveTimedPath + simulation of every four-bar returned\n");
   std::printf("%-24s %8s %11s %9s %6s %12s %10s %8s\n", "family", "tasks", "recovered", "found",
               "most", "worst_err/L", "median_us", "p99_us");
-  RunPathExact("4R (crank+RR)", DyadType::kRR, tasks, seed, csv);
-  RunPathExact("slider-crank (crank+PR)", DyadType::kPR, tasks, seed + 1, csv);
-  RunPathExact("inverted s-c (crank+RP)", DyadType::kRP, tasks, seed + 2, csv);
-  if (ls_tasks > 0) RunPathLeastSquares(ls_tasks, seed, csv);
-  if (csv) {
-    std::fclose(csv);
-    std::printf("written to %s\n", csv_path.c_str());
-  }
+  RunPathExact("4R (crank+RR)", DyadType::kRR, tasks, seed);
+  RunPathExact("slider-crank (crank+PR)", DyadType::kPR, tasks, seed + 1);
+  RunPathExact("inverted s-c (crank+RP)", DyadType::kRP, tasks, seed + 2);
 }
 
 }  // namespace
@@ -534,13 +345,9 @@ void RunPath(int tasks, int ls_tasks, uint64_t seed, const std::string& csv_path
 int main(int argc, char** argv) {
   int tasks = 100000;
   int spatial_tasks = 10000;
-  int ls_tasks = 20;
-  std::string csv_path = "least_squares.csv";
   uint64_t seed = 2026;
   std::string only;
   int path_tasks = 10000;
-  int path_ls_tasks = 12;
-  std::string path_csv = "path.csv";
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
@@ -550,22 +357,13 @@ int main(int argc, char** argv) {
       seed = std::strtoull(argv[++i], nullptr, 10);
     } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
       only = argv[++i];
-    } else if (!std::strcmp(argv[i], "--ls-tasks") && i + 1 < argc) {
-      ls_tasks = std::atoi(argv[++i]);
-    } else if (!std::strcmp(argv[i], "--csv") && i + 1 < argc) {
-      csv_path = argv[++i];
     } else if (!std::strcmp(argv[i], "--path-tasks") && i + 1 < argc) {
       path_tasks = std::atoi(argv[++i]);
-    } else if (!std::strcmp(argv[i], "--path-ls-tasks") && i + 1 < argc) {
-      path_ls_tasks = std::atoi(argv[++i]);
-    } else if (!std::strcmp(argv[i], "--path-csv") && i + 1 < argc) {
-      path_csv = argv[++i];
     } else {
       std::fprintf(stderr,
-                   "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--ls-tasks K] "
-                   "[--path-tasks P] [--path-ls-tasks Q] [--seed S] "
-                   "[--only planar|spatial|least-squares|path] [--csv FILE] "
-                   "[--path-csv FILE]\n");
+                   "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
+                   "[--seed S] [--only planar|spatial|path]\n"
+                   "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
   }
@@ -573,12 +371,8 @@ int main(int argc, char** argv) {
     RunSpatial(spatial_tasks, seed);
     return 0;
   }
-  if (only == "least-squares") {
-    RunLeastSquares(ls_tasks, seed, csv_path);
-    return 0;
-  }
   if (only == "path") {
-    RunPath(path_tasks, path_ls_tasks, seed, path_csv);
+    RunPath(path_tasks, seed);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
@@ -595,8 +389,7 @@ int main(int argc, char** argv) {
   for (const Family& family : families) RunFamily(family, tasks, seed++);
   if (only != "planar") {
     RunSpatial(spatial_tasks, seed);
-    RunLeastSquares(ls_tasks, seed, csv_path);
-    RunPath(path_tasks, path_ls_tasks, seed, path_csv);
+    RunPath(path_tasks, seed);
   }
   return 0;
 }

@@ -510,6 +510,20 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
                });
   }
 
+  // Nearly collinear pose origins: a slider-crank's coupler frame E moved so that its origin is
+  // within delta of the slider pin (delta = 0: on it, the five origins on the slider's line).
+  for (const double delta : {1e-3, 1e-6, 1e-9, 0.0}) {
+    sweep.Case("collinear", "planar 5 poses, origins within " + Power(delta) + " L of a line", 1e-8,
+               [&](std::mt19937_64& rng) {
+                 const testing::GeneratedTask generated =
+                     testing::RandomTask(rng, DyadType::kRR, DyadType::kPR, 5);
+                 // epsilon maps E to E': the new origin sits at the pin, offset along E's y.
+                 Similarity2 epsilon;
+                 epsilon.translation = -generated.output.moving_pivot + Eigen::Vector2d(0.0, delta);
+                 return SolveTransformedPlanar(generated, Similarity2(), epsilon);
+               });
+  }
+
   // Nearly collinear points: a slider-crank's coupler point within delta of its slider line
   // (delta = 0: on it, the five points on one line).
   for (const double delta : {1e-3, 1e-6, 1e-9, 0.0}) {

@@ -41,11 +41,11 @@
 #include <string>
 #include <vector>
 
+#include "apps/percentile.h"
 #include "fitting/planar_burmester.h"
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_burmester.h"
 #include "fitting/timed_path.h"
-#include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
@@ -55,6 +55,7 @@
 namespace {
 
 using linkfit::DyadType;
+using linkfit::Percentile;
 
 constexpr double kRecoveryTolerance = 1e-9;
 
@@ -84,13 +85,6 @@ double OneUlpSensitivity(const linkfit::testing::GeneratedTask& task, std::mt199
     worst = std::max(worst, RecoveryError(task, poses));
   }
   return worst;
-}
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  return values[index];
 }
 
 struct Family {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "apps/extremes_bench.h"
+#include "apps/percentile.h"
 #include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
@@ -28,13 +29,6 @@ constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kExactTolerance = 1e-9;       // exact data, in L
 constexpr double kFreeTimingTolerance = 1e-6;  // exact data under free timing, in L
 constexpr double kNoisyRatio = 1.10;           // noisy data, against the generating mechanism
-
-double Percentile(std::vector<double> values, double fraction) {
-  if (values.empty()) return 0.0;
-  std::sort(values.begin(), values.end());
-  const size_t index = std::min(values.size() - 1, static_cast<size_t>(fraction * values.size()));
-  return values[index];
-}
 
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)

@@ -257,7 +257,8 @@ int SolveBilinearSystem(const BilinearMatrices& matrices, const BilinearSolverOp
     BilinearRoot root;
     root.a = Canonical(a);
     root.c = Canonical(c);
-    if (std::max(ImaginaryShare(root.a), ImaginaryShare(root.c)) <= options.real_tolerance) {
+    const double imaginary = std::max(ImaginaryShare(root.a), ImaginaryShare(root.c));
+    if (imaginary <= options.real_tolerance) {
       Eigen::Vector4d a_real = root.a.real(), c_real = root.c.real();
       PolishBilinear<double>(matrices, options.newton_iterations, &a_real, &c_real);
       const Eigen::Vector4cd a_candidate = a_real.cast<Complex>(),
@@ -280,8 +281,7 @@ int SolveBilinearSystem(const BilinearMatrices& matrices, const BilinearSolverOp
     }
     if (duplicate) continue;
     local.real_roots += root.real;
-    local.nearly_real += !root.real && std::max(ImaginaryShare(root.a), ImaginaryShare(root.c)) <=
-                                           options.nearly_real_share;
+    local.nearly_real += !root.real && imaginary <= options.nearly_real_share;
     roots->push_back(root);
   }
   local.roots = static_cast<int>(roots->size());

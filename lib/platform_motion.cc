@@ -469,12 +469,6 @@ DualQuaternion ToPose(const State& x, const Eigen::Vector3d& centroid, double le
 
 bool IsFinite(const DualQuaternion& pose) { return pose.q.allFinite() && pose.g.allFinite(); }
 
-bool IsFinite(const SpatialDyad& dyad) {
-  return dyad.moving_pivot.allFinite() && dyad.fixed_pivot.allFinite() &&
-         std::isfinite(dyad.radius) && dyad.plane_normal.allFinite() &&
-         std::isfinite(dyad.plane_offset);
-}
-
 std::string Format(double value) {
   std::ostringstream out;
   out.precision(3);
@@ -531,7 +525,7 @@ PlatformMotionReport TracePlatform(const std::vector<SpatialDyad>& dyads,
     return report;
   }
   for (const SpatialDyad& dyad : dyads) {
-    if (!IsFinite(dyad)) {
+    if (!dyad.AllFinite()) {
       report.note = "a dyad has a non-finite number.";
       return report;
     }

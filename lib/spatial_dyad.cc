@@ -49,6 +49,11 @@ SpatialDyad SpatialDyad::SP(const Eigen::Vector3d& fixed_pivot, const Eigen::Vec
   return dyad;
 }
 
+bool SpatialDyad::AllFinite() const {
+  return moving_pivot.allFinite() && fixed_pivot.allFinite() && std::isfinite(radius) &&
+         plane_normal.allFinite() && std::isfinite(plane_offset);
+}
+
 double SpatialDyad::MaxResidual(const std::vector<DualQuaternion>& poses) const {
   double worst = 0.0;
   for (const DualQuaternion& pose : poses) worst = std::max(worst, std::abs(Residual(pose)));

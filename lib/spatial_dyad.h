@@ -53,6 +53,8 @@ struct SpatialDyad {
   }
   // Largest |residual| over the poses.
   double MaxResidual(const std::vector<DualQuaternion>& poses) const;
+  // Every number of the dyad (pivots, radius, plane) is finite.
+  bool AllFinite() const;
 };
 
 // A rigid motion with uniform scale, X -> scale * R X + t, used to undo the centering and

@@ -587,18 +587,6 @@ bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
   for (DyadBlocks* blocks : {input, output}) {
     if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
   }
-  // A start that does not assemble at some pose, or sits at a stationary configuration (an
-  // infinite derivative), cannot be evaluated: Ceres would stop at once (and say so on stderr,
-  // whatever its logging type); leave it as it is.
-  double start_cost = 0.0;
-  ceres::CRSMatrix start_jacobian;
-  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &start_cost, nullptr, nullptr,
-                        &start_jacobian) ||
-      !std::all_of(start_jacobian.values.begin(), start_jacobian.values.end(),
-                   [](double value) { return std::isfinite(value); })) {
-    *message = "the start does not assemble at every pose";
-    return false;
-  }
   CoincidenceGuard guard(input, output);
   ceres::Solver::Options solver_options = base_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;

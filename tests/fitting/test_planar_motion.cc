@@ -267,15 +267,11 @@ TEST(PlanarMotion, NearlyCoincidentPosesAreNotedWithTheirCondition) {
     for (const std::string& note : separated.notes) {
       EXPECT_EQ(note.find("ill-conditioned"), std::string::npos) << note;
     }
-    std::vector<PlanarPose> candidates;
-    const double value = InputValue(generated.input, generated.poses[3]);
-    if (AssembleFourBar(generated.input, generated.output, value + 1e-7, 0.0, &candidates) == 0) {
+    if (!testing::AssembleNear(generated.input, generated.output,
+                               InputValue(generated.input, generated.poses[3]) + 1e-7,
+                               generated.poses[3], &generated.poses[4])) {
       continue;
     }
-    generated.poses[4] = *std::min_element(
-        candidates.begin(), candidates.end(), [&](const PlanarPose& a, const PlanarPose& b) {
-          return PoseError(a, generated.poses[3], 1.0) < PoseError(b, generated.poses[3], 1.0);
-        });
     const PlanarMotionResult result = SolvePlanarMotion(TaskOf(generated.poses));
     std::string note;
     for (const std::string& text : result.notes) {

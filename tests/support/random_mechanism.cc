@@ -53,6 +53,18 @@ bool TryTask(std::mt19937_64& rng, DyadType input_type, DyadType output_type, in
 
 }  // namespace
 
+bool AssembleNear(const PlanarDyad& input, const PlanarDyad& output, double input_value,
+                  const PlanarPose& near, PlanarPose* pose) {
+  std::vector<PlanarPose> candidates;
+  if (AssembleFourBar(input, output, input_value, 0.0, &candidates) == 0) return false;
+  const PlanarPose* nearest = &candidates[0];
+  for (const PlanarPose& candidate : candidates) {
+    if (PoseError(candidate, near, 1.0) < PoseError(*nearest, near, 1.0)) nearest = &candidate;
+  }
+  *pose = *nearest;
+  return true;
+}
+
 bool DriveFourBar(std::mt19937_64& rng, const PlanarPose& start, int count, GeneratedTask* task) {
   const DyadType input_type = task->input.type;
   task->poses.assign(1, start);
@@ -71,22 +83,14 @@ bool DriveFourBar(std::mt19937_64& rng, const PlanarPose& start, int count, Gene
   const double direction = std::bernoulli_distribution(0.5)(rng) ? 1.0 : -1.0;
   double value = InputValue(task->input, start);
   PlanarPose current = start;
-  std::vector<PlanarPose> candidates;
   while (static_cast<int>(task->poses.size()) < count) {
     const double step = step_size(rng);
     const int sub_steps = static_cast<int>(std::ceil(step / sub_step));
     for (int s = 1; s <= sub_steps; ++s) {
-      if (AssembleFourBar(task->input, task->output, value + direction * step * s / sub_steps, 0.0,
-                          &candidates) == 0) {
+      if (!AssembleNear(task->input, task->output, value + direction * step * s / sub_steps,
+                        current, &current)) {
         return false;
       }
-      const PlanarPose* nearest = &candidates[0];
-      for (const PlanarPose& candidate : candidates) {
-        if (PoseError(candidate, current, 1.0) < PoseError(*nearest, current, 1.0)) {
-          nearest = &candidate;
-        }
-      }
-      current = *nearest;
     }
     value += direction * step;
     task->poses.push_back(current);

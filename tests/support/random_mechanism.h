@@ -26,6 +26,12 @@ struct GeneratedTask {
 // 0.05 L (scaled likewise), are drawn again.
 GeneratedTask RandomTask(std::mt19937_64& rng, DyadType input, DyadType output, int count = 5);
 
+// The coupler pose of the four-bar input + output at input joint value `input_value` nearest
+// `near` (PoseError with L = 1): where a driven input takes the coupler from `near` in a small
+// step. False when the four-bar does not assemble there.
+bool AssembleNear(const PlanarDyad& input, const PlanarDyad& output, double input_value,
+                  const PlanarPose& near, PlanarPose* pose);
+
 // Drives the four-bar task->input + task->output (both satisfied at `start`) as RandomTask
 // does, writing `count` poses from `start` to task->poses. False when it locks up or two poses
 // come closer than RandomTask allows.

@@ -8,12 +8,14 @@
 #include <random>
 #include <sstream>
 
+#include "fitting/model_choice.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
+#include "tests/support/rounded_task.h"
 
 namespace linkfit {
 namespace {
@@ -265,6 +267,192 @@ void ExactOnCircle(const PlanarDyad& input, double radius, testing::GeneratedTas
       pose.theta += phi;
     }
   }
+}
+
+// ---- rounded data: tasks printed to a few significant digits and read back ----
+
+// A stated error bound above this fraction of a dyad's size says that the data barely
+// determine it (the bound is first order, and so itself rough there): the result says the data
+// are too coarse for that dyad.
+constexpr double kRoughBound = 0.25;
+
+// The result says that its data are too coarse: a family of solutions at this precision, or an
+// error bound beyond the dyads' own size.
+bool SaysTooCoarse(const std::vector<std::string>& notes) {
+  return std::any_of(notes.begin(), notes.end(), [](const std::string& note) {
+    return note.find("means nothing") != std::string::npos ||
+           note.find("rounding of the data can turn two real dyads into a complex pair") !=
+               std::string::npos ||
+           note.find("dependent within the data's precision") != std::string::npos ||
+           note.find("rank-deficient") != std::string::npos;
+  });
+}
+
+// Recovery of a generating planar dyad from rounded data, in units of twice the error bound
+// the result states for the matching dyad (twice: the bound is first order): right at most 1.
+// A generating circle whose slider reading fits the rounded poses within their precision may
+// come back as that slider (the simpler model, fitting/model_choice.h). *undetermined is set
+// when the nearest dyad's bound says the poses do not determine it at this precision.
+double RoundedPlanarRecovery(const PlanarDyad& expected, const std::vector<DyadReport>& found,
+                             const Task& task, const std::vector<PlanarPose>& poses,
+                             bool* undetermined) {
+  const double length = CharacteristicLength(poses);
+  std::vector<PlanarDyad> targets = {expected};
+  PlanarDyad simpler;
+  if (SimplerModel(expected, poses, task.precision, length, &simpler)) targets.push_back(simpler);
+  double best = kInfinity, nearest = kInfinity;
+  bool nearest_undetermined = false;
+  for (const PlanarDyad& target : targets) {
+    const double scale = testing::DyadScale(target, poses);
+    for (const DyadReport& report : found) {
+      const double distance = testing::DyadDistance(report.dyad, target, scale);
+      if (!std::isfinite(distance)) continue;
+      const double bound = report.error_bound.value_or(0.0);
+      if (distance < nearest) {
+        nearest = distance;
+        nearest_undetermined = !(bound < kRoughBound * scale);
+      }
+      if (!std::isfinite(bound)) continue;
+      best = std::min(best, distance / ((2.0 * bound + 1e-9 * scale) / scale));
+    }
+  }
+  *undetermined = *undetermined || (nearest_undetermined && !(best <= 1.0));
+  return best;
+}
+
+// Planar motion from rounded data: both generating dyads within their bounds.
+Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) {
+  const Task task = testing::ReadRounded(testing::PlanarMotionText(generated.poses, digits));
+  const PlanarMotionResult result = SolvePlanarTask(task);
+  Verdict verdict;
+  verdict.finite = AllFinite(result);
+  bool undetermined = false;
+  verdict.error = std::max(
+      RoundedPlanarRecovery(generated.input, result.dyads, task, task.planar_poses, &undetermined),
+      RoundedPlanarRecovery(generated.output, result.dyads, task, task.planar_poses,
+                            &undetermined));
+  verdict.noted = undetermined || SaysTooCoarse(result.notes);
+  verdict.tolerance = 1.0;
+  // The type the generating output came back as.
+  const double scale = testing::DyadScale(generated.output, generated.poses);
+  double nearest = kInfinity;
+  for (const DyadReport& report : result.dyads) {
+    const PlanarDyad& dyad = report.dyad;
+    const double distance =
+        generated.output.type == DyadType::kRP
+            ? (dyad.type == DyadType::kPR
+                   ? kInfinity
+                   : (dyad.fixed_pivot - generated.output.fixed_pivot).norm())
+            : (dyad.type == DyadType::kRP
+                   ? kInfinity
+                   : (dyad.moving_pivot - generated.output.moving_pivot).norm());
+    if (distance < nearest && distance < 0.1 * scale) {
+      nearest = distance;
+      verdict.kind = DyadTypeName(dyad.type);
+    }
+  }
+  return verdict;
+}
+
+// Recovery of a generating spatial dyad from rounded data, as RoundedPlanarRecovery: in units
+// of twice the matching dyad's stated error bound; a sphere the rounded poses cannot tell from
+// its plane reading may come back as that plane.
+double RoundedSpatialRecovery(const SpatialDyad& expected,
+                              const std::vector<SpatialDyadReport>& found, const Task& task,
+                              double length, bool* undetermined) {
+  std::vector<SpatialDyad> targets = {expected};
+  SpatialDyad plane;
+  if (SimplerModel(expected, task.spatial_poses, task.precision, length, &plane)) {
+    targets.push_back(plane);
+  }
+  double best = kInfinity, nearest = kInfinity;
+  bool nearest_undetermined = false;
+  for (const SpatialDyad& target : targets) {
+    // SpatialDyadDistance is relative to the dyad's size: bring the bound to the same units.
+    const double size = testing::SpatialDyadDistance(
+        SpatialDyad::SS(target.fixed_pivot + Eigen::Vector3d::UnitX(), target.moving_pivot,
+                        target.radius),
+        SpatialDyad::SS(target.fixed_pivot, target.moving_pivot, target.radius));
+    for (const SpatialDyadReport& report : found) {
+      const double distance = testing::SpatialDyadDistance(report.dyad, target);
+      if (!std::isfinite(distance)) continue;
+      const double bound = report.error_bound.value_or(0.0);
+      if (distance < nearest) {
+        nearest = distance;
+        nearest_undetermined = !(bound * size < kRoughBound);
+      }
+      if (!std::isfinite(bound)) continue;
+      best = std::min(best, distance / ((2.0 * bound + 1e-9 * length) * size));
+    }
+  }
+  *undetermined = *undetermined || (nearest_undetermined && !(best <= 1.0));
+  return best;
+}
+
+// Seven spatial poses from rounded data: the five generating SS dyads within their bounds.
+Verdict SolveRoundedSpatial(const PlantedSpatialTask& generated, int digits,
+                            testing::SpatialForm form) {
+  const Task task = testing::ReadRounded(testing::SpatialMotionText(generated.poses, digits, form));
+  const SpatialMotionResult result = SolveSpatialTask(task);
+  Verdict verdict;
+  verdict.finite = AllFinite(result);
+  verdict.kind = result.model;
+  const double length = SpatialTaskLength(task);
+  bool undetermined = false;
+  verdict.error = 0.0;
+  for (const SpatialDyad& expected : generated.planted) {
+    verdict.error = std::max(
+        verdict.error, RoundedSpatialRecovery(expected, result.dyads, task, length, &undetermined));
+  }
+  verdict.noted = undetermined || SaysTooCoarse(result.notes);
+  verdict.tolerance = 1.0;
+  return verdict;
+}
+
+// Seven poses of a planar four-bar given as spatial poses (in the plane z = 0) and rounded:
+// solved as planar, with the generating dyads back within their bounds.
+Verdict SolveRoundedPlanarAsSpatial(const testing::GeneratedTask& generated, int digits,
+                                    testing::SpatialForm form) {
+  std::vector<DualQuaternion> poses;
+  for (const PlanarPose& pose : generated.poses) {
+    poses.push_back(DualQuaternion::FromAxisAngle(
+        Eigen::Vector3d::UnitZ(), pose.theta,
+        Eigen::Vector3d(pose.origin_in_fixed.x(), pose.origin_in_fixed.y(), 0.0)));
+  }
+  const Task task = testing::ReadRounded(testing::SpatialMotionText(poses, digits, form));
+  const SpatialMotionResult result = SolveSpatialTask(task);
+  Verdict verdict;
+  verdict.finite = AllFinite(result);
+  verdict.kind = result.model;
+  verdict.tolerance = 1.0;
+  if (result.model != "planar" || !result.planar || !result.plane) return verdict;
+  // The planar dyads mapped to z = 0 coordinates (the plane's normal may point down).
+  const PlanarEmbedding& plane = *result.plane;
+  const Eigen::Matrix<double, 3, 2> to_fixed = plane.axes_in_fixed.leftCols<2>();
+  const Eigen::Matrix<double, 3, 2> to_moving = plane.axes_in_moving.leftCols<2>();
+  std::vector<DyadReport> lifted;
+  for (DyadReport report : result.planar->dyads) {
+    PlanarDyad& dyad = report.dyad;
+    const Eigen::Vector3d fixed = plane.origin_in_fixed + to_fixed * dyad.fixed_pivot;
+    const Eigen::Vector3d moving = to_moving * dyad.moving_pivot;
+    const Eigen::Vector3d line_point =
+        dyad.type == DyadType::kPR
+            ? Eigen::Vector3d(plane.origin_in_fixed + to_fixed * dyad.line_point)
+            : Eigen::Vector3d(to_moving * dyad.line_point);
+    const Eigen::Vector3d direction =
+        (dyad.type == DyadType::kPR ? to_fixed : to_moving) * dyad.line_direction;
+    dyad.fixed_pivot = fixed.head<2>();
+    dyad.moving_pivot = moving.head<2>();
+    dyad.line_point = line_point.head<2>();
+    dyad.line_direction = direction.head<2>().normalized();
+    lifted.push_back(report);
+  }
+  bool undetermined = false;
+  verdict.error = std::max(
+      RoundedPlanarRecovery(generated.input, lifted, task, generated.poses, &undetermined),
+      RoundedPlanarRecovery(generated.output, lifted, task, generated.poses, &undetermined));
+  verdict.noted = undetermined || SaysTooCoarse(result.notes);
+  return verdict;
 }
 
 std::string Power(double value) {
@@ -592,6 +780,42 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
           }
           return verdict;
         });
+  }
+
+  // Rounded data: generated tasks printed to 8, 6 and 4 significant digits as tables print
+  // them, read back (precision inferred from the digits) and solved. Right: both generating
+  // dyads (planar) or all five (spatial) back within twice the error bound the result states,
+  // typed as the data allow (a circle the rounded poses cannot tell from a line may come back
+  // as the slider); noted: the result says the data are too coarse. The detail column counts
+  // the types (planar: the generating output's) or models found.
+  for (const int digits : {8, 6, 4}) {
+    const std::string printed = " to " + std::to_string(digits) + " digits";
+    for (const auto& [name, output] :
+         {std::pair{"4R", DyadType::kRR}, std::pair{"slider-crank", DyadType::kPR},
+          std::pair{"inverted slider-crank", DyadType::kRP}}) {
+      sweep.Case("rounded", std::string("planar 5 poses, ") + name + printed, 1.0,
+                 [&, output = output](std::mt19937_64& rng) {
+                   return SolveRoundedPlanar(testing::RandomTask(rng, DyadType::kRR, output, 5),
+                                             digits);
+                 });
+    }
+    sweep.Case("rounded", "spatial 7 poses (q, g)" + printed, 1.0, [&](std::mt19937_64& rng) {
+      return SolveRoundedSpatial(RandomPlatformTask(rng, 7), digits,
+                                 testing::SpatialForm::kDualQuaternion);
+    });
+    sweep.Case("rounded", "spatial 7 poses (rotation matrix)" + printed, 1.0,
+               [&](std::mt19937_64& rng) {
+                 return SolveRoundedSpatial(RandomPlatformTask(rng, 7), digits,
+                                            testing::SpatialForm::kRotationMatrix);
+               });
+    for (const auto& [name, form] : {std::pair{"(q, g)", testing::SpatialForm::kDualQuaternion},
+                                     std::pair{"(Euler ZYX)", testing::SpatialForm::kEulerZYX}}) {
+      sweep.Case("rounded", std::string("planar 4R as 7 spatial poses ") + name + printed, 1.0,
+                 [&, form = form](std::mt19937_64& rng) {
+                   return SolveRoundedPlanarAsSpatial(testing::RandomFourBarTask(rng, 7), digits,
+                                                      form);
+                 });
+    }
   }
   return sweep.rows();
 }

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "fitting/model_choice.h"
 #include "fitting/planar_constraint_space.h"
 #include "fitting/polynomial.h"
 #include "lib/kinematic_mapping.h"
@@ -150,15 +151,60 @@ struct CoreResult {
   std::vector<DyadReading> roots;  // real roots, read, without duplicates
   int roots_total = 0;
   int roots_real = 0;
+  int real_within_precision = 0;  // complex roots whose real part fits within precision
   double condition = 0.0;
   double fit_residual = 0.0;
   bool degenerate = false;
 };
 
-// The constraint-space solve on normalized poses.
+// A circle's slider reading may be polished by at most this fraction of the circle's radius
+// (PR; for RP of its moving pivot's distance): the slider of a circle that rounding bent from a
+// line lies within the circle's own uncertainty, a small part of its huge radius, while a
+// polish that moves farther is running to another root.
+constexpr double kPolishReach = 0.01;
+
+// The simpler reading of a circle at the data's precision (fitting/model_choice.h): the PR or
+// RP slider fitted by least squares to the pivot's positions, polished on the five poses'
+// geometric equations, when it fits them within kModelUnits of the data's uncertainty. The
+// polish may move the pivot only within what the data allow the circle (DyadErrorBound) and
+// within kPolishReach of its size, so that the slider stays this root's.
+bool SliderAtPrecision(const PlanarDyad& circle, const std::vector<PlanarPose>& poses,
+                       const std::vector<PoseFrame>& frames, const DataPrecision& precision,
+                       int iterations, DyadReading* slider) {
+  double best = kModelUnits;
+  bool found = false;
+  double allowed = -1.0;  // the circle's error bound, computed when first needed
+  for (PlanarDyad candidate : {FitSliderPR(circle, poses), FitSliderRP(circle, poses)}) {
+    if (!candidate.AllFinite()) continue;
+    if (poses.size() == 5 && !(PrecisionRatio(candidate, poses, precision, 1.0) <= best)) {
+      const PlanarDyad polished = FitDyadLeastSquares(candidate, poses, iterations);
+      if (allowed < 0.0) allowed = 2.0 * DyadErrorBound(circle, poses, precision, 1.0);
+      const bool pr = candidate.type == DyadType::kPR;
+      const double moved = pr ? (polished.moving_pivot - candidate.moving_pivot).norm()
+                              : (polished.fixed_pivot - candidate.fixed_pivot).norm();
+      const double reach = kPolishReach * (pr ? circle.radius : circle.moving_pivot.norm());
+      if (moved <= std::min(allowed, reach)) candidate = polished;
+    }
+    const double ratio = PrecisionRatio(candidate, poses, precision, 1.0);
+    if (ratio <= best) {
+      best = ratio;
+      slider->dyad = candidate;
+      slider->max_residual = MaxResidual(candidate, frames);
+      found = true;
+    }
+  }
+  return found;
+}
+
+// The constraint-space solve on normalized poses; `precision` is the data's, normalized.
 void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
-                     CoreResult* result) {
+                     const DataPrecision& precision, CoreResult* result) {
   const int n = static_cast<int>(poses.size());
+  // Rows dependent within the data's precision are a family (one orientation, ...).
+  const double rank_tolerance = std::max(
+      options.rank_tolerance, precision.length > 0.0 || precision.angle > 0.0
+                                  ? options.family_units * RelativePrecision(precision, 1.0)
+                                  : 0.0);
   NullBasis basis;
   if (n == 5) {
     // Null space of the 5 x 8 matrix from a column-pivoted QR of its transpose.
@@ -170,7 +216,7 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     const double r_first = std::abs(qr.matrixR()(0, 0));
     const double r_last = std::abs(qr.matrixR()(4, 4));
     result->condition = r_last > 0.0 ? r_first / r_last : std::numeric_limits<double>::infinity();
-    result->degenerate = !(r_last > options.rank_tolerance * r_first);
+    result->degenerate = !(r_last > rank_tolerance * r_first);
   } else {
     // More poses: the three smallest right singular vectors, the algebraic least-squares
     // seed (the planar counterpart of seed 000 section 4.1).
@@ -181,7 +227,7 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     const Eigen::VectorXd sigma = svd.singularValues();
     result->condition =
         sigma[4] > 0.0 ? sigma[0] / sigma[4] : std::numeric_limits<double>::infinity();
-    result->degenerate = !(sigma[4] > options.rank_tolerance * sigma[0]);
+    result->degenerate = !(sigma[4] > rank_tolerance * sigma[0]);
     double sum = 0.0;
     for (int i = 5; i < sigma.size(); ++i) sum += sigma[i] * sigma[i];
     result->fit_residual = std::sqrt(sum / n);
@@ -201,6 +247,8 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
   }
 
   const std::vector<PoseFrame> frames = MakeFrames(poses);
+  // Data coarser than rounding: complex roots may be real within their precision.
+  const bool coarse = RelativePrecision(precision, 1.0) > 1e-12;
   for (const ComplexConstraintVector& z : complex_roots) {
     // Back to P^2 coordinates (the basis is orthonormal), phase removed.
     Vector3c a = basis.transpose().cast<Complex>() * z;
@@ -208,12 +256,17 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     a.cwiseAbs().maxCoeff(&k);
     a /= a[k];
     const double imaginary = a.imag().norm() / a.real().norm();
-    if (!(imaginary <= options.real_tolerance)) continue;
     Eigen::Vector3d a_real = a.real();
-    const double residual = PolishRealRoot(m1, m2, options.newton_iterations, &a_real);
-    if (!(residual <= 1e-9)) continue;
-    ++result->roots_real;
-    const ConstraintVector z_real = basis * a_real;
+    const double residual = imaginary <= options.real_tolerance
+                                ? PolishRealRoot(m1, m2, options.newton_iterations, &a_real)
+                                : std::numeric_limits<double>::infinity();
+    const bool real = residual <= 1e-9;
+    // A complex root is kept only when its real part, read and polished as a dyad, fits the
+    // poses within the data's precision (rounding can turn two nearby real dyads into a
+    // complex pair): at that precision it is real.
+    if (!real && !coarse) continue;
+    if (real) ++result->roots_real;
+    const ConstraintVector z_real = basis * a_real.normalized();
     DyadReading readings[3];
     const int count = ReadingsOf(z_real, frames, /*sliders=*/true, readings);
     if (count == 0) continue;
@@ -232,6 +285,28 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
           readings[i].max_residual = MaxResidual(readings[i].dyad, frames);
         }
         chosen = ChooseReading(readings, count, options.slider_tolerance);
+      }
+    }
+    if (!real) {
+      // The nearest real circle first (the pair came from two circles, or from a circle and a
+      // slider), else the chosen reading; kept when it fits within the data's precision.
+      for (int i = 0; i < count; ++i) {
+        if (readings[i].dyad.type != DyadType::kRR) continue;
+        const PlanarDyad circle = FitDyadLeastSquares(readings[i].dyad, poses, 50);
+        if (PrecisionRatio(circle, poses, precision, 1.0) <= kModelUnits) {
+          readings[i].dyad = circle;
+          readings[i].max_residual = MaxResidual(circle, frames);
+          chosen = i;
+        }
+      }
+      if (!(PrecisionRatio(readings[chosen].dyad, poses, precision, 1.0) <= kModelUnits)) continue;
+      ++result->real_within_precision;
+    }
+    // A circle that the data cannot tell from a slider is the slider.
+    if (readings[chosen].dyad.type == DyadType::kRR) {
+      DyadReading slider;
+      if (SliderAtPrecision(readings[chosen].dyad, poses, frames, precision, 50, &slider)) {
+        readings[chosen] = slider;
       }
     }
     // Two complex-conjugate roots near a real double root polish to the same point: keep one.
@@ -286,10 +361,13 @@ int SolvePlanarBurmester(const std::vector<PlanarPose>& poses,
     return 0;
   }
   const NormalizedMotion direct = Normalize(poses);
+  DataPrecision normalized_precision = options.precision;
+  normalized_precision.length /= direct.length;
   CoreResult core;
-  SolveNormalized(direct.poses, options, &core);
+  SolveNormalized(direct.poses, options, normalized_precision, &core);
   local_summary.roots_total = core.roots_total;
   local_summary.roots_real = core.roots_real;
+  local_summary.real_within_precision = core.real_within_precision;
   local_summary.condition = core.condition;
   local_summary.fit_residual = core.fit_residual;
   local_summary.degenerate = core.degenerate;

@@ -29,6 +29,7 @@
 
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "lib/precision.h"
 
 namespace linkfit {
 
@@ -51,11 +52,19 @@ struct PlanarBurmesterOptions {
   // Singular value ratio sigma_5 / sigma_1 below which the five rows are taken as dependent
   // (the task has a family of dyads, not four).
   double rank_tolerance = 1e-10;
+  // The precision of the poses (lib/precision.h; zero: rounding level). A circle whose slider
+  // reading fits the poses within it is typed as the slider (fitting/model_choice.h), and rows
+  // dependent within family_units times its relative size are a family of dyads.
+  DataPrecision precision;
+  double family_units = 1.0;
 };
 
 struct PlanarBurmesterSummary {
-  int roots_total = 0;        // roots of the direct problem, complex ones included (4)
-  int roots_real = 0;         // real ones among them
+  int roots_total = 0;  // roots of the direct problem, complex ones included (4)
+  int roots_real = 0;   // real ones among them
+  // Complex roots whose real part, read as a dyad, fits the poses within the data's precision
+  // (rounding turned two nearby real dyads into a complex pair); their dyads are returned.
+  int real_within_precision = 0;
   double condition = 0.0;     // sigma_1 / sigma_5 of the 5 x 8 constraint matrix
   double fit_residual = 0.0;  // more than 5 poses: RMS algebraic residual of the seed space
   bool degenerate = false;    // rank-deficient rows: infinitely many dyads

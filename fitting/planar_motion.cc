@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "fitting/model_choice.h"
 #include "fitting/planar_burmester_curves.h"
 #include "lib/four_bar_motion.h"
 
@@ -35,6 +36,13 @@ bool BetterAnalysis(const FourBarAnalysis& a, const FourBarAnalysis& b) {
 }
 
 }  // namespace
+
+double ConditionErrorBound(double condition, double relative_precision,
+                           const PlanarMotionOptions& options) {
+  // Measured on random four-bars with two nearly coincident poses at full precision (linkfit
+  // bench): the dyads' relative error is about condition * 1e-15, at worst condition * 3e-13.
+  return std::max(3e-13, options.condition_error_factor * relative_precision) * condition;
+}
 
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
                                 const std::vector<PlanarPose>& poses, double length) {
@@ -95,22 +103,35 @@ void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
   SolvePlanarBurmester(poses, options.burmester, &dyads, &summary);
   result->roots_total = summary.roots_total;
   result->roots_real = summary.roots_real;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  const double relative = RelativePrecision(task.precision, length);
   if (summary.degenerate) {
     result->notes.push_back(
-        "the pose constraints are dependent to working precision (ill-conditioned: condition "
-        "estimate " +
+        "the pose constraints are dependent within the data's precision (relative " +
+        Format("%.2g", relative) + "; ill-conditioned: condition estimate " +
         Format("%.3g", summary.condition) +
         "): the poses admit a family of dyads, not isolated ones (e.g. all poses of one "
         "orientation, or two poses nearly coincident)");
-  } else if (poses.size() == 5 && summary.condition > options.ill_conditioned) {
-    // Measured on random four-bars with two nearly coincident poses (linkfit bench): the
-    // dyads' relative error is about condition * 1e-15, at worst condition * 3e-13.
-    result->notes.push_back(
-        "ill-conditioned: the five poses nearly admit a family of dyads (condition estimate " +
-        Format("%.3g", summary.condition) + "); the dyads may be off by up to about " +
-        Format("%.1g", 3e-13 * summary.condition) + " of their size");
+  } else if (poses.size() == 5) {
+    const double bound = ConditionErrorBound(summary.condition, relative, options);
+    if (summary.condition > options.ill_conditioned || bound > options.error_note) {
+      std::string note = summary.condition > options.ill_conditioned
+                             ? "ill-conditioned: the five poses nearly admit a family of dyads; "
+                             : "";
+      note += "condition estimate " + Format("%.3g", summary.condition) + " with data precise to " +
+              Format("%.2g", relative) + " (relative): the dyads may be off by up to about " +
+              Format("%.2g", bound) + " of their size";
+      if (bound >= 1.0) {
+        note += ", more than the dyads themselves: at this precision the answer means nothing";
+      }
+      result->notes.push_back(note);
+    }
   }
-  for (const PlanarDyad& dyad : dyads) result->dyads.push_back({dyad, dyad.MaxResidual(poses)});
+  for (const PlanarDyad& dyad : dyads) {
+    DyadReport report(dyad, dyad.MaxResidual(poses));
+    report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
+    result->dyads.push_back(report);
+  }
   std::sort(result->dyads.begin(), result->dyads.end(), DyadBefore);
   if (poses.size() > 5 && !summary.degenerate) {
     result->notes.push_back(
@@ -121,9 +142,17 @@ void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
   }
   if (!summary.degenerate && summary.roots_total > 0) {
     const int complex_roots = summary.roots_total - summary.roots_real;
-    if (complex_roots > 0) {
-      result->notes.push_back(std::to_string(complex_roots) + " of the " +
-                              std::to_string(summary.roots_total) +
+    if (summary.real_within_precision > 0) {
+      result->notes.push_back(
+          std::to_string(summary.real_within_precision) + " of the " +
+          std::to_string(summary.roots_total) +
+          " Burmester roots are complex but real within the data's precision (rounding turns two "
+          "nearby dyads into a complex pair): their real parts fit the poses within it and are "
+          "listed");
+    }
+    if (complex_roots > summary.real_within_precision) {
+      result->notes.push_back(std::to_string(complex_roots - summary.real_within_precision) +
+                              " of the " + std::to_string(summary.roots_total) +
                               " Burmester roots are complex and were dropped");
     }
   }
@@ -265,10 +294,12 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);
   result.scale = length;
   result.method = poses.size() <= 5 ? "exact" : "least-squares";
+  PlanarMotionOptions at_precision = options;
+  at_precision.burmester.precision = task.precision;
   if (poses.size() < 5) {
     SolveFewPoses(task, &result);
   } else {
-    SolveFivePosesOrMore(task, options, &result);
+    SolveFivePosesOrMore(task, at_precision, &result);
   }
 
   BuildMechanisms(poses, length, &result);

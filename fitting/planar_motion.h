@@ -13,9 +13,20 @@ namespace linkfit {
 struct PlanarMotionOptions {
   PlanarBurmesterOptions burmester;  // root finding and typing
   // Five poses whose constraint matrix has a condition estimate (sigma_1 / sigma_5) above this
-  // get an "ill-conditioned" note: their dyads may be off by more than about 1e-7 relative.
+  // are called "ill-conditioned" in the error-bound note.
   double ill_conditioned = 1e6;
+  // The dyads' error bound relative to their size: condition_error_factor * condition * the
+  // data's relative precision (measured: linkfit bench, rounded data), never below the
+  // rounding-level bound 3e-13 * condition. Five poses whose bound exceeds error_note get a
+  // note with it.
+  double condition_error_factor = 10.0;
+  double error_note = 1e-2;
 };
+
+// The relative error bound of five-pose dyads (PlanarMotionOptions): at least the rounding
+// level, condition * factor times the data's relative precision.
+double ConditionErrorBound(double condition, double relative_precision,
+                           const PlanarMotionOptions& options = {});
 
 // Solves a validated planar motion task (at least five poses). Never throws for numerical
 // trouble: what could not be done is said in result.notes.

@@ -10,6 +10,8 @@
 #include <numeric>
 #include <string>
 
+#include "fitting/model_choice.h"
+
 namespace linkfit {
 namespace {
 
@@ -101,6 +103,7 @@ void SolvePlanar(const Task& task, const SpatialMotionOptions& options, PlanarEm
   planar_task.pose_exact = task.pose_exact;
   planar_task.scale = task.scale;
   planar_task.effort = task.effort;
+  planar_task.precision = task.precision;
   const int count = static_cast<int>(plane.poses.size());
   result->notes.push_back(
       "the poses lie in one plane (largest deviation " + Format("%.3g", plane.planarity) +
@@ -128,6 +131,16 @@ void SolvePlanar(const Task& task, const SpatialMotionOptions& options, PlanarEm
 }
 
 }  // namespace
+
+double PlanarityTolerance(const Task& task, double length, const SpatialMotionOptions& options) {
+  // Rounding moves a pose origin off the plane by up to sqrt(3) delta and tilts a rotation by
+  // up to alpha; the test measures against the centroid and the first pose, which doubles both.
+  const double within_precision = kModelUnits *
+                                  std::hypot(2.0 * std::sqrt(3.0) * task.precision.length,
+                                             2.0 * length * task.precision.angle) /
+                                  length;
+  return std::max(options.planarity_tolerance, within_precision);
+}
 
 double SpatialTaskLength(const Task& task) {
   if (task.scale) return *task.scale;
@@ -201,7 +214,7 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
       !(task.spatial_moving_pivots.empty() && task.spatial_fixed_pivots.empty());
   if (!have_pivots) {
     if (std::optional<PlanarEmbedding> plane =
-            DetectPlanarMotion(poses, length, options.planarity_tolerance)) {
+            DetectPlanarMotion(poses, length, PlanarityTolerance(task, length, options))) {
       SolvePlanar(task, options, std::move(*plane), &result);
       return finish();
     }
@@ -247,7 +260,13 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
 
   std::vector<SpatialDyad> dyads;
   SpatialBurmesterSummary summary;
-  SolveSpatialBurmester(poses, weights, options.burmester, &dyads, &summary);
+  // Rounding by a relative p splits a double root by about sqrt(p): complex roots that close to
+  // real are counted (and noted) as nearly real at the data's precision.
+  SpatialBurmesterOptions burmester = options.burmester;
+  burmester.bilinear.nearly_real_share =
+      std::max(burmester.bilinear.nearly_real_share,
+               10.0 * std::sqrt(RelativePrecision(task.precision, length)));
+  SolveSpatialBurmester(poses, weights, burmester, &dyads, &summary);
   result.method = n == 7 ? "exact" : "least-squares";
   result.roots_total = summary.roots_total;
   result.roots_real = summary.roots_real;
@@ -271,20 +290,49 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   if (summary.nearly_real > 0) {
     result.notes.push_back(
         std::to_string(summary.nearly_real) +
-        " complex roots are nearly real (imaginary part below 1e-3): ill-conditioned near a "
-        "double root, where rounding of the data can turn two real dyads into a complex pair "
-        "(condition estimate " +
+        " complex roots are nearly real (imaginary part below " +
+        Format("%.2g", burmester.bilinear.nearly_real_share) +
+        "): ill-conditioned near a double root, where rounding of the data can turn two real "
+        "dyads into a complex pair (condition estimate " +
         Format("%.3g", summary.condition) + ")");
   }
   if (summary.imaginary_spheres > 0) {
     result.notes.push_back(std::to_string(summary.imaginary_spheres) +
                            " real roots are spheres of imaginary radius (no physical dyad)");
   }
+  int simplified = 0;
   for (const SpatialDyad& dyad : dyads) {
     SpatialDyadReport report;
     report.dyad = dyad;
-    report.max_residual = dyad.MaxResidual(poses);
+    // A sphere the data cannot tell from a plane is the plane (fitting/model_choice.h).
+    SpatialDyad plane;
+    if (SimplerModel(dyad, poses, task.precision, length, &plane)) {
+      report.dyad = plane;
+      ++simplified;
+    }
+    report.max_residual = report.dyad.MaxResidual(poses);
+    report.error_bound = DyadErrorBound(report.dyad, poses, task.precision, length);
     result.dyads.push_back(report);
+  }
+  if (simplified > 0) {
+    result.notes.push_back(std::to_string(simplified) +
+                           (simplified == 1 ? " sphere is" : " spheres are") +
+                           " reported as planes (PS or SP): at the data's precision (length " +
+                           Format("%.2g", task.precision.length) + ", angle " +
+                           Format("%.2g", task.precision.angle * 180.0 / M_PI) +
+                           " deg) the poses cannot tell them from their plane readings");
+  }
+  const double relative = RelativePrecision(task.precision, length);
+  const double bound = 10.0 * summary.condition * relative;
+  if (n == 7 && bound > 1e-2) {
+    std::string note = "condition estimate " + Format("%.3g", summary.condition) +
+                       " with data precise to " + Format("%.2g", relative) +
+                       " (relative): the dyads may be off by up to about " + Format("%.2g", bound) +
+                       " of their size";
+    if (bound >= 1.0) {
+      note += ", more than the dyads themselves: at this precision the answer means nothing";
+    }
+    result.notes.push_back(note);
   }
   SortDyadsByRadius(&result.dyads);
   if (result.dyads.empty()) result.notes.push_back("no real dyad: all roots are complex");

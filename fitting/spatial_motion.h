@@ -36,6 +36,11 @@ struct SpatialMotionOptions {
 // origins from their centroid (1 if they coincide).
 double SpatialTaskLength(const Task& task);
 
+// The planarity tolerance (relative to L) of a task: the options', or what the data's precision
+// allows (lib/precision.h: rounding moves origins off a plane and tilts rotations), whichever
+// is larger, so that planar data printed to a few digits are solved as planar.
+double PlanarityTolerance(const Task& task, double length, const SpatialMotionOptions& options);
+
 // The plane of motion when the poses are planar within tolerance * length; nullopt otherwise.
 std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaternion>& poses,
                                                   double length, double tolerance);

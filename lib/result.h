@@ -26,6 +26,9 @@ struct DyadReport {
   // refinement (absent when not refined).
   std::optional<double> rms_residual;
   std::optional<double> seed_rms_residual;
+  // How far the data's precision can move the dyad (fitting/model_choice.h DyadErrorBound),
+  // length units; infinity when the poses do not determine it at that precision.
+  std::optional<double> error_bound;
 };
 
 // One stage of an approximate synthesis (seed, refine, search, mechanism refinement): its time
@@ -77,6 +80,8 @@ struct PlanarMotionResult {
   double solve_seconds = 0.0;
   std::string effort;               // least squares: the effort level used
   std::vector<StageReport> stages;  // least squares: what each stage took and gave
+  DataPrecision precision;          // the data precision assumed (the task's)
+  bool closed = false;              // the task's last pose repeated the first (dropped)
 };
 
 struct SpatialDyadReport {
@@ -87,6 +92,9 @@ struct SpatialDyadReport {
   std::optional<double> seed_max_residual;
   std::optional<double> seed_rms_residual;
   std::optional<double> rms_residual;
+  // How far the data's precision can move the dyad (fitting/model_choice.h DyadErrorBound),
+  // length units; infinity when the poses do not determine it at that precision.
+  std::optional<double> error_bound;
 };
 
 // A 5-SS (or mixed SS/PS) platform: five dyads acting on one body, one degree of freedom.
@@ -127,6 +135,8 @@ struct SpatialMotionResult {
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
   double refine_seconds = 0.0;  // Ceres refinement (more than seven poses)
+  DataPrecision precision;      // the data precision assumed (the task's)
+  bool closed = false;          // the task's last pose repeated the first (dropped)
 };
 
 // A four-bar for a path task (timed points), in the first point's configuration
@@ -161,6 +171,10 @@ struct PathResult {
   double solve_seconds = 0.0;
   std::string effort;               // least squares: the effort level used
   std::vector<StageReport> stages;  // least squares: what each stage took and gave
+  DataPrecision precision;          // the data precision assumed (the task's)
+  // A closed path: the last point repeated the first, and the crank makes a whole turn from
+  // the first point back to it.
+  bool closed = false;
 };
 
 // What `linkfit solve` returns for one task.

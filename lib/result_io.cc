@@ -39,6 +39,17 @@ void PutPoint3(Json* object, const std::string& key, const Eigen::Vector3d& poin
   }
 }
 
+// "error_bound": how far the data's precision can move the dyad, or a note when the data do not
+// determine it at their precision.
+void PutErrorBound(Json* object, const std::optional<double>& error_bound) {
+  if (!error_bound) return;
+  if (std::isfinite(*error_bound)) {
+    PutNumber(object, "error_bound", *error_bound);
+  } else {
+    (*object)["error_bound_note"] = "the poses do not determine this dyad at the data's precision";
+  }
+}
+
 Json SpatialDyadToJson(const SpatialDyadReport& report) {
   const SpatialDyad& dyad = report.dyad;
   Json object;
@@ -62,6 +73,7 @@ Json SpatialDyadToJson(const SpatialDyadReport& report) {
       break;
   }
   PutNumber(&object, "max_residual", report.max_residual);
+  PutErrorBound(&object, report.error_bound);
   if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
   if (report.seed_max_residual) {
     Json seed;
@@ -106,6 +118,7 @@ Json EmbeddedDyadToJson(const DyadReport& report, const PlanarEmbedding& plane) 
       break;
   }
   PutNumber(&object, "max_residual", report.max_residual);
+  PutErrorBound(&object, report.error_bound);
   return object;
 }
 
@@ -131,6 +144,7 @@ Json DyadToJson(const DyadReport& report) {
       break;
   }
   PutNumber(&object, "max_residual", report.max_residual);
+  PutErrorBound(&object, report.error_bound);
   if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
   if (report.seed_rms_residual) {
     Json seed;
@@ -279,6 +293,17 @@ std::string CompactNumberArrays(const std::string& text) {
   return out;
 }
 
+// "precision": the data precision the solve assumed (lib/precision.h), and "closed" when the
+// task's last pose or point repeated the first.
+void PutPrecision(Json* root, const DataPrecision& precision, bool closed) {
+  Json object;
+  PutNumber(&object, "length", precision.length);
+  PutNumber(&object, "angle_deg", precision.angle * 180.0 / M_PI);
+  object["source"] = precision.source;
+  (*root)["precision"] = object;
+  if (closed) (*root)["closed"] = true;
+}
+
 std::string Dump(const Json& root, int indent) {
   // Notes are library text, but never let a stray byte turn into an exception here.
   const std::string text =
@@ -295,6 +320,7 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   root["model"] = result.model;
   root["method"] = result.method;
   PutNumber(&root, "scale", result.scale);
+  PutPrecision(&root, result.precision, result.closed);
   root["dyads"] = Json::array();
   root["mechanisms"] = Json::array();
   if (result.plane && result.planar) {
@@ -359,6 +385,7 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   root["space"] = SpaceName(result.space);
   root["method"] = result.method;
   PutNumber(&root, "scale", result.scale);
+  PutPrecision(&root, result.precision, result.closed);
   root["dyads"] = Json::array();
   for (const DyadReport& dyad : result.dyads) root["dyads"].push_back(DyadToJson(dyad));
   root["mechanisms"] = Json::array();
@@ -399,6 +426,8 @@ std::string ResultToJson(const PathResult& result, int indent) {
   root["method"] = result.method;
   root["timing"] = result.timing;
   PutNumber(&root, "scale", result.scale);
+  PutPrecision(&root, result.precision, false);
+  root["closed"] = result.closed;
   root["mechanisms"] = Json::array();
   for (const PathMechanismReport& mechanism : result.mechanisms) {
     root["mechanisms"].push_back(PathMechanismToJson(mechanism));

@@ -10,6 +10,7 @@
 
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "lib/precision.h"
 #include "lib/spatial_pose.h"
 
 namespace linkfit {
@@ -48,6 +49,15 @@ struct Task {
   std::vector<int> platform;
   std::optional<double> scale;  // characteristic length L, when given
   Effort effort = Effort::kBalanced;
+  // The precision of the data, given or inferred from the digits (lib/precision.h).
+  DataPrecision precision;
+  // The last pose or point repeated the first within precision: a closed motion or path, given
+  // once (the repeat was dropped). A closed path's crank makes a whole turn from the first
+  // point back to it.
+  bool closed = false;
+  // What reading the task did that the result should say: input repaired within precision, a
+  // closed motion or path recognised, a precision inferred in part.
+  std::vector<std::string> input_notes;
 };
 
 // A planar design to refine against a task (`linkfit refine`): dyads and the four-bars made of

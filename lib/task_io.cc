@@ -2,8 +2,11 @@
 // line "<source>: <item>: <what is wrong>"; nothing malformed reaches the solvers.
 #include "lib/task_io.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <Eigen/SVD>
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -25,8 +28,8 @@ using Json = nlohmann::json;
 constexpr int kMaxDepth = 64;
 // Longest excerpt of user text (keys, strings, parser reasons) quoted in a message.
 constexpr size_t kMaxQuoted = 60;
-// Rotation matrices must be orthonormal with determinant +1 to within this.
-constexpr double kRotationTolerance = 1e-6;
+// Rounding slack of the unit conditions, in units of double epsilon.
+constexpr double kRoundingUnits = 16.0;
 
 // Task files larger than this are refused (100000 poses take about 10 MB).
 constexpr size_t kMaxFileBytes = size_t{256} << 20;
@@ -140,6 +143,16 @@ class ParsePath {
     return key == "poses" || key == "points" ? key : "";
   }
 
+  // The field of a pose or point the parser is in ("x" inside poses[3], "q" inside
+  // poses[3].q[1]), or null elsewhere.
+  const std::string* ItemField() const {
+    if (frames_.size() < 3 || frames_[0].is_array || !frames_[1].is_array || frames_[2].is_array ||
+        (frames_[0].key != "poses" && frames_[0].key != "points")) {
+      return nullptr;
+    }
+    return &frames_[2].key;
+  }
+
   void Start(bool is_array) { frames_.push_back(Frame{is_array, 0, {}, {}}); }
   // False when the current object already has this key.
   bool Key(const std::string& key) {
@@ -166,6 +179,33 @@ class ParsePath {
   std::vector<Frame> frames_;
 };
 
+// The kinds of numbers whose written digits set the task's precision (lib/precision.h).
+enum DigitKind {
+  kLengthDigits,      // x, y, translation: lengths
+  kHalfLengthDigits,  // g: half a translation (seed 000 eq. 5)
+  kDegreeDigits,      // theta_deg, angle_deg, euler_deg, input_deg
+  kUnitDigits,        // rotation matrix entries, axis components: radians of rotation
+  kQuaternionDigits,  // q: half radians of rotation
+  kDirectionDigits,   // x_axis, y_axis: lengths along a direction
+  kDigitKinds
+};
+
+using DigitTallies = std::array<DigitTally, kDigitKinds>;
+
+// The kind of a pose or point field, or -1 for fields that carry no data precision (weight).
+int DigitKindOf(const std::string& field) {
+  if (field == "x" || field == "y" || field == "translation") return kLengthDigits;
+  if (field == "g") return kHalfLengthDigits;
+  if (field == "theta_deg" || field == "angle_deg" || field == "euler_deg" ||
+      field == "input_deg") {
+    return kDegreeDigits;
+  }
+  if (field == "rotation" || field == "axis") return kUnitDigits;
+  if (field == "q") return kQuaternionDigits;
+  if (field == "x_axis" || field == "y_axis") return kDirectionDigits;
+  return -1;
+}
+
 // SAX handler: nlohmann's own DOM builder, with the path tracked alongside. (nlohmann's
 // callback parser is quadratic in the length of an array of objects, so it is not used.)
 // Memory stays bounded while parsing: "poses" or "points" beyond options.max_items are
@@ -189,6 +229,8 @@ class TrackingSax {
   bool boolean(bool value) {
     return Scalar([&] { return dom_.boolean(value); });
   }
+  // Integers (no decimal point, no exponent) are exact design values (0, 90, 100 mm): they
+  // carry no evidence of a table's precision.
   bool number_integer(Json::number_integer_t value) {
     return Scalar([&] { return dom_.number_integer(value); });
   }
@@ -196,8 +238,12 @@ class TrackingSax {
     return Scalar([&] { return dom_.number_unsigned(value); });
   }
   bool number_float(Json::number_float_t value, const std::string& text) {
+    WrittenDigits digits;
+    if (ReadWrittenDigits(text, &digits)) Tally(digits);
     return Scalar([&] { return dom_.number_float(value, text); });
   }
+  // The written digits of the pose and point fields, by kind.
+  const DigitTallies& tallies() const { return tallies_; }
   bool string(std::string& value) {
     return Scalar([&] { return dom_.string(value); });
   }
@@ -255,6 +301,15 @@ class TrackingSax {
     return true;
   }
 
+  // Counts the digits of a number of a pose or point field (not of skipped items).
+  void Tally(const WrittenDigits& digits) {
+    if (skip_depth_ > 0) return;
+    const std::string* field = path_.ItemField();
+    if (field == nullptr) return;
+    const int kind = DigitKindOf(*field);
+    if (kind >= 0) tallies_[kind].Add(digits);
+  }
+
   template <typename Add>
   bool Scalar(const Add& add) {
     const bool result = !Keep() || add();
@@ -269,6 +324,23 @@ class TrackingSax {
   size_t max_values_;
   size_t values_ = 0;      // values built into the DOM so far
   size_t skip_depth_ = 0;  // when skipping: the depth of the poses or points array, else 0
+  DigitTallies tallies_;
+};
+
+// What the parser repaired within precision, for the result's notes.
+struct RepairLog {
+  int quaternions = 0;       // unit dual quaternions normalized
+  int rotations = 0;         // rotation matrices made orthonormal
+  double largest = 0.0;      // largest correction of one entry
+  std::string largest_item;  // where it was made
+
+  void Add(bool quaternion, double correction, const std::string& item) {
+    (quaternion ? quaternions : rotations) += 1;
+    if (correction > largest) {
+      largest = correction;
+      largest_item = item;
+    }
+  }
 };
 
 // Validates the fields of one task; `source` prefixes every message.
@@ -339,11 +411,12 @@ class TaskParser {
   }
 
   Task Parse(const std::string& text) const {
-    const Json root = ParseJson(text);
+    DigitTallies tallies;
+    const Json root = ParseJson(text, &tallies);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
     CheckKeys(root, "",
-              {"problem", "space", "poses", "points", "scale", "options", "moving_pivots",
-               "fixed_pivots", "platform"});
+              {"problem", "space", "poses", "points", "scale", "precision", "options",
+               "moving_pivots", "fixed_pivots", "platform"});
 
     Task task;
     task.problem =
@@ -361,6 +434,7 @@ class TaskParser {
                                        {"thorough", Effort::kThorough}});
     }
     if (root.contains("scale")) task.scale = Positive(root.at("scale"), "scale");
+    ReadPrecision(root, tallies, &task);
 
     if (task.problem == ProblemKind::kMotion) {
       if (root.contains("points")) Fail("points", "not used by motion problems (give \"poses\")");
@@ -412,7 +486,7 @@ class TaskParser {
   }
 
   // Parses the text after rejecting deep nesting; syntax errors give line and column.
-  Json ParseJson(const std::string& text) const {
+  Json ParseJson(const std::string& text, DigitTallies* tallies = nullptr) const {
     if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
       throw InputError(source_ + ": no JSON text (empty input)");
     }
@@ -422,6 +496,7 @@ class TaskParser {
     const ParsePath& path = sax.path();
     try {
       Json::sax_parse(text, &sax);
+      if (tallies != nullptr) *tallies = sax.tallies();
       return root;
     } catch (const Json::parse_error& error) {
       // byte is the 1-based index of the last character read (size + 1 at the end).
@@ -530,6 +605,12 @@ class TaskParser {
     return number;
   }
 
+  double NonNegative(const Json& value, const std::string& item) const {
+    const double number = Number(value, item);
+    if (!(number >= 0.0)) Fail(item, "must not be negative, got " + FormatNumber(number));
+    return number;
+  }
+
   bool Bool(const Json& value, const std::string& item) const {
     if (!value.is_boolean()) Fail(item, "expected true or false, got " + Describe(value));
     return value.get<bool>();
@@ -629,6 +710,82 @@ class TaskParser {
     return items;
   }
 
+  // Reads "precision" and the digits' half units (lib/precision.h) into the parser's state;
+  // the task's precision is completed by FinishPrecision once the poses are read.
+  void ReadPrecision(const Json& root, const DigitTallies& tallies, Task* task) const {
+    for (int kind = 0; kind < kDigitKinds; ++kind) half_units_[kind] = tallies[kind].HalfUnit();
+    given_length_ = given_angle_ = -1.0;
+    repairs_ = RepairLog();
+    if (!root.contains("precision")) return;
+    const Json& precision = Object(root.at("precision"), "precision");
+    CheckKeys(precision, "precision", {"length", "angle_deg"});
+    if (precision.empty()) Fail("precision", "give \"length\", \"angle_deg\" or both");
+    if (precision.contains("length")) {
+      given_length_ = NonNegative(precision.at("length"), "precision.length");
+    }
+    if (precision.contains("angle_deg")) {
+      given_angle_ = NonNegative(precision.at("angle_deg"), "precision.angle_deg") * kDegree;
+      if (!(given_angle_ < M_PI)) Fail("precision.angle_deg", "must be below 180");
+    }
+    task->precision.source = "task";
+  }
+
+  // Half units of one kind for repair tolerances: the digits', or what the given precision
+  // implies for such a number (`per_length` and `per_angle` convert), whichever is larger.
+  double RepairHalfUnit(int kind, double per_length, double per_angle) const {
+    double half_unit = half_units_[kind];
+    if (given_length_ > 0.0) half_unit = std::max(half_unit, per_length * given_length_);
+    if (given_angle_ > 0.0) half_unit = std::max(half_unit, per_angle * given_angle_);
+    return half_unit;
+  }
+
+  // The task's precision: given, or from the digits (lengths; angles and dimensionless entries
+  // as radians of rotation), never below the rounding of the largest coordinate.
+  // `direction_norm` is the shortest x_axis / y_axis vector (directions given by lengths).
+  void FinishPrecision(double largest_coordinate, double direction_norm, Task* task) const {
+    // What rounding every entry by its half unit h can do to a pose: a quaternion (4 entries)
+    // turns by up to 2 |e| = 4 h; a rotation matrix or axis by up to about 2 h; a translation
+    // d = 2 g q* moves by up to 4 h_g + 2 |d| h_q (seed 000 eq. 7).
+    double length =
+        std::max(half_units_[kLengthDigits],
+                 4.0 * half_units_[kHalfLengthDigits] +
+                     2.0 * largest_coordinate * std::sqrt(3.0) * half_units_[kQuaternionDigits]);
+    double angle = std::max({half_units_[kDegreeDigits] * kDegree, 2.0 * half_units_[kUnitDigits],
+                             4.0 * half_units_[kQuaternionDigits]});
+    if (direction_norm > 0.0)
+      angle = std::max(angle, half_units_[kDirectionDigits] / direction_norm);
+    const bool given = task->precision.source == "task";
+    if (given && given_length_ < 0.0) {
+      task->input_notes.push_back("precision.length not given: inferred from the digits as " +
+                                  PrecisionText(length));
+    }
+    if (given && given_angle_ < 0.0) {
+      task->input_notes.push_back("precision.angle_deg not given: inferred from the digits as " +
+                                  PrecisionText(angle / kDegree));
+    }
+    if (given_length_ >= 0.0) length = given_length_;
+    if (given_angle_ >= 0.0) angle = given_angle_;
+    const double epsilon = std::numeric_limits<double>::epsilon();
+    task->precision.length = std::max(length, epsilon * largest_coordinate);
+    task->precision.angle = std::max(angle, epsilon * M_PI);
+    if (repairs_.quaternions + repairs_.rotations > 0) {
+      std::string what;
+      if (repairs_.quaternions > 0) {
+        what = std::to_string(repairs_.quaternions) +
+               (repairs_.quaternions == 1 ? " dual quaternion" : " dual quaternions") +
+               " made unit (q normalized, its component removed from g)";
+      }
+      if (repairs_.rotations > 0) {
+        what += std::string(what.empty() ? "" : " and ") + std::to_string(repairs_.rotations) +
+                (repairs_.rotations == 1 ? " rotation matrix" : " rotation matrices") +
+                " made orthonormal (the nearest rotation)";
+      }
+      task->input_notes.push_back("input repaired within its precision: " + what +
+                                  "; largest correction " + PrecisionText(repairs_.largest) + " (" +
+                                  repairs_.largest_item + ")");
+    }
+  }
+
   void ParseWeightAndExact(const Json& object, const std::string& item, double* weight,
                            bool* exact) const {
     *weight =
@@ -642,6 +799,7 @@ class TaskParser {
   }
 
   void ParsePlanarPoses(const Json& poses, Task* task) const {
+    double largest = 0.0;
     for (size_t i = 0; i < poses.size(); ++i) {
       const std::string item = IndexItem("poses", i);
       const Json& pose = Object(poses[i], item);
@@ -649,6 +807,7 @@ class TaskParser {
       const double x = Number(Field(pose, item, "x"), KeyItem(item, "x"));
       const double y = Number(Field(pose, item, "y"), KeyItem(item, "y"));
       const double theta_deg = Number(Field(pose, item, "theta_deg"), KeyItem(item, "theta_deg"));
+      largest = std::max({largest, std::abs(x), std::abs(y)});
       task->planar_poses.emplace_back(x, y, WrapAngle(theta_deg * kDegree));
       double weight;
       bool exact;
@@ -656,11 +815,22 @@ class TaskParser {
       task->pose_weights.push_back(weight);
       task->pose_exact.push_back(exact);
     }
+    FinishPrecision(largest, 0.0, task);
     std::vector<Eigen::Vector2d> origins;
     origins.reserve(task->planar_poses.size());
     for (const PlanarPose& pose : task->planar_poses) origins.push_back(pose.origin_in_fixed);
     const double length = Length(origins, task->scale, "poses", "pose origins");
-    const double tolerance = options_.coincident_tolerance * length;
+    const auto coincide = [&](size_t i, size_t j) {
+      const PlanarPose& a = task->planar_poses[i];
+      const PlanarPose& b = task->planar_poses[j];
+      return Coincide(PoseError(a, b, length),
+                      (a.origin_in_fixed - b.origin_in_fixed).cwiseAbs().maxCoeff(),
+                      std::abs(WrapAngle(a.theta - b.theta)), length, 1.0, task->precision);
+    };
+    if (CloseLoop("poses", coincide, 3, "planar motion synthesis", task)) {
+      task->planar_poses.pop_back();
+      origins.pop_back();
+    }
     CheckCoincident<4>(
         "poses", task->planar_poses.size(),
         [&](size_t i) {
@@ -668,84 +838,271 @@ class TaskParser {
           return Eigen::Vector4d(pose.origin_in_fixed.x(), pose.origin_in_fixed.y(),
                                  length * std::cos(pose.theta), length * std::sin(pose.theta));
         },
-        1.0, tolerance,
-        [&](size_t i, size_t j) {
-          return PoseError(task->planar_poses[i], task->planar_poses[j], length) <= tolerance;
-        });
+        1.0, CoincidentWindow(1.0, length, 2, 1.0, task->precision), coincide);
   }
 
+  // Two poses or points are coincident when their pose error is within coincident_tolerance
+  // * L, or when they agree within the data's precision: every coordinate within delta and the
+  // angle within alpha (spatial: the rotation between them within 2 alpha, as rounding every
+  // entry of a rotation can turn it by up to about sqrt(2) alpha). Equal digits as printed are
+  // then always equal.
+  bool Coincide(double pose_error, double largest_offset, double angle, double length,
+                double angle_units, const DataPrecision& precision) const {
+    return pose_error <= options_.coincident_tolerance * length ||
+           (largest_offset <= precision.length && angle <= angle_units * precision.angle);
+  }
+
+  // The distance along a sort key within which coincident items lie (CheckCoincident): the
+  // feature distance that Coincide allows, `lipschitz` times the pose error bound.
+  double CoincidentWindow(double lipschitz, double length, int dimension, double angle_units,
+                          const DataPrecision& precision) const {
+    return std::max(lipschitz * options_.coincident_tolerance * length,
+                    std::hypot(std::sqrt(static_cast<double>(dimension)) * precision.length,
+                               lipschitz * angle_units * length * precision.angle));
+  }
+
+  // A last pose or point that repeats the first within precision closes the motion or path:
+  // the repeat is dropped (the caller pops it), its weight and exact flag merged into the
+  // first, task->closed set and a note added. `coincide(i, j)` compares two items; `minimum`
+  // is what the problem needs of the items that remain.
+  template <typename Coincide>
+  bool CloseLoop(const char* key, const Coincide& coincide, size_t minimum,
+                 const std::string& purpose, Task* task) const {
+    const bool poses = std::string(key) == "poses";
+    const size_t count = poses ? task->pose_weights.size() : task->points.size();
+    if (count < 3 || !coincide(0, count - 1)) return false;
+    const std::string last = IndexItem(key, count - 1);
+    if (count - 1 < minimum) {
+      Fail(last, "repeats " + std::string(key) + "[0] (a closed " + (poses ? "motion" : "path") +
+                     "), which leaves " + ItemCount(key, count - 1) + "; " + purpose +
+                     " needs at least " + std::to_string(minimum));
+    }
+    if (poses) {
+      task->pose_weights[0] = std::max(task->pose_weights[0], task->pose_weights.back());
+      task->pose_exact[0] = task->pose_exact[0] || task->pose_exact.back();
+      task->pose_weights.pop_back();
+      task->pose_exact.pop_back();
+      task->input_notes.push_back(
+          last +
+          " repeats poses[0] within the data's precision: a closed motion; the pose is "
+          "used once");
+    } else {
+      task->points[0].weight = std::max(task->points[0].weight, task->points.back().weight);
+      task->points[0].exact = task->points[0].exact || task->points.back().exact;
+      task->points.pop_back();
+      task->input_notes.push_back(
+          last +
+          " repeats points[0] within the data's precision: a closed path, the input "
+          "crank makes a whole turn from points[0] back to it");
+    }
+    task->closed = true;
+    return true;
+  }
+
+  // One spatial pose in any of its five forms (README, "Task file"); unit conditions repaired
+  // within the precision of the digits and refused beyond it.
   DualQuaternion ParseSpatialPose(const Json& pose, const std::string& item) const {
     const bool dual = pose.contains("q") || pose.contains("g");
     const bool matrix = pose.contains("rotation");
     const bool axis = pose.contains("axis") || pose.contains("angle_deg");
-    if (dual + matrix + axis != 1) {
+    const bool euler = pose.contains("euler_deg") || pose.contains("euler_axes");
+    const bool frame = pose.contains("x_axis") || pose.contains("y_axis");
+    if (dual + matrix + axis + euler + frame != 1) {
       Fail(item,
-           "give exactly one of {\"q\", \"g\"}, {\"rotation\", \"translation\"} or "
-           "{\"axis\", \"angle_deg\", \"translation\"}");
+           "give exactly one of {\"q\", \"g\"}, {\"rotation\", \"translation\"}, "
+           "{\"axis\", \"angle_deg\", \"translation\"}, {\"euler_deg\", \"euler_axes\", "
+           "\"translation\"} or {\"translation\", \"x_axis\", \"y_axis\"}");
     }
+    const double epsilon = std::numeric_limits<double>::epsilon();
     if (dual) {
       CheckKeys(pose, item, {"q", "g", "weight", "exact"});
-      const Eigen::Vector4d q = Vector<4>(Field(pose, item, "q"), KeyItem(item, "q"));
-      const Eigen::Vector4d g = Vector<4>(Field(pose, item, "g"), KeyItem(item, "g"));
+      const std::string q_item = KeyItem(item, "q"), g_item = KeyItem(item, "g");
       DualQuaternion dq;
-      dq.q = q;
-      dq.g = g;
-      if (!(std::abs(dq.NormDefect()) <= options_.unit_tolerance)) {
-        Fail(KeyItem(item, "q"), "not a unit quaternion (|q| = " + FormatNumber(q.norm()) + ")");
+      dq.q = Vector<4>(Field(pose, item, "q"), q_item);
+      dq.g = Vector<4>(Field(pose, item, "g"), g_item);
+      // First-order bounds of what rounding each component to its half unit can do to
+      // |q| - 1 (seed 000 eq. 2) and to q . g (eq. 3).
+      const double q_half = RepairHalfUnit(kQuaternionDigits, 0.0, 0.5);
+      const double g_half = RepairHalfUnit(kHalfLengthDigits, 0.5, 0.0);
+      const double q_sum = dq.q.cwiseAbs().sum(), g_sum = dq.g.cwiseAbs().sum();
+      const double norm_off = std::abs(dq.q.norm() - 1.0);
+      const double norm_allowed = options_.repair_units * q_sum * q_half + kRoundingUnits * epsilon;
+      if (!(norm_off <= norm_allowed)) {
+        Fail(q_item, "not a unit quaternion: |q| = " + FormatNumber(dq.q.norm()) + ", off by " +
+                         PrecisionText(norm_off) + "; the precision of its digits (" +
+                         PrecisionText(q_half) + " per component) accepts at most " +
+                         PrecisionText(norm_allowed));
       }
-      // q . g is relative to |q| |g|: g carries the length unit of the translation.
       const double q_dot_g = dq.OrthogonalityDefect();
-      if (!(std::abs(q_dot_g) <= options_.unit_tolerance * q.norm() * g.norm())) {
-        Fail(KeyItem(item, "g"), "q . g = " + FormatNumber(q_dot_g) + ", must be 0");
+      const double dot_allowed = options_.repair_units * (g_sum * q_half + q_sum * g_half) +
+                                 kRoundingUnits * epsilon * dq.q.norm() * dq.g.norm();
+      if (!(std::abs(q_dot_g) <= dot_allowed)) {
+        Fail(g_item, "q . g = " + FormatNumber(q_dot_g) +
+                         ", must be 0; the precision of the digits accepts at most " +
+                         PrecisionText(dot_allowed));
       }
-      return dq.Normalized();
+      const DualQuaternion unit = dq.Normalized();
+      NoteRepair(
+          true,
+          std::max((unit.q - dq.q).cwiseAbs().maxCoeff(),
+                   (unit.g - dq.g).cwiseAbs().maxCoeff() / std::max(1.0, g_sum)),
+          std::max((unit.q - dq.q).cwiseAbs().maxCoeff(), (unit.g - dq.g).cwiseAbs().maxCoeff()),
+          q_item);
+      return unit;
     }
+    const std::string translation_item = KeyItem(item, "translation");
     if (matrix) {
       CheckKeys(pose, item, {"rotation", "translation", "weight", "exact"});
       const std::string rotation_item = KeyItem(item, "rotation");
       const Eigen::Matrix3d rotation = Matrix3(Field(pose, item, "rotation"), rotation_item);
       const Eigen::Vector3d translation =
-          Vector<3>(Field(pose, item, "translation"), KeyItem(item, "translation"));
-      const double defect =
-          (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-      if (!(defect <= kRotationTolerance)) {
-        Fail(rotation_item,
-             "not orthonormal (largest entry of R^T R - I is " + FormatNumber(defect) + ")");
+          Vector<3>(Field(pose, item, "translation"), translation_item);
+      // Entry (i, j) of R^T R - I moves by at most sum_k (|R_ki| + |R_kj|) h when every entry
+      // moves by its half unit h.
+      const double half = RepairHalfUnit(kUnitDigits, 0.0, 1.0);
+      const Eigen::Matrix3d defect = rotation.transpose() * rotation - Eigen::Matrix3d::Identity();
+      const Eigen::RowVector3d column_sums = rotation.cwiseAbs().colwise().sum();
+      double worst_ratio = 0.0, worst_defect = 0.0, worst_allowed = 0.0;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          const double allowed = options_.repair_units * (column_sums[i] + column_sums[j]) * half +
+                                 kRoundingUnits * epsilon;
+          const double ratio = std::abs(defect(i, j)) / allowed;
+          if (!(ratio <= worst_ratio)) {
+            worst_ratio = ratio;
+            worst_defect = std::abs(defect(i, j));
+            worst_allowed = allowed;
+          }
+        }
+      }
+      if (!(worst_ratio <= 1.0)) {
+        Fail(rotation_item, "not orthonormal: an entry of R^T R - I is " +
+                                PrecisionText(worst_defect) + "; the precision of its digits (" +
+                                PrecisionText(half) + " per entry) accepts at most " +
+                                PrecisionText(worst_allowed));
       }
       const double determinant = rotation.determinant();
-      if (!(std::abs(determinant - 1.0) <= kRotationTolerance)) {
+      if (!(determinant > 0.0)) {
         Fail(rotation_item, "determinant is " + FormatNumber(determinant) +
                                 ", must be +1 (a reflection is not a rotation)");
       }
+      // The nearest rotation (Frobenius norm): U V^T of the singular value decomposition.
+      const Eigen::JacobiSVD<Eigen::Matrix3d> svd(rotation,
+                                                  Eigen::ComputeFullU | Eigen::ComputeFullV);
+      const Eigen::Matrix3d nearest = svd.matrixU() * svd.matrixV().transpose();
+      const double correction = (nearest - rotation).cwiseAbs().maxCoeff();
+      NoteRepair(false, correction, correction, rotation_item);
+      return DualQuaternion::FromRotationTranslation(nearest, translation).Normalized();
+    }
+    if (axis) {
+      CheckKeys(pose, item, {"axis", "angle_deg", "translation", "weight", "exact"});
+      const std::string axis_item = KeyItem(item, "axis");
+      const Eigen::Vector3d axis_vector = Vector<3>(Field(pose, item, "axis"), axis_item);
+      const double angle_deg = Number(Field(pose, item, "angle_deg"), KeyItem(item, "angle_deg"));
+      const Eigen::Vector3d translation =
+          Vector<3>(Field(pose, item, "translation"), translation_item);
+      if (!(axis_vector.norm() > 0.0)) Fail(axis_item, "zero vector, the axis needs a direction");
+      return DualQuaternion::FromAxisAngle(axis_vector, angle_deg * kDegree, translation)
+          .Normalized();
+    }
+    if (euler) {
+      CheckKeys(pose, item, {"euler_deg", "euler_axes", "translation", "weight", "exact"});
+      const Eigen::Vector3d angles =
+          Vector<3>(Field(pose, item, "euler_deg"), KeyItem(item, "euler_deg")) * kDegree;
+      const std::string axes_item = KeyItem(item, "euler_axes");
+      const Json& axes = Field(pose, item, "euler_axes");
+      const std::string sequence = axes.is_string() ? axes.get<std::string>() : "";
+      const bool valid = sequence.size() == 3 &&
+                         std::all_of(sequence.begin(), sequence.end(),
+                                     [](char c) { return c == 'X' || c == 'Y' || c == 'Z'; }) &&
+                         sequence[0] != sequence[1] && sequence[1] != sequence[2];
+      if (!valid) {
+        Fail(axes_item,
+             "expected one of the 12 axis sequences \"XYZ\", \"XZY\", \"YXZ\", \"YZX\", "
+             "\"ZXY\", \"ZYX\", \"XYX\", \"XZX\", \"YXY\", \"YZY\", \"ZXZ\", \"ZYZ\" "
+             "(R = R_1(a) R_2(b) R_3(c), about the moving frame's axes), got " +
+                 (axes.is_string() ? Quote(sequence) : Describe(axes)));
+      }
+      const Eigen::Vector3d translation =
+          Vector<3>(Field(pose, item, "translation"), translation_item);
+      Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d unit = Eigen::Vector3d::Unit(sequence[k] - 'X');
+        rotation = rotation * Eigen::AngleAxisd(angles[k], unit).toRotationMatrix();
+      }
       return DualQuaternion::FromRotationTranslation(rotation, translation).Normalized();
     }
-    CheckKeys(pose, item, {"axis", "angle_deg", "translation", "weight", "exact"});
-    const std::string axis_item = KeyItem(item, "axis");
-    const Eigen::Vector3d axis_vector = Vector<3>(Field(pose, item, "axis"), axis_item);
-    const double angle_deg = Number(Field(pose, item, "angle_deg"), KeyItem(item, "angle_deg"));
+    CheckKeys(pose, item, {"translation", "x_axis", "y_axis", "weight", "exact"});
+    const std::string x_item = KeyItem(item, "x_axis"), y_item = KeyItem(item, "y_axis");
     const Eigen::Vector3d translation =
-        Vector<3>(Field(pose, item, "translation"), KeyItem(item, "translation"));
-    if (!(axis_vector.norm() > 0.0)) Fail(axis_item, "zero vector, the axis needs a direction");
-    return DualQuaternion::FromAxisAngle(axis_vector, angle_deg * kDegree, translation)
-        .Normalized();
+        Vector<3>(Field(pose, item, "translation"), translation_item);
+    const Eigen::Vector3d u = Vector<3>(Field(pose, item, "x_axis"), x_item);
+    const Eigen::Vector3d v = Vector<3>(Field(pose, item, "y_axis"), y_item);
+    if (!(u.norm() > 0.0)) Fail(x_item, "zero vector, the x axis needs a direction");
+    if (!(v.norm() > 0.0)) Fail(y_item, "zero vector, it needs a direction");
+    // v may be parallel to u only beyond what the digits tell apart.
+    const double half = RepairHalfUnit(kDirectionDigits, 1.0, 0.0);
+    const double sine = u.cross(v).norm() / (u.norm() * v.norm());
+    const double allowed =
+        options_.repair_units * std::sqrt(3.0) * half * (1.0 / u.norm() + 1.0 / v.norm()) +
+        kRoundingUnits * epsilon;
+    if (!(sine > allowed)) {
+      Fail(y_item, "parallel to x_axis (sine of the angle between them " + PrecisionText(sine) +
+                       ", at most " + PrecisionText(allowed) +
+                       " at the precision of the digits): it must point into the xy plane");
+    }
+    direction_norm_ = direction_norm_ > 0.0 ? std::min({direction_norm_, u.norm(), v.norm()})
+                                            : std::min(u.norm(), v.norm());
+    Eigen::Matrix3d rotation;
+    rotation.col(0) = u.normalized();
+    rotation.col(2) = u.cross(v).normalized();
+    rotation.col(1) = rotation.col(2).cross(rotation.col(0));
+    return DualQuaternion::FromRotationTranslation(rotation, translation).Normalized();
+  }
+
+  // Counts a repair whose largest entry correction is beyond rounding (`relative` judges that,
+  // `correction` is reported).
+  void NoteRepair(bool quaternion, double relative, double correction,
+                  const std::string& item) const {
+    if (relative > 64.0 * std::numeric_limits<double>::epsilon()) {
+      repairs_.Add(quaternion, correction, item);
+    }
   }
 
   void ParseSpatialPoses(const Json& poses, Task* task) const {
+    double largest = 0.0;
     for (size_t i = 0; i < poses.size(); ++i) {
       const std::string item = IndexItem("poses", i);
       const Json& pose = Object(poses[i], item);
       task->spatial_poses.push_back(ParseSpatialPose(pose, item));
+      largest = std::max(largest, task->spatial_poses.back().Translation().cwiseAbs().maxCoeff());
       double weight;
       bool exact;
       ParseWeightAndExact(pose, item, &weight, &exact);
       task->pose_weights.push_back(weight);
       task->pose_exact.push_back(exact);
     }
+    FinishPrecision(largest, direction_norm_, task);
     std::vector<Eigen::Vector3d> origins;
     origins.reserve(task->spatial_poses.size());
     for (const DualQuaternion& pose : task->spatial_poses) origins.push_back(pose.Translation());
     const double length = Length(origins, task->scale, "poses", "pose origins");
-    const double tolerance = options_.coincident_tolerance * length;
+    const auto coincide = [&](size_t i, size_t j) {
+      const DualQuaternion& a = task->spatial_poses[i];
+      const DualQuaternion& b = task->spatial_poses[j];
+      const double error = PoseError(a, b, length);
+      const double offset = (a.Translation() - b.Translation()).cwiseAbs().maxCoeff();
+      // The rotation angle between them: the pose error of the rotations alone, at L = 1.
+      DualQuaternion rotation_a, rotation_b;
+      rotation_a.q = a.q;
+      rotation_b.q = b.q;
+      const double angle = PoseError(rotation_a, rotation_b, 1.0);
+      return Coincide(error, offset, angle, length, 2.0, task->precision);
+    };
+    if (CloseLoop("poses", coincide, 1, "spatial motion synthesis", task)) {
+      task->spatial_poses.pop_back();
+      origins.pop_back();
+    }
     // Features: translation and L R e1, L R e2; |R_a e - R_b e| <= angle(R_a R_b^T), so the
     // feature distance is at most sqrt(2) times the pose error.
     std::vector<Eigen::Matrix3d> rotations;
@@ -758,13 +1115,11 @@ class TaskParser {
           feature << origins[i], length * rotations[i].col(0), length * rotations[i].col(1);
           return feature;
         },
-        std::sqrt(2.0), tolerance,
-        [&](size_t i, size_t j) {
-          return PoseError(task->spatial_poses[i], task->spatial_poses[j], length) <= tolerance;
-        });
+        1.0, CoincidentWindow(std::sqrt(2.0), length, 3, 2.0, task->precision), coincide);
   }
 
   void ParsePoints(const Json& points, Task* task) const {
+    double largest = 0.0;
     for (size_t i = 0; i < points.size(); ++i) {
       const std::string item = IndexItem("points", i);
       const Json& point = Object(points[i], item);
@@ -772,6 +1127,7 @@ class TaskParser {
       TimedPoint timed;
       timed.point_in_fixed.x() = Number(Field(point, item, "x"), KeyItem(item, "x"));
       timed.point_in_fixed.y() = Number(Field(point, item, "y"), KeyItem(item, "y"));
+      largest = std::max(largest, timed.point_in_fixed.cwiseAbs().maxCoeff());
       // Timing is all or nothing: a mixed task has no meaning.
       const bool timed_first = points[0].is_object() && points[0].contains("input_deg");
       if (point.contains("input_deg") != timed_first) {
@@ -787,26 +1143,33 @@ class TaskParser {
       ParseWeightAndExact(point, item, &timed.weight, &timed.exact);
       task->points.push_back(timed);
     }
+    FinishPrecision(largest, 0.0, task);
     std::vector<Eigen::Vector2d> locations;
     locations.reserve(task->points.size());
     for (const TimedPoint& point : task->points) locations.push_back(point.point_in_fixed);
     const double length = Length(locations, task->scale, "points", "points");
-    const double tolerance = options_.coincident_tolerance * length;
-    // A point passed twice at different input angles (a crossing curve) is not a duplicate.
+    // A point passed twice at different input angles (a crossing curve) is not a duplicate;
+    // the same point at the same crank angle modulo a turn is.
     const auto feature = [&](size_t i) {
       const TimedPoint& point = task->points[i];
       const double angle = point.input_angle.value_or(0.0);
       return Eigen::Vector4d(point.point_in_fixed.x(), point.point_in_fixed.y(),
                              length * std::cos(angle), length * std::sin(angle));
     };
-    CheckCoincident<4>(
-        "points", task->points.size(), feature, 1.0, tolerance, [&](size_t i, size_t j) {
-          const TimedPoint& a = task->points[i];
-          const TimedPoint& b = task->points[j];
-          const double angle = WrapAngle(a.input_angle.value_or(0.0) - b.input_angle.value_or(0.0));
-          return std::hypot((a.point_in_fixed - b.point_in_fixed).norm(), length * angle) <=
-                 tolerance;
-        });
+    const auto coincide = [&](size_t i, size_t j) {
+      const TimedPoint& a = task->points[i];
+      const TimedPoint& b = task->points[j];
+      const double angle =
+          std::abs(WrapAngle(a.input_angle.value_or(0.0) - b.input_angle.value_or(0.0)));
+      return Coincide(std::hypot((a.point_in_fixed - b.point_in_fixed).norm(), length * angle),
+                      (a.point_in_fixed - b.point_in_fixed).cwiseAbs().maxCoeff(), angle, length,
+                      1.0, task->precision);
+    };
+    if (CloseLoop("points", coincide, 1, "path synthesis", task)) {
+      locations.pop_back();
+    }
+    CheckCoincident<4>("points", task->points.size(), feature, 1.0,
+                       CoincidentWindow(1.0, length, 2, 1.0, task->precision), coincide);
   }
 
   // The characteristic length: `scale` when given, else the RMS distance of `origins` from
@@ -868,6 +1231,13 @@ class TaskParser {
 
   std::string source_;
   TaskReadOptions options_;
+  // Per task being parsed: the half units of each kind of digits, the precision the task
+  // gives (negative: not given), and what was repaired.
+  mutable std::array<double, kDigitKinds> half_units_{};
+  mutable double given_length_ = -1.0;
+  mutable double given_angle_ = -1.0;
+  mutable RepairLog repairs_;
+  mutable double direction_norm_ = 0.0;  // shortest x_axis / y_axis vector so far (0: none)
 };
 
 bool HasJsonlExtension(const std::string& path) {

@@ -19,9 +19,12 @@ class InputError : public std::runtime_error {
 };
 
 struct TaskReadOptions {
-  // Largest accepted deviation of |q| from 1 (eq. 2) and of q . g from 0 (eq. 3), relative.
-  double unit_tolerance = 1e-6;
-  // Two poses closer than this (pose error relative to L) are coincident.
+  // Input off its unit conditions (|q| = 1, seed 000 eq. 2; q . g = 0, eq. 3; R^T R = I) by up
+  // to this many times what the precision of its digits explains (first-order bound) is
+  // repaired to the nearest rigid motion; beyond, it is refused.
+  double repair_units = 2.0;
+  // Two poses closer than this (pose error relative to L), or closer than the data's precision
+  // tells apart, are coincident.
   double coincident_tolerance = 1e-10;
   // Upper bound on poses or points in one task (bounded memory, clear message).
   size_t max_items = 100000;

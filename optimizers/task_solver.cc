@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
+#include "fitting/model_choice.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
 
@@ -47,22 +49,44 @@ bool PlaneSuffices(double plane_cost, double sphere_cost, int n) {
   return SimplerModelSuffices(plane_cost, sphere_cost, n - 7);
 }
 
+// The largest |residual| of a dyad over the task's exact poses, in length units: 0 without
+// exact poses, infinity when one is not finite.
+double ExactPoseMiss(const SpatialDyad& dyad, const Task& task) {
+  double miss = 0.0;
+  for (size_t j = 0; j < task.spatial_poses.size() && j < task.pose_exact.size(); ++j) {
+    if (!task.pose_exact[j]) continue;
+    const double residual = std::abs(dyad.Residual(task.spatial_poses[j]));
+    miss = std::isfinite(residual) ? std::max(miss, residual)
+                                   : std::numeric_limits<double>::infinity();
+  }
+  return miss;
+}
+
 // A refined sphere far out in Sigma (radius) or in E (moving point) is nearly a plane: refine
-// those limits too (PS; SP as a PS dyad of the inverted motion) and keep the plane that
-// suffices (PlaneSuffices) with the lower cost. A slider is reported as a slider.
+// those limits too (PS; SP as a PS dyad of the inverted motion, same exact poses) and keep the
+// best plane that beats the sphere. As in the refiner, meeting the exact poses (to
+// exact_tolerance L) decides first: a plane that meets them when the sphere does not beats it,
+// one that does not when the sphere does never; otherwise a plane beats the sphere when it
+// suffices (PlaneSuffices), and of two planes the lower cost wins. A slider is reported as a
+// slider.
 void PreferPlaneLimits(const Task& task, const std::vector<DualQuaternion>& inverted, double length,
                        const SpatialDyadRefinerOptions& options, SpatialDyad* dyad,
                        RefinerSummary* summary) {
   const int n = static_cast<int>(task.spatial_poses.size());
   const SpatialDyad sphere = *dyad;
   const double sphere_cost = summary->final_cost;
+  const double exact_limit = options.exact_tolerance * length;
+  const bool sphere_meets = ExactPoseMiss(sphere, task) <= exact_limit;
+  bool best_meets = false;
   double best_cost = std::numeric_limits<double>::infinity();
   const auto consider = [&](const SpatialDyad& plane, const RefinerSummary& plane_summary) {
-    if (!PlaneSuffices(plane_summary.final_cost, sphere_cost, n) ||
-        !(plane_summary.final_cost < best_cost)) {
-      return;
-    }
-    best_cost = plane_summary.final_cost;
+    const double cost = plane_summary.final_cost;
+    const bool meets = std::isfinite(cost) && ExactPoseMiss(plane, task) <= exact_limit;
+    const bool beats_sphere = meets != sphere_meets ? meets : PlaneSuffices(cost, sphere_cost, n);
+    const bool beats_best = meets != best_meets ? meets : cost < best_cost;
+    if (!beats_sphere || !beats_best) return;
+    best_meets = meets;
+    best_cost = cost;
     *dyad = plane;
     summary->final_cost = plane_summary.final_cost;
     summary->final_rms = plane_summary.final_rms;
@@ -71,14 +95,14 @@ void PreferPlaneLimits(const Task& task, const std::vector<DualQuaternion>& inve
   };
   if (sphere.radius > kFarMovingPoint * length) {
     SpatialDyad plane = LimitPlaneInFixed(sphere, task);
-    const RefinerSummary plane_summary =
-        RefineSpatialDyad(task.spatial_poses, task.pose_weights, length, &plane, options);
+    const RefinerSummary plane_summary = RefineSpatialDyad(
+        task.spatial_poses, task.pose_weights, task.pose_exact, length, &plane, options);
     if (plane.type == SpatialDyadType::kPS) consider(plane, plane_summary);
   }
   if (sphere.moving_pivot.norm() > kFarMovingPoint * length) {
     SpatialDyad flipped = LimitPlaneInMoving(sphere, task);
     const RefinerSummary plane_summary =
-        RefineSpatialDyad(inverted, task.pose_weights, length, &flipped, options);
+        RefineSpatialDyad(inverted, task.pose_weights, task.pose_exact, length, &flipped, options);
     if (flipped.type == SpatialDyadType::kPS) {
       consider(SpatialDyad::SP(flipped.moving_pivot, flipped.plane_normal, flipped.plane_offset),
                plane_summary);
@@ -111,6 +135,24 @@ void DropRepeats(double length, std::vector<SpatialDyadReport>* dyads) {
   *dyads = std::move(kept);
 }
 
+// One note per refined dyad that misses an exact pose by more than exact_tolerance L: which
+// dyad (its index in the result) and by how much, as the dyad refiners say it.
+void AddExactPoseNotes(const Task& task, double exact_tolerance, SpatialMotionResult* result) {
+  const int exact_count =
+      static_cast<int>(std::count(task.pose_exact.begin(), task.pose_exact.end(), true));
+  if (exact_count == 0) return;
+  for (size_t i = 0; i < result->dyads.size(); ++i) {
+    const SpatialDyad& dyad = result->dyads[i].dyad;
+    const double miss = ExactPoseMiss(dyad, task) / result->scale;
+    if (miss <= exact_tolerance) continue;
+    char amount[32];
+    std::snprintf(amount, sizeof(amount), "%.3g", miss);
+    result->notes.push_back("dyad " + std::to_string(i) + " (" + SpatialDyadTypeName(dyad.type) +
+                            "): exact poses not met: max residual " + amount + " L over " +
+                            std::to_string(exact_count) + " exact poses");
+  }
+}
+
 }  // namespace
 
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options) {
@@ -128,23 +170,45 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
     // An SP dyad of the motion is a PS dyad of the inverted motion (E and Sigma exchanged).
     std::vector<DualQuaternion> inverted;
     for (const DualQuaternion& pose : task.spatial_poses) inverted.push_back(pose.Inverse());
+    int simplified = 0;
     for (SpatialDyadReport& report : result.dyads) {
       SpatialDyad dyad = report.dyad;
       RefinerSummary summary;
       if (dyad.type == SpatialDyadType::kSP) {
         SpatialDyad flipped =
             SpatialDyad::PS(dyad.fixed_pivot, dyad.plane_normal, dyad.plane_offset);
-        summary =
-            RefineSpatialDyad(inverted, task.pose_weights, result.scale, &flipped, options.refiner);
+        summary = RefineSpatialDyad(inverted, task.pose_weights, task.pose_exact, result.scale,
+                                    &flipped, options.refiner);
         dyad =
             flipped.type == SpatialDyadType::kPS
                 ? SpatialDyad::SP(flipped.moving_pivot, flipped.plane_normal, flipped.plane_offset)
                 : SpatialDyad::SS(flipped.moving_pivot, flipped.fixed_pivot, flipped.radius);
       } else {
-        summary = RefineSpatialDyad(task.spatial_poses, task.pose_weights, result.scale, &dyad,
-                                    options.refiner);
+        summary = RefineSpatialDyad(task.spatial_poses, task.pose_weights, task.pose_exact,
+                                    result.scale, &dyad, options.refiner);
         if (dyad.type == SpatialDyadType::kSS) {
           PreferPlaneLimits(task, inverted, result.scale, options.refiner, &dyad, &summary);
+        }
+      }
+      // A sphere the data cannot tell from a plane at their precision is the plane, refined.
+      SpatialDyad plane;
+      if (dyad.type == SpatialDyadType::kSS &&
+          SimplerModel(dyad, task.spatial_poses, task.precision, result.scale, &plane)) {
+        const bool in_moving = plane.type == SpatialDyadType::kSP;
+        SpatialDyad start =
+            in_moving ? SpatialDyad::PS(plane.fixed_pivot, plane.plane_normal, plane.plane_offset)
+                      : plane;
+        RefineSpatialDyad(in_moving ? inverted : task.spatial_poses, task.pose_weights,
+                          task.pose_exact, result.scale, &start, options.refiner);
+        if (start.type == SpatialDyadType::kPS) {
+          plane = in_moving
+                      ? SpatialDyad::SP(start.moving_pivot, start.plane_normal, start.plane_offset)
+                      : start;
+          if (PrecisionRatio(plane, task.spatial_poses, task.precision, result.scale) <=
+              kModelUnits) {
+            dyad = plane;
+            ++simplified;
+          }
         }
       }
       report.seed_max_residual = summary.initial_max;
@@ -153,8 +217,18 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
       report.dyad = dyad;
       report.max_residual = dyad.MaxResidual(task.spatial_poses);
     }
+    if (simplified > 0) {
+      result.notes.push_back(std::to_string(simplified) +
+                             " refined spheres are reported as planes: at the data's precision "
+                             "the poses cannot tell them from their plane readings");
+    }
     DropRepeats(result.scale, &result.dyads);
     SortDyadsByRadius(&result.dyads);  // refinement can reorder radii, or make planes
+    for (SpatialDyadReport& report : result.dyads) {
+      report.error_bound =
+          DyadErrorBound(report.dyad, task.spatial_poses, task.precision, result.scale);
+    }
+    AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
     result.refine_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
@@ -257,12 +331,28 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     // few optima, and a seed that fits a little worse can still make the only four-bar without
     // a circuit or branch defect.
     const size_t seed_count = result.dyads.size();
+    int simplified = 0;
     for (size_t i = 0; i < seed_count; ++i) {
       DyadReport report = result.dyads[i];
       report.seed_rms_residual = report.rms_residual;
       RefinePlanarDyad(poses, weights, exact, length, &report.dyad, options.planar_refiner);
+      // A circle the data cannot tell from a slider at their precision is the slider, refined.
+      PlanarDyad slider;
+      if (SimplerModel(report.dyad, poses, task.precision, length, &slider)) {
+        RefinePlanarDyad(poses, weights, exact, length, &slider, options.planar_refiner);
+        if (slider.type != DyadType::kRR &&
+            PrecisionRatio(slider, poses, task.precision, length) <= kModelUnits) {
+          report.dyad = slider;
+          ++simplified;
+        }
+      }
       report.rms_residual = WeightedRms(report.dyad, poses, weights);
       result.dyads.push_back(report);
+    }
+    if (simplified > 0) {
+      result.notes.push_back(std::to_string(simplified) +
+                             " refined circles are reported as sliders: at the data's precision "
+                             "the poses cannot tell them from their slider readings");
     }
     result.stages.push_back(Stage("refine", stage_start, result));
   }
@@ -334,6 +424,10 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     RankMechanisms(&result.mechanisms);
     result.stages.push_back(Stage("four-bar refine", stage_start, result));
   }
+  // How far the data's precision can move each dyad (fitting/model_choice.h).
+  for (DyadReport& report : result.dyads) {
+    report.error_bound = DyadErrorBound(report.dyad, poses, task.precision, length);
+  }
   if (result.dyads.empty()) result.notes.push_back("no dyad: the seeds failed (degenerate poses?)");
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -341,13 +435,23 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
 }
 
 TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
+  TaskResult result;
   if (task.problem == ProblemKind::kMotion && task.space == Space::kPlanar) {
-    return SolvePlanarTask(task, options);
+    result = SolvePlanarTask(task, options);
+  } else if (task.problem == ProblemKind::kMotion && task.space == Space::kSpatial) {
+    result = SolveSpatialTask(task, options);
+  } else {
+    result = SolvePathTask(task, options);
   }
-  if (task.problem == ProblemKind::kMotion && task.space == Space::kSpatial) {
-    return SolveSpatialTask(task, options);
-  }
-  return SolvePathTask(task, options);
+  std::visit(
+      [&task](auto& solved) {
+        solved.precision = task.precision;
+        solved.closed = task.closed;
+        // What reading the task did comes first.
+        solved.notes.insert(solved.notes.begin(), task.input_notes.begin(), task.input_notes.end());
+      },
+      result);
+  return result;
 }
 
 }  // namespace linkfit

@@ -256,9 +256,11 @@ TEST_F(BadInputTest, EveryKindOfBadInputIsOneLineAndExitTwo) {
        "case.json: scale: not a finite number"},
       // Spatial poses that are not rigid motions.
       {"non-unit quaternion", SpatialTask(R"({"q": [0, 0, 0, 1.02], "g": [0, 0, 0, 0]})"),
-       "case.json: poses[2].q: not a unit quaternion (|q| = 1.02)"},
+       "case.json: poses[2].q: not a unit quaternion: |q| = 1.02, off by 0.02; the precision of "
+       "its digits (0.005 per component) accepts at most 0.01"},
       {"q . g not 0", SpatialTask(R"({"q": [0, 0, 0, 1], "g": [0, 0, 0, 0.3]})"),
-       "case.json: poses[2].g: q . g = 0.3, must be 0"},
+       "case.json: poses[2].g: q . g = 0.3, must be 0; the precision of the digits accepts at "
+       "most"},
       {"reflection",
        SpatialTask(R"({"rotation": [[1, 0, 0], [0, 1, 0], [0, 0, -1]], "translation": [0, 0, 0]})"),
        "case.json: poses[2].rotation: determinant is -1"},

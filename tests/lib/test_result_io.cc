@@ -72,8 +72,8 @@ TEST(ResultIo, RoundTrip) {
   EXPECT_FALSE(HasNonFiniteText(text)) << text;
   const Json json = Json::parse(text);
   EXPECT_EQ(Keys(json),
-            (std::vector<std::string>{"problem", "space", "method", "scale", "dyads", "mechanisms",
-                                      "roots", "notes", "solve_time_ms"}));
+            (std::vector<std::string>{"problem", "space", "method", "scale", "precision", "dyads",
+                                      "mechanisms", "roots", "notes", "solve_time_ms"}));
   EXPECT_EQ(json["problem"], "motion");
   EXPECT_EQ(json["space"], "planar");
   EXPECT_EQ(json["method"], "exact");

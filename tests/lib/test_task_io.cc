@@ -512,11 +512,14 @@ TEST(TaskIoErrors, SpatialPoses) {
   };
   const std::vector<Case> cases = {
       {{{"q", {0.0, 0.0, 0.0, 1.02}}, {"g", {0.0, 0.0, 0.0, 0.0}}},
-       "task.json: poses[2].q: not a unit quaternion (|q| = 1.02)"},
+       "task.json: poses[2].q: not a unit quaternion: |q| = 1.02, off by 0.02; the precision "
+       "of its digits (0.005 per component) accepts at most 0.01"},
       {{{"q", {0.0, 0.0, 0.0, 0.0}}, {"g", {0.0, 0.0, 0.0, 0.0}}},
-       "task.json: poses[2].q: not a unit quaternion (|q| = 0)"},
+       "task.json: poses[2].q: not a unit quaternion: |q| = 0, off by 1; the precision of its "
+       "digits (0.05 per component) accepts at most 3.6e-15"},
       {{{"q", {0.0, 0.0, 0.0, 1.0}}, {"g", {0.0, 0.0, 0.0, 0.3}}},
-       "task.json: poses[2].g: q . g = 0.3, must be 0"},
+       "task.json: poses[2].g: q . g = 0.3, must be 0; the precision of the digits accepts at "
+       "most 0.13"},
       {{{"q", {0.0, 0.0, 1.0}}, {"g", {0.0, 0.0, 0.0, 0.0}}},
        "task.json: poses[2].q: expected an array of 4 numbers, got 3 elements"},
       {{{"q", {0.0, 0.0, 0.0, 1.0}}}, "task.json: poses[2].g: missing field"},
@@ -525,18 +528,21 @@ TEST(TaskIoErrors, SpatialPoses) {
       {{{"rotation", {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
         {"translation", {0, 0, 0}},
         {"q", {0.0, 0.0, 0.0, 1.0}}},
-       "task.json: poses[2]: give exactly one of {\"q\", \"g\"}, {\"rotation\", \"translation\"} "
-       "or {\"axis\", \"angle_deg\", \"translation\"}"},
+       "task.json: poses[2]: give exactly one of {\"q\", \"g\"}, {\"rotation\", "
+       "\"translation\"}, {\"axis\", \"angle_deg\", \"translation\"}, {\"euler_deg\", "
+       "\"euler_axes\", \"translation\"} or {\"translation\", \"x_axis\", \"y_axis\"}"},
       {{{"translation", {0, 0, 0}}},
-       "task.json: poses[2]: give exactly one of {\"q\", \"g\"}, {\"rotation\", \"translation\"} "
-       "or {\"axis\", \"angle_deg\", \"translation\"}"},
+       "task.json: poses[2]: give exactly one of {\"q\", \"g\"}, {\"rotation\", "
+       "\"translation\"}, {\"axis\", \"angle_deg\", \"translation\"}, {\"euler_deg\", "
+       "\"euler_axes\", \"translation\"} or {\"translation\", \"x_axis\", \"y_axis\"}"},
       {{{"q", {0.0, 0.0, 0.0, 1.0}}, {"g", {0.0, 0.0, 0.0, 0.0}}, {"translation", {0, 0, 0}}},
        "task.json: poses[2].translation: unknown field (known fields: q, g, weight, exact)"},
       {{{"rotation", {{1, 0, 0}, {0, 1, 0}, {0, 0, -1}}}, {"translation", {0, 0, 0}}},
        "task.json: poses[2].rotation: determinant is -1, must be +1 (a reflection is not a "
        "rotation)"},
-      {{{"rotation", {{1, 0, 0}, {0, 1.01, 0}, {0, 0, 1}}}, {"translation", {0, 0, 0}}},
-       "task.json: poses[2].rotation: not orthonormal (largest entry of R^T R - I is 0.0201)"},
+      {{{"rotation", {{1, 0, 0}, {0, 1.3, 0}, {0, 0, 1}}}, {"translation", {0, 0, 0}}},
+       "task.json: poses[2].rotation: not orthonormal: an entry of R^T R - I is 0.69; the "
+       "precision of its digits (0.05 per entry) accepts at most 0.26"},
       {{{"rotation", {{1, 0, 0}, {0, 1, 0}}}, {"translation", {0, 0, 0}}},
        "task.json: poses[2].rotation: expected 3 rows of 3 numbers, got 2 rows"},
       {{{"rotation", {{1, 0, 0}, {0, 1, 0}, {0, 0, "1"}}}, {"translation", {0, 0, 0}}},

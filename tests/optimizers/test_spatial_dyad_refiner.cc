@@ -1,7 +1,7 @@
 // Tests of optimizers/spatial_dyad_refiner.h: least-squares refinement of one spatial dyad on
 // its geometric residual. Each test draws a random dyad, makes poses on it (exact or noisy),
 // refines a perturbed seed and requires the generating dyad (or the least-squares optimum)
-// back; then scales, reweights, reorders and feeds pathological seeds.
+// back; then scales, reweights, reorders, pins poses marked exact and feeds pathological seeds.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "optimizers/spatial_dyad_refiner.h"
+#include "tests/support/random_spatial.h"
 
 namespace {
 
@@ -228,7 +229,7 @@ void CheckExactRecovery(SpatialDyadType type, unsigned seed) {
         PosesOnDyad(source, truth, source.Count(kMinPoses, kMaxPoses));
     const SpatialDyad seed_dyad = Perturbed(source, truth, kSeedOffset * kLength);
     SpatialDyad refined = seed_dyad;
-    const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &refined);
+    const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &refined);
     SCOPED_TRACE(summary.message);
     EXPECT_EQ(refined.type, type);
     EXPECT_FALSE(summary.model_changed);
@@ -259,7 +260,7 @@ void CheckNoisyMinimum(SpatialDyadType type, unsigned seed) {
     const std::vector<DualQuaternion> poses =
         Noisy(source, PosesOnDyad(source, truth, source.Count(kMinPoses, kMaxPoses)), kNoise);
     SpatialDyad refined = Perturbed(source, truth, kSeedOffset * kLength);
-    const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &refined);
+    const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &refined);
     SCOPED_TRACE(summary.message);
     EXPECT_EQ(refined.type, type);
     const double true_rms = Rms(truth, poses);
@@ -289,9 +290,9 @@ TEST(SpatialDyadRefiner, OptimalSeedIsNotMadeWorse) {
     const std::vector<DualQuaternion> poses =
         Noisy(source, PosesOnDyad(source, truth, source.Count(kMinPoses, kMaxPoses)), kNoise);
     SpatialDyad optimum = Perturbed(source, truth, kSeedOffset * kLength);
-    RefineSpatialDyad(poses, {}, kLength, &optimum);
+    RefineSpatialDyad(poses, {}, {}, kLength, &optimum);
     SpatialDyad again = optimum;
-    const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &again);
+    const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &again);
     SCOPED_TRACE(summary.message);
     EXPECT_LE(summary.final_cost, summary.initial_cost);
     EXPECT_PRED3(NotWorse, Cost(again, poses), Cost(optimum, poses), kCostSlack);
@@ -320,7 +321,7 @@ TEST(SpatialDyadRefiner, PathologicalSeedsGiveNoNaN) {
     for (size_t k = 0; k < seeds.size(); ++k) {
       SCOPED_TRACE("pathological seed " + std::to_string(k));
       SpatialDyad refined = seeds[k];
-      const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &refined);
+      const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &refined);
       SCOPED_TRACE(summary.message);
       EXPECT_TRUE(AllFinite(refined));
       EXPECT_TRUE(AllFinite(summary));
@@ -358,12 +359,12 @@ TEST(SpatialDyadRefiner, ResultDoesNotDependOnUnits) {
         Noisy(source, PosesOnDyad(source, truth, source.Count(kMinPoses, kMaxPoses)), kNoise);
     const SpatialDyad seed_dyad = Perturbed(source, truth, kSeedOffset * kLength);
     SpatialDyad reference = seed_dyad;
-    const RefinerSummary reference_summary = RefineSpatialDyad(poses, {}, kLength, &reference);
+    const RefinerSummary reference_summary = RefineSpatialDyad(poses, {}, {}, kLength, &reference);
     for (double scale : {1e-3, 1e3}) {
       SCOPED_TRACE("scale " + std::to_string(scale));
       SpatialDyad refined = ScaledDyad(seed_dyad, scale);
       const RefinerSummary summary =
-          RefineSpatialDyad(ScaledPoses(poses, scale), {}, scale * kLength, &refined);
+          RefineSpatialDyad(ScaledPoses(poses, scale), {}, {}, scale * kLength, &refined);
       EXPECT_LT(DyadDistance(ScaledDyad(refined, 1.0 / scale), reference, kLength), kSameOptimum);
       EXPECT_PRED3(SameCost, summary.final_cost / (scale * scale), reference_summary.final_cost,
                    kSameCost);
@@ -376,7 +377,7 @@ TEST(SpatialDyadRefiner, ResultDoesNotDependOnUnits) {
       const std::vector<DualQuaternion> exact_poses = PosesOnDyad(source, truth, kMinPoses + 3);
       SpatialDyad exact = ScaledDyad(Perturbed(source, truth, kSeedOffset * kLength), scale);
       const RefinerSummary exact_summary =
-          RefineSpatialDyad(ScaledPoses(exact_poses, scale), {}, scale * kLength, &exact);
+          RefineSpatialDyad(ScaledPoses(exact_poses, scale), {}, {}, scale * kLength, &exact);
       EXPECT_LT(DyadDistance(exact, ScaledDyad(truth, scale), scale * kLength), kExactParameter);
       EXPECT_LT(exact_summary.final_max, kExactResidual * scale * kLength);
     }
@@ -395,7 +396,8 @@ TEST(SpatialDyadRefiner, ResultDoesNotDependOnOrderOrWeightScale) {
     for (size_t j = 0; j < poses.size(); ++j) weights.push_back(1.5 + source.Uniform());
     const SpatialDyad seed_dyad = Perturbed(source, truth, kSeedOffset * kLength);
     SpatialDyad reference = seed_dyad;
-    const RefinerSummary reference_summary = RefineSpatialDyad(poses, weights, kLength, &reference);
+    const RefinerSummary reference_summary =
+        RefineSpatialDyad(poses, weights, {}, kLength, &reference);
     EXPECT_LE(Cost(reference, poses, weights), Cost(truth, poses, weights));
     EXPECT_PRED3(SameCost, reference_summary.final_cost, Cost(reference, poses, weights),
                  kReportedAgreement);
@@ -406,7 +408,7 @@ TEST(SpatialDyadRefiner, ResultDoesNotDependOnOrderOrWeightScale) {
     std::vector<double> heavy = weights;
     for (double& w : heavy) w *= 1e6;
     SpatialDyad heavy_dyad = seed_dyad;
-    const RefinerSummary heavy_summary = RefineSpatialDyad(poses, heavy, kLength, &heavy_dyad);
+    const RefinerSummary heavy_summary = RefineSpatialDyad(poses, heavy, {}, kLength, &heavy_dyad);
     EXPECT_LT(DyadDistance(heavy_dyad, reference, kLength), kSameOptimum);
     EXPECT_PRED3(SameCost, heavy_summary.final_cost / 1e6, reference_summary.final_cost, kSameCost);
     EXPECT_PRED4(Near, heavy_summary.final_rms, reference_summary.final_rms, kSameCost,
@@ -416,13 +418,13 @@ TEST(SpatialDyadRefiner, ResultDoesNotDependOnOrderOrWeightScale) {
     std::vector<DualQuaternion> reversed_poses(poses.rbegin(), poses.rend());
     std::vector<double> reversed_weights(weights.rbegin(), weights.rend());
     SpatialDyad reversed = seed_dyad;
-    RefineSpatialDyad(reversed_poses, reversed_weights, kLength, &reversed);
+    RefineSpatialDyad(reversed_poses, reversed_weights, {}, kLength, &reversed);
     EXPECT_LT(DyadDistance(reversed, reference, kLength), kSameOptimum);
 
     // Empty weights are all 1.
     SpatialDyad unweighted = seed_dyad, ones = seed_dyad;
-    RefineSpatialDyad(poses, {}, kLength, &unweighted);
-    RefineSpatialDyad(poses, std::vector<double>(poses.size(), 1.0), kLength, &ones);
+    RefineSpatialDyad(poses, {}, {}, kLength, &unweighted);
+    RefineSpatialDyad(poses, std::vector<double>(poses.size(), 1.0), {}, kLength, &ones);
     EXPECT_LT(DyadDistance(unweighted, ones, kLength), kSameOptimum);
   }
 }
@@ -449,7 +451,7 @@ TEST(SpatialDyadRefiner, HugeSphereSeedOnPlaneDataIsRefinedAsPlane) {
     const std::vector<DualQuaternion> poses =
         PosesOnDyad(source, truth, source.Count(kMinPoses, kMaxPoses));
     SpatialDyad refined = TangentSphereSeed(source, truth, poses, 1e6 * kLength);
-    const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &refined);
+    const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &refined);
     SCOPED_TRACE(summary.message);
     EXPECT_EQ(refined.type, SpatialDyadType::kPS);
     EXPECT_TRUE(summary.model_changed);
@@ -470,7 +472,8 @@ TEST(SpatialDyadRefiner, LargeSphereSeedIsComparedWithItsLimitPlane) {
     const std::vector<DualQuaternion> plane_poses =
         PosesOnDyad(source, plane, source.Count(kMinPoses, kMaxPoses));
     SpatialDyad from_sphere = TangentSphereSeed(source, plane, plane_poses, kLargeRadius);
-    const RefinerSummary plane_summary = RefineSpatialDyad(plane_poses, {}, kLength, &from_sphere);
+    const RefinerSummary plane_summary =
+        RefineSpatialDyad(plane_poses, {}, {}, kLength, &from_sphere);
     SCOPED_TRACE(plane_summary.message);
     EXPECT_EQ(from_sphere.type, SpatialDyadType::kPS);
     EXPECT_TRUE(plane_summary.model_changed);
@@ -492,7 +495,8 @@ TEST(SpatialDyadRefiner, LargeSphereSeedIsComparedWithItsLimitPlane) {
           rotation, point - rotation * sphere.moving_pivot));
     }
     SpatialDyad from_large = Perturbed(source, sphere, kSeedOffset * kLength);
-    const RefinerSummary sphere_summary = RefineSpatialDyad(sphere_poses, {}, kLength, &from_large);
+    const RefinerSummary sphere_summary =
+        RefineSpatialDyad(sphere_poses, {}, {}, kLength, &from_large);
     SCOPED_TRACE(sphere_summary.message);
     EXPECT_EQ(from_large.type, SpatialDyadType::kSS);
     EXPECT_FALSE(sphere_summary.model_changed);
@@ -505,9 +509,12 @@ TEST(SpatialDyadRefiner, RejectsBadArguments) {
   const SpatialDyad truth = RandomSphereDyad(source);
   const std::vector<DualQuaternion> poses = PosesOnDyad(source, truth, kMinPoses);
   SpatialDyad dyad = truth;
-  EXPECT_THROW(RefineSpatialDyad(poses, {}, 0.0, &dyad), std::invalid_argument);
-  EXPECT_THROW(RefineSpatialDyad(poses, {1.0, 2.0}, kLength, &dyad), std::invalid_argument);
-  EXPECT_THROW(RefineSpatialDyad(poses, std::vector<double>(poses.size(), -1.0), kLength, &dyad),
+  EXPECT_THROW(RefineSpatialDyad(poses, {}, {}, 0.0, &dyad), std::invalid_argument);
+  EXPECT_THROW(RefineSpatialDyad(poses, {1.0, 2.0}, {}, kLength, &dyad), std::invalid_argument);
+  EXPECT_THROW(
+      RefineSpatialDyad(poses, std::vector<double>(poses.size(), -1.0), {}, kLength, &dyad),
+      std::invalid_argument);
+  EXPECT_THROW(RefineSpatialDyad(poses, {}, std::vector<bool>(2, true), kLength, &dyad),
                std::invalid_argument);
 }
 
@@ -517,12 +524,173 @@ TEST(SpatialDyadRefiner, NonFiniteSeedIsReturnedUnchanged) {
   const std::vector<DualQuaternion> poses = PosesOnDyad(source, truth, kMinPoses);
   SpatialDyad dyad = truth;
   dyad.radius = std::numeric_limits<double>::quiet_NaN();
-  const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &dyad);
+  const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &dyad);
   EXPECT_TRUE(std::isnan(dyad.radius));
   EXPECT_EQ(dyad.fixed_pivot, truth.fixed_pivot);
   EXPECT_FALSE(summary.model_changed);
   EXPECT_EQ(summary.iterations, 0);
   EXPECT_FALSE(summary.message.empty());
+}
+
+// ---- Poses marked exact ----
+
+constexpr int kPlatformPoses = 12;
+constexpr double kPlatformNoise = 1e-3;       // pose noise (PerturbSpatialPoses) but on exact poses
+constexpr double kExactTolerance = 1e-9;      // exact poses met to this times L (the default)
+constexpr double kPlatformSeedOffset = 1e-2;  // seed offset, times L: the seed misses them too
+constexpr int kExactPoseA = 3, kExactPoseB = 8;
+
+// Twelve poses of a random platform of the given dyads (tests/support/random_spatial.h), all
+// perturbed but poses kExactPoseA and kExactPoseB, which stay on the platform and are flagged.
+struct PinnedPlatformTask {
+  std::vector<SpatialDyad> planted;
+  std::vector<DualQuaternion> poses;
+  std::vector<bool> exact;
+  double length = 1.0;  // RMS distance of the pose origins from their centroid
+};
+
+PinnedPlatformTask MakePinnedPlatformTask(std::mt19937_64& rng,
+                                          const std::vector<SpatialDyadType>& types) {
+  PinnedPlatformTask task;
+  while (task.poses.empty()) {
+    const DualQuaternion start = linkfit::testing::RandomSpatialPose(rng);
+    task.planted = linkfit::testing::DyadsThroughPose(rng, start, types);
+    task.poses = linkfit::testing::TryPosesOnDyads(rng, task.planted, start, kPlatformPoses, 2000);
+  }
+  const std::vector<DualQuaternion> clean = task.poses;
+  linkfit::testing::PerturbSpatialPoses(rng, kPlatformNoise, &task.poses);
+  task.exact.assign(task.poses.size(), false);
+  for (int j : {kExactPoseA, kExactPoseB}) {
+    task.poses[j] = clean[j];
+    task.exact[j] = true;
+  }
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const DualQuaternion& pose : task.poses) centroid += pose.Translation();
+  centroid /= static_cast<double>(task.poses.size());
+  double sum = 0.0;
+  for (const DualQuaternion& pose : task.poses) {
+    sum += (pose.Translation() - centroid).squaredNorm();
+  }
+  task.length = std::sqrt(sum / static_cast<double>(task.poses.size()));
+  return task;
+}
+
+// Largest and smallest |residual| over the poses flagged `flagged` (exact or not).
+double MaxResidualWhere(const SpatialDyad& dyad, const PinnedPlatformTask& task, bool flagged) {
+  double most = 0.0;
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    if (task.exact[j] == flagged) most = std::max(most, std::abs(dyad.Residual(task.poses[j])));
+  }
+  return most;
+}
+double MinResidualWhere(const SpatialDyad& dyad, const PinnedPlatformTask& task, bool flagged) {
+  double least = std::numeric_limits<double>::infinity();
+  for (size_t j = 0; j < task.poses.size(); ++j) {
+    if (task.exact[j] == flagged) least = std::min(least, std::abs(dyad.Residual(task.poses[j])));
+  }
+  return least;
+}
+
+// A 5-SS platform and a mixed one (four SS, one PS), twelve noisy poses, two of them exact:
+// each planted dyad, moved off by 1e-2 L, refined with the exact flags meets the two exact poses
+// to 1e-9 L and no non-exact pose; it fits no worse than the planted dyad (which meets the exact
+// poses too: the constrained optimum is at most its cost) and no better than the refinement
+// without flags (the unconstrained optimum), which misses the exact poses; refined again with
+// the flags, that optimum gives way to one that meets them, at a higher cost.
+TEST(SpatialDyadRefiner, ExactPosesAreMetOnANoisyPlatform) {
+  constexpr unsigned kPlatformSeed = kSeed + 13;
+  constexpr int kPlatforms = 6;
+  std::mt19937_64 rng(kPlatformSeed);
+  RandomSource source(kPlatformSeed);
+  for (int trial = 0; trial < kPlatforms; ++trial) {
+    SCOPED_TRACE(SeedTrace(kPlatformSeed, trial));
+    std::vector<SpatialDyadType> types(5, SpatialDyadType::kSS);
+    if (trial % 2) types.back() = SpatialDyadType::kPS;
+    const PinnedPlatformTask task = MakePinnedPlatformTask(rng, types);
+    const double length = task.length;
+    for (size_t k = 0; k < task.planted.size(); ++k) {
+      SCOPED_TRACE("planted dyad " + std::to_string(k));
+      const SpatialDyad& planted = task.planted[k];
+      ASSERT_LT(MaxResidualWhere(planted, task, true), 1e-12 * length);
+      const SpatialDyad seed_dyad = Perturbed(source, planted, kPlatformSeedOffset * length);
+
+      SpatialDyad free = seed_dyad;
+      RefineSpatialDyad(task.poses, {}, {}, length, &free);
+      SpatialDyad pinned = seed_dyad;
+      const RefinerSummary summary = RefineSpatialDyad(task.poses, {}, task.exact, length, &pinned);
+      SCOPED_TRACE(summary.message);
+      EXPECT_EQ(pinned.type, planted.type);
+      EXPECT_LE(MaxResidualWhere(pinned, task, true), kExactTolerance * length);
+      EXPECT_GT(MinResidualWhere(pinned, task, false), kExactTolerance * length);
+      EXPECT_EQ(summary.message.find("not met"), std::string::npos);
+      EXPECT_PRED3(NotWorse, Cost(pinned, task.poses), Cost(planted, task.poses), kCostSlack);
+      EXPECT_PRED3(NotWorse, Cost(free, task.poses), Cost(pinned, task.poses), kCostSlack);
+      EXPECT_PRED4(Near, summary.final_max, pinned.MaxResidual(task.poses), kReportedAgreement,
+                   kResidualFloor);
+      // The flags make the difference: the unconstrained optimum misses the exact poses.
+      EXPECT_GT(MaxResidualWhere(free, task, true), 1e3 * kExactTolerance * length);
+
+      // From the unconstrained optimum as the seed: a lower cost, but missing the exact poses,
+      // the seed gives way to a design that meets them.
+      SpatialDyad from_free = free;
+      RefineSpatialDyad(task.poses, {}, task.exact, length, &from_free);
+      EXPECT_LE(MaxResidualWhere(from_free, task, true), kExactTolerance * length);
+      EXPECT_GT(Cost(from_free, task.poses), Cost(free, task.poses));
+    }
+  }
+}
+
+// Without exact flags the refinement is the one it always was: an all-false vector gives
+// bit for bit what an empty one gives, dyad and summary.
+TEST(SpatialDyadRefiner, NoExactFlagsIsTheSameAsEmptyFlags) {
+  constexpr unsigned kPlatformSeed = kSeed + 14;
+  std::mt19937_64 rng(kPlatformSeed);
+  RandomSource source(kPlatformSeed);
+  for (int trial = 0; trial < 4; ++trial) {
+    SCOPED_TRACE(SeedTrace(kPlatformSeed, trial));
+    std::vector<SpatialDyadType> types(5, SpatialDyadType::kSS);
+    if (trial % 2) types.back() = SpatialDyadType::kPS;
+    const PinnedPlatformTask task = MakePinnedPlatformTask(rng, types);
+    const std::vector<bool> none(task.poses.size(), false);
+    for (const SpatialDyad& planted : task.planted) {
+      const SpatialDyad seed_dyad = Perturbed(source, planted, kPlatformSeedOffset * task.length);
+      SpatialDyad with_empty = seed_dyad, with_none = seed_dyad;
+      const RefinerSummary empty_summary =
+          RefineSpatialDyad(task.poses, {}, {}, task.length, &with_empty);
+      const RefinerSummary none_summary =
+          RefineSpatialDyad(task.poses, {}, none, task.length, &with_none);
+      EXPECT_EQ(with_none.type, with_empty.type);
+      EXPECT_EQ(with_none.fixed_pivot, with_empty.fixed_pivot);
+      EXPECT_EQ(with_none.moving_pivot, with_empty.moving_pivot);
+      EXPECT_EQ(with_none.radius, with_empty.radius);
+      EXPECT_EQ(with_none.plane_normal, with_empty.plane_normal);
+      EXPECT_EQ(with_none.plane_offset, with_empty.plane_offset);
+      EXPECT_EQ(none_summary.final_cost, empty_summary.final_cost);
+      EXPECT_EQ(none_summary.iterations, empty_summary.iterations);
+      EXPECT_EQ(none_summary.message, empty_summary.message);
+    }
+  }
+}
+
+// More exact poses than an SS dyad has parameters (nine of twelve, noisy): they cannot all be
+// met; the summary says so and by how much, and the numbers stay finite.
+TEST(SpatialDyadRefiner, TooManyExactPosesAreReportedNotMet) {
+  constexpr unsigned kPlatformSeed = kSeed + 15;
+  std::mt19937_64 rng(kPlatformSeed);
+  RandomSource source(kPlatformSeed);
+  PinnedPlatformTask task =
+      MakePinnedPlatformTask(rng, std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
+  linkfit::testing::PerturbSpatialPoses(rng, kPlatformNoise, &task.poses);  // the pinned ones too
+  task.exact.assign(task.poses.size(), true);
+  for (int j : {0, 5, 11}) task.exact[j] = false;
+  SpatialDyad dyad = Perturbed(source, task.planted[0], kPlatformSeedOffset * task.length);
+  const RefinerSummary summary = RefineSpatialDyad(task.poses, {}, task.exact, task.length, &dyad);
+  SCOPED_TRACE(summary.message);
+  EXPECT_TRUE(AllFinite(dyad));
+  EXPECT_TRUE(AllFinite(summary));
+  EXPECT_GT(MaxResidualWhere(dyad, task, true), kExactTolerance * task.length);
+  EXPECT_NE(summary.message.find("exact poses not met"), std::string::npos);
+  EXPECT_NE(summary.message.find("more than the dyad's 7 parameters"), std::string::npos);
 }
 
 // Prints the median, 90th percentile and worst time per refine (SS and PS, noisy data, seeds 1e-2 L
@@ -543,7 +711,7 @@ TEST(SpatialDyadRefiner, ReportsTimePerRefine) {
         const std::vector<DualQuaternion> poses =
             Noisy(source, PosesOnDyad(source, truth, count), kNoise);
         SpatialDyad refined = Perturbed(source, truth, kSeedOffset * kLength);
-        const RefinerSummary summary = RefineSpatialDyad(poses, {}, kLength, &refined);
+        const RefinerSummary summary = RefineSpatialDyad(poses, {}, {}, kLength, &refined);
         seconds.push_back(summary.seconds);
         iterations += summary.iterations;
       }

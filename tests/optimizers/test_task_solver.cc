@@ -190,6 +190,125 @@ TEST(TaskSolver, SpatialLeastSquaresRefinesEverySeed) {
   }
 }
 
+// Twelve poses of a random 5-SS platform, noisy but for two exact ones that stay on it: every
+// refined dyad meets the exact poses to 1e-9 L, and those near a planted dyad (the optima the
+// algebraic seeds reach, at least four of five) meet no other pose. Without the flags (all
+// false, or none given: the same result) the same dyads miss the exact poses. With nine noisy
+// poses exact (more than a dyad's parameters) the dyads miss them, each with a note naming it.
+TEST(TaskSolver, SpatialExactPosesAreMetByTheRefinedDyads) {
+  constexpr double kExactTolerance = 1e-9;  // times L: the refiner's default exact_tolerance
+  constexpr double kNear = 0.2;             // a refined dyad this near a planted one is its optimum
+  constexpr int kExactA = 3, kExactB = 8;
+  for (int seed = 900; seed < 903; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937_64 rng(seed);
+    std::vector<SpatialDyad> planted;
+    std::vector<DualQuaternion> poses;
+    while (poses.empty()) {
+      const DualQuaternion start = testing::RandomSpatialPose(rng);
+      planted = testing::DyadsThroughPose(rng, start,
+                                          std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
+      poses = testing::TryPosesOnDyads(rng, planted, start, 12, 2000);
+    }
+    const std::vector<DualQuaternion> clean = poses;
+    testing::PerturbSpatialPoses(rng, 1e-3, &poses);
+    Task task = SpatialMotionTask(poses);
+    for (int j : {kExactA, kExactB}) {
+      task.spatial_poses[j] = clean[j];
+      task.pose_exact[j] = true;
+    }
+    // The largest |residual| over the poses `flagged` marks exact.
+    const auto exact_miss = [](const SpatialDyad& dyad, const Task& flagged) {
+      double miss = 0.0;
+      for (size_t j = 0; j < flagged.spatial_poses.size(); ++j) {
+        if (flagged.pose_exact[j]) {
+          miss = std::max(miss, std::abs(dyad.Residual(flagged.spatial_poses[j])));
+        }
+      }
+      return miss;
+    };
+    const auto other_least = [&task](const SpatialDyad& dyad) {
+      double least = 1e300;
+      for (size_t j = 0; j < task.spatial_poses.size(); ++j) {
+        if (!task.pose_exact[j]) {
+          least = std::min(least, std::abs(dyad.Residual(task.spatial_poses[j])));
+        }
+      }
+      return least;
+    };
+    // The dyad of `solved` nearest `expected`, and how near.
+    const auto nearest = [](const SpatialMotionResult& solved, const SpatialDyad& expected,
+                            double* distance) {
+      SpatialDyad dyad;
+      *distance = 1e300;
+      for (const SpatialDyadReport& report : solved.dyads) {
+        const double d = testing::SpatialDyadDistance(report.dyad, expected);
+        if (d < *distance) {
+          *distance = d;
+          dyad = report.dyad;
+        }
+      }
+      return dyad;
+    };
+    const auto count_notes = [](const SpatialMotionResult& solved, const std::string& prefix) {
+      int count = 0;
+      for (const std::string& note : solved.notes) {
+        count +=
+            note.rfind(prefix, 0) == 0 && note.find("exact poses not met") != std::string::npos;
+      }
+      return count;
+    };
+
+    const SpatialMotionResult result = SolveSpatialTask(task);
+    ASSERT_EQ(result.method, "least-squares");
+    ASSERT_FALSE(result.dyads.empty());
+    const double limit = kExactTolerance * result.scale;
+    for (const SpatialDyadReport& report : result.dyads) {
+      EXPECT_LE(exact_miss(report.dyad, task), limit);
+    }
+    EXPECT_EQ(count_notes(result, "dyad "), 0);
+
+    Task unflagged = task;
+    unflagged.pose_exact.assign(task.spatial_poses.size(), false);
+    const SpatialMotionResult free = SolveSpatialTask(unflagged);
+    int reached = 0;
+    for (const SpatialDyad& expected : planted) {
+      double free_distance = 0.0, distance = 0.0;
+      const SpatialDyad free_dyad = nearest(free, expected, &free_distance);
+      if (free_distance >= kNear) continue;  // not a local optimum the seeds reach
+      ++reached;
+      const SpatialDyad dyad = nearest(result, expected, &distance);
+      EXPECT_LT(distance, kNear);
+      EXPECT_LE(exact_miss(dyad, task), limit);
+      EXPECT_GT(other_least(dyad), limit);
+      EXPECT_GT(exact_miss(free_dyad, task), 1e3 * limit);
+    }
+    EXPECT_GE(reached, 4);
+    EXPECT_EQ(count_notes(free, "dyad "), 0);
+    unflagged.pose_exact.clear();
+    const SpatialMotionResult none = SolveSpatialTask(unflagged);
+    ASSERT_EQ(none.dyads.size(), free.dyads.size());
+    for (size_t i = 0; i < free.dyads.size(); ++i) {
+      EXPECT_EQ(testing::SpatialDyadDistance(none.dyads[i].dyad, free.dyads[i].dyad), 0.0);
+    }
+
+    // Nine exact poses, seven of them noisy: a note for each dyad that misses them, and only
+    // for those.
+    Task overpinned = task;
+    overpinned.pose_exact.assign(task.spatial_poses.size(), true);
+    for (int j : {0, 5, 11}) overpinned.pose_exact[j] = false;
+    const SpatialMotionResult pinned = SolveSpatialTask(overpinned);
+    int missing = 0;
+    for (size_t i = 0; i < pinned.dyads.size(); ++i) {
+      const bool misses =
+          exact_miss(pinned.dyads[i].dyad, overpinned) > kExactTolerance * pinned.scale;
+      missing += misses;
+      EXPECT_EQ(count_notes(pinned, "dyad " + std::to_string(i) + " ("), misses ? 1 : 0) << i;
+    }
+    EXPECT_GT(missing, 0);
+  }
+}
+
 Task PlanarTask(const std::vector<PlanarPose>& poses, Effort effort) {
   return PlanarMotionTask(poses, effort);
 }

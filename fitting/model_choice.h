@@ -1,0 +1,82 @@
+// Model choice at the data's precision (README, "Data from tables and measurements"). Where the
+// data cannot tell two models apart at their precision (lib/precision.h), the simpler one is
+// reported, and the result says what was tested:
+//   - slider or circle: a circle whose slider reading fits the poses within the data's
+//     uncertainty is a slider. The reading is a least-squares fit of the line to the pivot's
+//     positions (PR: the moving pivot in Sigma; RP: the fixed pivot seen from E), not the
+//     circle's tangent, so a circle bent by rounding still straightens;
+//   - plane or sphere (spatial): the same with a plane fitted to the moving point's positions
+//     (PS) or to the fixed point seen from E (SP).
+// "Within the uncertainty" is PrecisionRatio <= kModelUnits: at every pose the constrained
+// point misses its line or plane by at most kModelUnits times PointUncertainty (the data move a
+// point r from the frame origin by up to sqrt(dim) delta + r alpha). The factor covers the
+// least-squares model fitting a little worse at its worst pose than the generating one.
+#ifndef LINKFIT_FITTING_MODEL_CHOICE_H_
+#define LINKFIT_FITTING_MODEL_CHOICE_H_
+
+#include <vector>
+
+#include "lib/dyad.h"
+#include "lib/planar_pose.h"
+#include "lib/precision.h"
+#include "lib/spatial_dyad.h"
+#include "lib/spatial_pose.h"
+
+namespace linkfit {
+
+// A simpler model fits the data when its PrecisionRatio is at most this.
+inline constexpr double kModelUnits = 2.0;
+
+// Largest over the poses of |residual_j| / u_j, u_j = PointUncertainty of the dyad's
+// constrained point at pose j (RR, PR: the moving pivot, |m| from E's origin; RP: the fixed
+// pivot, |F - d_j| from it). `scale` (the task's L) sets the rounding floor.
+double PrecisionRatio(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                      const DataPrecision& precision, double scale);
+// The same in space (SS, PS: the moving point c; SP: the fixed point seen from E).
+double PrecisionRatio(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
+                      const DataPrecision& precision, double scale);
+
+// First-order bound of how far the data's precision can move a dyad fitted to the poses: with
+// J the Jacobian of the residuals (one per pose) in the dyad's parameters (RR: F, m, r; PR: m,
+// line normal angle, offset; RP: F, angle, offset) and u_j the uncertainty of the constrained
+// point at pose j (PrecisionRatio), each parameter moves by at most sum_j |(J^+)_ij| u_j. The
+// bound is the largest pivot, radius or line displacement (an angle error times the extent of
+// the line the pivot sweeps), in length units. Infinity when the poses do not determine the
+// dyad (J rank-deficient: e.g. the radius of a circle whose pivot barely turns).
+double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                      const DataPrecision& precision, double scale);
+
+// The same in space: SS (A, c, r), PS (c, the normal's two tangent turns, offset), SP (A, normal,
+// offset).
+double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
+                      const DataPrecision& precision, double scale);
+
+// The dyad of the same type that fits the poses best in least squares (the sum of squared
+// residuals), by Levenberg-Marquardt from `start` in the parameters of DyadErrorBound, at most
+// `iterations` steps. Used where no exact real dyad exists nearby: a circle bent from a line
+// by rounding (its slider reading), the real part of a complex root pair.
+PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
+                               int iterations);
+
+// The slider readings of a circle by total least squares: PR keeps the moving pivot and fits
+// the line to its positions in Sigma; RP keeps the fixed pivot and fits the line to where E
+// sees it.
+PlanarDyad FitSliderPR(const PlanarDyad& circle, const std::vector<PlanarPose>& poses);
+PlanarDyad FitSliderRP(const PlanarDyad& circle, const std::vector<PlanarPose>& poses);
+
+// The plane readings of a sphere by total least squares: PS keeps the moving point and fits
+// the plane to its positions in Sigma; SP keeps the fixed point and fits the plane in E.
+SpatialDyad FitPlanePS(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses);
+SpatialDyad FitPlaneSP(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses);
+
+// The simpler model of a circle or sphere at the data's precision: the slider or plane reading
+// with the smaller PrecisionRatio when it is at most kModelUnits (written to *simpler,
+// returns true); otherwise false.
+bool SimplerModel(const PlanarDyad& circle, const std::vector<PlanarPose>& poses,
+                  const DataPrecision& precision, double scale, PlanarDyad* simpler);
+bool SimplerModel(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses,
+                  const DataPrecision& precision, double scale, SpatialDyad* simpler);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_FITTING_MODEL_CHOICE_H_

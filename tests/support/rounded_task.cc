@@ -1,0 +1,109 @@
+#include "tests/support/rounded_task.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <cstdio>
+
+#include "lib/task_io.h"
+
+namespace linkfit::testing {
+namespace {
+
+constexpr double kDegree = M_PI / 180.0;
+
+std::string Array(const std::vector<double>& values, int digits) {
+  std::string out = "[";
+  for (size_t i = 0; i < values.size(); ++i) out += (i ? ", " : "") + Printed(values[i], digits);
+  return out + "]";
+}
+
+std::string Items(const char* key, const std::vector<std::string>& items) {
+  std::string out = std::string("\"") + key + "\": [";
+  for (size_t i = 0; i < items.size(); ++i) out += (i ? ",\n  " : "\n  ") + items[i];
+  return out + "]";
+}
+
+}  // namespace
+
+std::string Printed(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof(buffer), "%#.*g", digits, value);
+  return buffer;
+}
+
+std::string PlanarMotionText(const std::vector<PlanarPose>& poses, int digits) {
+  std::vector<std::string> items;
+  for (const PlanarPose& pose : poses) {
+    items.push_back("{\"x\": " + Printed(pose.origin_in_fixed.x(), digits) +
+                    ", \"y\": " + Printed(pose.origin_in_fixed.y(), digits) +
+                    ", \"theta_deg\": " + Printed(pose.theta / kDegree, digits) + "}");
+  }
+  return "{\"problem\": \"motion\", " + Items("poses", items) + "}";
+}
+
+std::string SpatialMotionText(const std::vector<DualQuaternion>& poses, int digits,
+                              SpatialForm form) {
+  std::vector<std::string> items;
+  for (const DualQuaternion& pose : poses) {
+    const Eigen::Vector3d d = pose.Translation();
+    const std::string translation = "\"translation\": " + Array({d.x(), d.y(), d.z()}, digits);
+    const Eigen::Matrix3d rotation = pose.Rotation();
+    switch (form) {
+      case SpatialForm::kDualQuaternion:
+        items.push_back("{\"q\": " + Array({pose.q[0], pose.q[1], pose.q[2], pose.q[3]}, digits) +
+                        ", \"g\": " + Array({pose.g[0], pose.g[1], pose.g[2], pose.g[3]}, digits) +
+                        "}");
+        break;
+      case SpatialForm::kRotationMatrix: {
+        std::string rows;
+        for (int row = 0; row < 3; ++row) {
+          rows += (row ? ", " : "") +
+                  Array({rotation(row, 0), rotation(row, 1), rotation(row, 2)}, digits);
+        }
+        items.push_back("{\"rotation\": [" + rows + "], " + translation + "}");
+        break;
+      }
+      case SpatialForm::kAxisAngle: {
+        Eigen::Vector3d axis;
+        double angle;
+        pose.ToAxisAngle(&axis, &angle);
+        items.push_back("{\"axis\": " + Array({axis.x(), axis.y(), axis.z()}, digits) +
+                        ", \"angle_deg\": " + Printed(angle / kDegree, digits) + ", " +
+                        translation + "}");
+        break;
+      }
+      case SpatialForm::kEulerZYX: {
+        // R = R_z(a) R_y(b) R_x(c).
+        const double b = std::asin(std::clamp(-rotation(2, 0), -1.0, 1.0));
+        const double a = std::atan2(rotation(1, 0), rotation(0, 0));
+        const double c = std::atan2(rotation(2, 1), rotation(2, 2));
+        items.push_back(
+            "{\"euler_deg\": " + Array({a / kDegree, b / kDegree, c / kDegree}, digits) +
+            ", \"euler_axes\": \"ZYX\", " + translation + "}");
+        break;
+      }
+    }
+  }
+  return "{\"problem\": \"motion\", \"space\": \"spatial\", " + Items("poses", items) + "}";
+}
+
+std::string PathText(const std::vector<Eigen::Vector2d>& points,
+                     const std::vector<double>& input_angles, int digits) {
+  std::vector<std::string> items;
+  for (size_t i = 0; i < points.size(); ++i) {
+    std::string item =
+        "{\"x\": " + Printed(points[i].x(), digits) + ", \"y\": " + Printed(points[i].y(), digits);
+    if (!input_angles.empty())
+      item += ", \"input_deg\": " + Printed(input_angles[i] / kDegree, digits);
+    items.push_back(item + "}");
+  }
+  return "{\"problem\": \"path\", " + Items("points", items) + "}";
+}
+
+Task ReadRounded(const std::string& text, Effort effort) {
+  Task task = ParseTask(text, "rounded");
+  task.effort = effort;
+  return task;
+}
+
+}  // namespace linkfit::testing

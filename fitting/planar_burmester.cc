@@ -162,6 +162,8 @@ struct CoreResult {
 // line lies within the circle's own uncertainty, a small part of its huge radius, while a
 // polish that moves farther is running to another root.
 constexpr double kPolishReach = 0.01;
+// Normalized poses (L = 1): circles beyond this radius are always tested for their slider.
+constexpr double kFarRadius = 100.0;
 
 // The simpler reading of a circle at the data's precision (fitting/model_choice.h): the PR or
 // RP slider fitted by least squares to the pivot's positions, polished on the five poses'
@@ -171,12 +173,40 @@ constexpr double kPolishReach = 0.01;
 bool SliderAtPrecision(const PlanarDyad& circle, const std::vector<PlanarPose>& poses,
                        const std::vector<PoseFrame>& frames, const DataPrecision& precision,
                        int iterations, DyadReading* slider) {
+  // A cheap test first: the pivot's positions lie on the circle (PR: the moving pivot's in
+  // Sigma; RP: the fixed pivot's in E, on a circle of the same radius about the moving pivot),
+  // and an arc of chord c bows off its best line by about c^2 / (16 r). A slider that fits
+  // within kModelUnits of the data's uncertainty needs that bow within a few times as much.
+  const auto bowed = [&](bool pr) {
+    double chord = 0.0, distance = 0.0;
+    Eigen::Vector2d first = Eigen::Vector2d::Zero();
+    for (size_t j = 0; j < frames.size(); ++j) {
+      const Eigen::Vector2d point =
+          pr ? Eigen::Vector2d(frames[j].rotation * circle.moving_pivot + frames[j].origin)
+             : Eigen::Vector2d(frames[j].rotation.transpose() *
+                               (circle.fixed_pivot - frames[j].origin));
+      if (j == 0) first = point;
+      chord = std::max(chord, (point - first).norm());
+      distance = std::max(distance, pr ? circle.moving_pivot.norm()
+                                       : (circle.fixed_pivot - frames[j].origin).norm());
+    }
+    // (A root that rounding bent from a line can be bowed more, by its own conditioning,
+    // but then its radius is huge: those are always tried.)
+    const double bow = chord * chord / (16.0 * circle.radius);
+    return circle.radius < kFarRadius &&
+           bow > 64.0 * kModelUnits * PointUncertainty(precision, distance, 1.0, 2);
+  };
   double best = kModelUnits;
   bool found = false;
   double allowed = -1.0;  // the circle's error bound, computed when first needed
-  for (PlanarDyad candidate : {FitSliderPR(circle, poses), FitSliderRP(circle, poses)}) {
+  for (const bool pr : {true, false}) {
+    if (bowed(pr)) continue;
+    PlanarDyad candidate = pr ? FitSliderPR(circle, poses) : FitSliderRP(circle, poses);
     if (!candidate.AllFinite()) continue;
-    if (poses.size() == 5 && !(PrecisionRatio(candidate, poses, precision, 1.0) <= best)) {
+    // Polished only for data coarser than rounding: at full precision a slider root is read
+    // as a slider already (ChooseReading), and a circle is a circle.
+    if (poses.size() == 5 && RelativePrecision(precision, 1.0) > 1e-12 &&
+        !(PrecisionRatio(candidate, poses, precision, 1.0) <= best)) {
       const PlanarDyad polished = FitDyadLeastSquares(candidate, poses, iterations);
       if (allowed < 0.0) allowed = 2.0 * DyadErrorBound(circle, poses, precision, 1.0);
       const bool pr = candidate.type == DyadType::kPR;

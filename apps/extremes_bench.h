@@ -17,7 +17,14 @@
 //     slider line);
 //   - spatial poses of a planar four-bar tilted 1e-9 .. 1e-3 off their plane (solved as planar
 //     below the tolerance, as spatial above, with no flapping between neighbouring tilts), and
-//     spatial poses with quaternions of both signs.
+//     spatial poses with quaternions of both signs;
+//   - rounded data: generated tasks printed to 8, 6 and 4 significant digits as tables print
+//     them and read back through the task parser (precision inferred from the digits). Right:
+//     the generating dyads back within twice the error bound the result states for them, typed
+//     as the data allow (a circle the rounded poses cannot tell from its slider may come back as
+//     the slider); noted: the result says the data are too coarse (a family within precision,
+//     an error bound beyond the dyads' size, nearly real complex roots, or a stated bound above
+//     a quarter of the dyad's size).
 #ifndef LINKFIT_APPS_EXTREMES_BENCH_H_
 #define LINKFIT_APPS_EXTREMES_BENCH_H_
 

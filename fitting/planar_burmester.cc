@@ -94,8 +94,10 @@ void IntersectLineConic(const Vector3c& l, const Eigen::Matrix3d& m, Vector3c po
 }
 
 // IntersectConstraintConics on the already restricted conics.
+// `family_tolerance`: pencil determinant coefficients all below it mean the conics share a
+// component (a curve of dyads).
 int IntersectConics(const NullBasis& basis, Eigen::Matrix3d m1, Eigen::Matrix3d m2,
-                    std::vector<ComplexConstraintVector>* roots) {
+                    std::vector<ComplexConstraintVector>* roots, double family_tolerance = 1e-11) {
   roots->clear();
   const double n1 = m1.norm(), n2 = m2.norm();
   if (!(n1 > 0.0) || !(n2 > 0.0)) return 0;
@@ -106,7 +108,9 @@ int IntersectConics(const NullBasis& basis, Eigen::Matrix3d m1, Eigen::Matrix3d 
   // in t or in 1/t, whichever keeps the leading coefficient the larger.
   const double c0 = m1.determinant(), c3 = m2.determinant();
   const double c1 = (Adjugate(m1) * m2).trace(), c2 = (m1 * Adjugate(m2)).trace();
-  if (std::max({std::abs(c0), std::abs(c1), std::abs(c2), std::abs(c3)}) <= 1e-11) return -1;
+  if (std::max({std::abs(c0), std::abs(c1), std::abs(c2), std::abs(c3)}) <= family_tolerance) {
+    return -1;
+  }
   double parameters[3];
   Eigen::Matrix3d members[3];
   int count = 0;
@@ -267,7 +271,17 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
   std::vector<ComplexConstraintVector> complex_roots;
   Eigen::Matrix3d m1, m2;
   RestrictedConics(basis, ConicFill::kEvaluateAll, &m1, &m2);
-  result->roots_total = IntersectConics(basis, m1, m2, &complex_roots);
+  // The conics' entries move by about condition * relative precision under the data's
+  // rounding: a shared component within that is a family at this precision (the Cardan motion
+  // printed to a few digits).
+  // Only where the condition bound already lets the dyads move by a tenth of their size:
+  // a nearly shared component of a well-conditioned task is its own business.
+  const double perturbation = result->condition * RelativePrecision(precision, 1.0);
+  const double family_tolerance =
+      std::max(1e-11, (precision.length > 0.0 || precision.angle > 0.0) && perturbation >= 1e-2
+                          ? options.conic_family_units * perturbation
+                          : 0.0);
+  result->roots_total = IntersectConics(basis, m1, m2, &complex_roots, family_tolerance);
   if (result->roots_total < 0) {
     // The two conics share a component: a curve of dyads (e.g. the Cardan motion of an
     // elliptic trammel, where every point of a circle of E moves on a line).

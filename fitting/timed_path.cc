@@ -4,7 +4,9 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
+#include "fitting/model_choice.h"
 #include "lib/mechanism.h"
 
 namespace linkfit {
@@ -25,6 +27,7 @@ constexpr int kClusterIterations = 2;
 constexpr int kComplexIterations = 2;
 // Two output dyads of one crank closer than this (relative, scaled frame) are one.
 constexpr double kSameDyad = 1e-6;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 // Index of the monomial u_l u_k among u1^2, u1 u2, u1 u0, u2^2, u2 u0, u0^2.
 int Monomial(int l, int k) {
@@ -327,6 +330,8 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
   unscale.scale = scaled.length;
   unscale.translation = scaled.centroid;
 
+  // Data coarser than rounding: the output dyads are typed at their precision.
+  const bool coarse = RelativePrecision(options.precision, scaled.length) > 1e-12;
   std::vector<Eigen::Matrix2d> rotations;  // the crank's rotations R(beta_j)
   for (double beta : scaled.betas) rotations.push_back(Rotation2(beta));
   for (const TimedCrank& root : cranks) {
@@ -353,9 +358,23 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
       pose.origin_in_fixed = pin_j - Rotation2(pose.theta) * pin;
       poses.push_back(pose);
     }
+    // The coupler poses' precision (TimedPathOptions::precision), in the scaled frame. The
+    // family tests at precision (dependent rows, conics sharing a component) are left to the
+    // crank equations: these five poses are exact for this crank, so a family of output dyads
+    // is one at rounding level only.
+    PlanarBurmesterOptions burmester_options = options.burmester;
+    const double delta = options.precision.length / scaled.length;
+    const double pin_delta = delta + 2.0 * options.precision.angle * crank.norm();
+    if (coarse) {
+      burmester_options.precision.length = pin_delta;
+      burmester_options.precision.angle = (delta + pin_delta) / link.norm();
+      burmester_options.family_units = 0.0;
+      burmester_options.conic_family_units = 0.0;
+    }
     std::vector<PlanarDyad> dyads;
+    std::vector<PlanarDyad> circles;  // the dyads at rounding level, when needed
     PlanarBurmesterSummary burmester;
-    SolvePlanarBurmester(poses, options.burmester, &dyads, &burmester);
+    SolvePlanarBurmester(poses, burmester_options, &dyads, &burmester);
     if (burmester.degenerate) {
       report.notes.push_back(
           "a crank whose coupler poses admit a family of output dyads (skipped)");
@@ -391,7 +410,45 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
       // Assembled and driven through the points (lib/path_motion.h).
       PathFourBarAnalysis analysis =
           AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
-      if (!(analysis.nearest_max_error <= options.verify_tolerance * scaled.length)) {
+      // A circle typed as its slider at the data's precision misses by what that allows.
+      double allowed = options.verify_tolerance;
+      if (coarse && dyads[d].type != DyadType::kRR) {
+        const Eigen::Vector2d output_pin =
+            dyads[d].type == DyadType::kPR ? dyads[d].moving_pivot : dyads[d].fixed_pivot;
+        const double uncertainty =
+            PointUncertainty(burmester_options.precision, output_pin.norm(), 1.0, 2);
+        const double lever = std::max(1.0, link.norm() / (output_pin - pin).norm());
+        allowed = std::max(allowed, kModelUnits * uncertainty * lever);
+      }
+      if (allowed > options.verify_tolerance &&
+          !(analysis.nearest_max_error <= allowed * scaled.length)) {
+        // The simplified four-bar misses: the slider reading moved the output more than the
+        // points allow for this four-bar (the coupler point is sensitive to it). The exact
+        // circle stays (the task solver may still fit a slider-crank in least squares).
+        if (circles.empty()) {
+          PlanarBurmesterOptions exact_options = options.burmester;
+          exact_options.family_units = 0.0;
+          SolvePlanarBurmester(poses, exact_options, &circles);
+        }
+        const Eigen::Vector2d here =
+            dyads[d].type == DyadType::kPR ? dyads[d].moving_pivot : dyads[d].fixed_pivot;
+        double nearest_circle = kInfinity;
+        for (const PlanarDyad& circle : circles) {
+          if (circle.type != DyadType::kRR) continue;
+          const double distance = dyads[d].type == DyadType::kPR
+                                      ? (circle.moving_pivot - here).norm()
+                                      : (circle.fixed_pivot - here).norm();
+          if (distance < nearest_circle && !SameDyad(circle, input, kSameDyad)) {
+            nearest_circle = distance;
+            four_bar.output = TransformDyad(circle, unscale, unscale);
+          }
+        }
+        if (std::isfinite(nearest_circle)) {
+          analysis = AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
+          allowed = options.verify_tolerance;
+        }
+      }
+      if (!(analysis.nearest_max_error <= allowed * scaled.length)) {
         ++report.four_bars_dropped;
         continue;
       }

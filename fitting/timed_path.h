@@ -68,6 +68,17 @@ struct TimedPathOptions {
   // this (times L) on both assemblies is dropped as ill-conditioned (cranks or output pivots
   // thousands of L away, where the coupler barely turns), with a note.
   double verify_tolerance = 1e-8;
+  // The precision of the points (length) and of the input angles (angle, radians); zero:
+  // rounding level (lib/precision.h). The coupler poses of a crank inherit it (SolveTimedPath):
+  // the crank pin A_j is known to delta_A = delta + 2 alpha |u| (the point's delta, and both
+  // input angles of beta_j = psi_j - psi_0 turning the crank u), and the coupler's turn, the
+  // direction of the line A_j R_j, to (delta + delta_A) / |R_0 - A_0|. The output dyad is typed
+  // at that precision (PlanarBurmesterOptions::precision: a circle whose slider reading fits the
+  // coupler poses within it is the slider), and a four-bar whose output was so simplified may
+  // miss the points by what its output's uncertainty moves the coupler point: kModelUnits times
+  // the output pin's uncertainty, times |R_0 - A_0| / |M_0 - A_0| (the coupler turns about the
+  // crank pin) when that exceeds 1; where it misses by more, the exact circle is returned.
+  DataPrecision precision;
 };
 
 struct TimedPathSummary {

@@ -1,5 +1,6 @@
 #include "lib/path_motion.h"
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -233,6 +234,12 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
     sum_squared += error * error;
     largest = std::max(largest, error);
   }
+  // A closed path: the closing step from the last point back to the first, a whole turn on.
+  const double closing = options.closed ? ClosingInputAngle(input_angles) : input_angles.back();
+  if (options.closed && analysis.point_errors.size() == points.size() &&
+      !closure.Holds(alpha, closing - input_angles.back(), tolerance)) {
+    branch = true;
+  }
   if (branch) analysis.defects.push_back("branch");
   if (circuit) analysis.defects.push_back("circuit");
   if (analysis.point_errors.size() == points.size()) {
@@ -242,8 +249,7 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   }
 
   if (options.transmission_samples > 0 && !branch && analysis.max_point_error) {
-    double sweep = 0.0;
-    for (size_t j = 1; j < input_angles.size(); ++j) sweep += input_angles[j] - input_angles[j - 1];
+    const double sweep = closing - input_angles.front();
     const int steps = options.transmission_samples;
     TransmissionRangeDeg(
         four_bar.input, four_bar.output, steps,
@@ -253,6 +259,149 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
         &analysis.transmission_min_deg, &analysis.transmission_max_deg);
   }
   return analysis;
+}
+
+double ClosingInputAngle(const std::vector<double>& input_angles) {
+  if (input_angles.empty()) return 0.0;
+  const double first = input_angles.front(), last = input_angles.back();
+  double direction = last > first ? 1.0 : last < first ? -1.0 : 0.0;
+  if (direction == 0.0 && input_angles.size() > 1) {
+    direction = input_angles[1] >= first ? 1.0 : -1.0;
+  }
+  if (direction == 0.0) direction = 1.0;
+  const double turns = std::max(1.0, std::floor(direction * (last - first) / (2.0 * kPi)) + 1.0);
+  return first + direction * turns * 2.0 * kPi;
+}
+
+namespace {
+
+// The four-bar of PathFourBarErrorBound's parameters (see the header).
+PathFourBar FromParameters(const PathFourBar& base, const Eigen::VectorXd& x) {
+  PathFourBar four_bar = base;
+  const Eigen::Vector2d pivot = x.segment<2>(0), pin = x.segment<2>(2);
+  four_bar.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  const Eigen::Vector2d point = x.segment<2>(4);
+  PlanarDyad& output = four_bar.output;
+  if (base.output.type == DyadType::kRR) {
+    const Eigen::Vector2d moving = x.segment<2>(6);
+    output = PlanarDyad::RR(point, moving, (moving - point).norm());
+    four_bar.coupler_point = x.segment<2>(8);
+    return four_bar;
+  }
+  const Eigen::Vector2d direction(std::cos(x[6]), std::sin(x[6]));
+  // The line passes the pivot's place at the first configuration (E = Sigma there).
+  if (output.type == DyadType::kPR) {
+    output.moving_pivot = point;
+  } else {
+    output.fixed_pivot = point;
+  }
+  output.line_point = point;
+  output.line_direction = direction;
+  four_bar.coupler_point = x.segment<2>(7);
+  return four_bar;
+}
+
+// The coupler point's coordinates at the input angles (2 per point), driven from the first
+// point's configuration; false when some angle does not assemble.
+bool CouplerCoordinates(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
+                        const std::vector<double>& input_angles, double length,
+                        Eigen::VectorXd* coordinates) {
+  const PathFourBarAnalysis analysis = AnalyzePathFourBar(four_bar, points, input_angles, length);
+  if (analysis.configurations.size() != points.size()) return false;
+  coordinates->resize(2 * static_cast<Eigen::Index>(points.size()));
+  for (size_t j = 0; j < points.size(); ++j) {
+    coordinates->segment<2>(2 * j) = analysis.configurations[j].ToFixed(four_bar.coupler_point);
+  }
+  return coordinates->allFinite();
+}
+
+}  // namespace
+
+double PathFourBarErrorBound(const PathFourBar& four_bar,
+                             const std::vector<Eigen::Vector2d>& points,
+                             const std::vector<double>& input_angles,
+                             const DataPrecision& precision, double length, bool free_timing) {
+  const double unbounded = kInfinity;
+  const bool rr = four_bar.output.type == DyadType::kRR;
+  const int design_parameters = rr ? 10 : 9;
+  const int parameters =
+      design_parameters + (free_timing ? static_cast<int>(points.size()) - 1 : 0);
+  const int rows = 2 * static_cast<int>(points.size());
+  if (rows < parameters || points.size() != input_angles.size() ||
+      four_bar.input.type != DyadType::kRR || !(length > 0.0)) {
+    return unbounded;
+  }
+  Eigen::VectorXd x(design_parameters);
+  x.segment<2>(0) = four_bar.input.fixed_pivot;
+  x.segment<2>(2) = four_bar.input.moving_pivot;
+  if (rr) {
+    x.segment<2>(4) = four_bar.output.fixed_pivot;
+    x.segment<2>(6) = four_bar.output.moving_pivot;
+    x.segment<2>(8) = four_bar.coupler_point;
+  } else {
+    const bool pr = four_bar.output.type == DyadType::kPR;
+    x.segment<2>(4) = pr ? four_bar.output.moving_pivot : four_bar.output.fixed_pivot;
+    x[6] = std::atan2(four_bar.output.line_direction.y(), four_bar.output.line_direction.x());
+    x.segment<2>(7) = four_bar.coupler_point;
+  }
+  // Central differences: a step of 1e-6 L balances truncation and rounding (errors ~1e-12).
+  const double step = 1e-6 * length;
+  Eigen::VectorXd plus, minus;
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(rows, parameters);
+  for (int i = 0; i < design_parameters; ++i) {
+    // The line angle in radians: a step of 1e-6.
+    const double h = !rr && i == 6 ? 1e-6 : step;
+    Eigen::VectorXd moved = x;
+    moved[i] += h;
+    if (!CouplerCoordinates(FromParameters(four_bar, moved), points, input_angles, length, &plus))
+      return unbounded;
+    moved[i] = x[i] - h;
+    if (!CouplerCoordinates(FromParameters(four_bar, moved), points, input_angles, length, &minus))
+      return unbounded;
+    jacobian.col(i) = (plus - minus) / (2.0 * h);
+  }
+  // The coordinates' uncertainty: the point's delta and the input angle's alpha times the
+  // coupler point's speed along its path (the first angle is the reference: its alpha moves
+  // every other point's angle, counted at each of them).
+  // Free timing: the angles are parameters, their speed columns of J.
+  Eigen::VectorXd uncertainty = Eigen::VectorXd::Constant(rows, precision.length);
+  for (size_t j = 1; j < points.size() && (free_timing || precision.angle > 0.0); ++j) {
+    std::vector<double> angles = input_angles;
+    angles[j] += 1e-6;
+    if (!CouplerCoordinates(four_bar, points, angles, length, &plus)) return unbounded;
+    angles[j] = input_angles[j] - 1e-6;
+    if (!CouplerCoordinates(four_bar, points, angles, length, &minus)) return unbounded;
+    const Eigen::Vector2d speed = (plus - minus).segment<2>(2 * j) / 2e-6;
+    if (free_timing) {
+      jacobian.block<2, 1>(2 * j, design_parameters + static_cast<int>(j) - 1) = speed;
+    } else {
+      uncertainty.segment<2>(2 * j) += 2.0 * precision.angle * speed.cwiseAbs();
+    }
+  }
+  uncertainty = uncertainty.cwiseMax(4.0 * std::numeric_limits<double>::epsilon() * length);
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  if (!(sigma[parameters - 1] > 1e-12 * sigma[0])) return unbounded;
+  const Eigen::MatrixXd pseudo_inverse =
+      svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+  const Eigen::VectorXd moves = pseudo_inverse.cwiseAbs() * uncertainty;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& point : points) {
+    centroid += point / static_cast<double>(points.size());
+  }
+  double size = length;
+  for (const Eigen::Vector2d& p :
+       {four_bar.input.fixed_pivot, four_bar.input.moving_pivot, four_bar.output.fixed_pivot,
+        four_bar.output.moving_pivot, four_bar.coupler_point}) {
+    size = std::max(size, (p - centroid).norm());
+  }
+  // The points' pairs: B, A, F or M, then (RR) M or (PR, RP) the line angle, then R.
+  double bound = 0.0;
+  for (const int i : {0, 2, 4, rr ? 6 : -1, rr ? 8 : 7}) {
+    if (i >= 0) bound = std::max(bound, std::sqrt(2.0) * std::max(moves[i], moves[i + 1]));
+  }
+  if (!rr) bound = std::max(bound, moves[6] * size);
+  return std::isfinite(bound) ? bound : unbounded;
 }
 
 std::vector<PlanarPose> CouplerCycle(const PathFourBar& four_bar, double length, int samples) {

@@ -13,6 +13,15 @@
 //   circuit a point is met only in the other assembly (the coupler point is nearer the point
 //           on the assembly the crank does not reach from the first point).
 // The order of the points is the timing itself, so an order defect cannot occur.
+//
+// Closed paths (PathAnalysisOptions::closed; the task's last point repeated the first): the
+// crank makes a whole turn from the first point back to it, in the direction of the timing, so
+// the drive has one more step, from the last point's input angle to the first's plus a turn
+// (plus k turns, the first such angle past the last point's). That step is judged as the others:
+// a crank that cannot turn fully meets a stationary configuration on it, which is a `branch`
+// defect (no separate "closure" defect: it is the same event, the crank would have to reverse);
+// a crank that turns fully without one comes back to the first configuration, so the closing
+// point is met on the first point's assembly and the step adds no circuit defect.
 #ifndef LINKFIT_LIB_PATH_MOTION_H_
 #define LINKFIT_LIB_PATH_MOTION_H_
 
@@ -24,6 +33,7 @@
 
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "lib/precision.h"
 
 namespace linkfit {
 
@@ -39,6 +49,9 @@ struct PathAnalysisOptions {
   // Transmission angle: samples of the crank's sweep from the first to the last point (0 to
   // skip the transmission angle).
   int transmission_samples = 0;
+  // A closed path: the closing step back to the first point is driven and judged too (file
+  // comment), and the transmission angle is sampled over the whole closed sweep.
+  bool closed = false;
 };
 
 struct PathFourBarAnalysis {
@@ -70,6 +83,32 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
                                        const std::vector<Eigen::Vector2d>& points,
                                        const std::vector<double>& input_angles, double length,
                                        const PathAnalysisOptions& options = {});
+
+// The direction a closed path's crank turns in (+1 or -1): the sign of the last input angle
+// minus the first (of the second minus the first when they agree), and the closing angle the
+// crank reaches the first point again at: the first psi_0 + direction * k * 2 pi (k >= 1) past
+// the last input angle.
+double ClosingInputAngle(const std::vector<double>& input_angles);
+
+// First-order bound of how far the data's precision can move a four-bar that passes timed
+// points (the path counterpart of fitting/model_choice.h DyadErrorBound). Parameters, in the
+// first point's configuration: the crank B, A, the output (RR: F, M; PR: M and the line's angle;
+// RP: F and the line's angle in E), the coupler point R: 10 or 9 of them. J is the Jacobian of
+// the coupler point's coordinates at the input angles (2 per point) in these parameters (central
+// differences; the output's radius and the line's offset follow from the first configuration),
+// u_jk = delta + |dC_jk / dpsi_j| alpha the uncertainty of coordinate k of point j (the point's
+// own delta, and the input angle's alpha moving the coupler point along its path). Each
+// parameter moves by at most sum |(J^+)_i,jk| u_jk; the bound is the largest pivot or coupler
+// point displacement (sqrt 2 times the larger coordinate move) or line angle move times the
+// four-bar's size (its largest pivot distance from the points' centroid, at least `length`), in
+// length units. With free timing the input angles psi_1..psi_{n-1} are parameters too (the
+// columns dC_j / dpsi_j; no alpha term). Infinity when the points do not determine the four-bar
+// (J rank-deficient, or fewer coordinates than parameters) or it cannot be driven through them.
+double PathFourBarErrorBound(const PathFourBar& four_bar,
+                             const std::vector<Eigen::Vector2d>& points,
+                             const std::vector<double>& input_angles,
+                             const DataPrecision& precision, double length,
+                             bool free_timing = false);
 
 // The coupler poses along the motion through the first point's configuration: a full crank
 // turn, or the crank's reachable range (out and back on the other assembly) when it is

@@ -355,9 +355,12 @@ struct Judgement {
 
 Judgement Judge(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
                 const std::vector<double>& weights, const std::vector<bool>& exact,
-                const std::vector<double>& input_angles, double length) {
+                const std::vector<double>& input_angles, double length, bool closed) {
   Judgement judgement;
-  const PathFourBarAnalysis analysis = AnalyzePathFourBar(four_bar, points, input_angles, length);
+  PathAnalysisOptions analysis_options;
+  analysis_options.closed = closed;
+  const PathFourBarAnalysis analysis =
+      AnalyzePathFourBar(four_bar, points, input_angles, length, analysis_options);
   if (!analysis.max_point_error) return judgement;
   double weighted = 0.0, weight_sum = 0.0;
   for (size_t j = 0; j < points.size(); ++j) {
@@ -442,7 +445,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
       CheckInput(points, weights, exact, length, free_timing, input_angles, *four_bar);
 
   RefinerSummary summary;
-  const Judgement initial = Judge(*four_bar, points, weights, exact, *input_angles, length);
+  const Judgement initial =
+      Judge(*four_bar, points, weights, exact, *input_angles, length, options.closed);
   summary.initial_cost = summary.final_cost = initial.cost;
   summary.initial_rms = summary.final_rms = initial.rms;
   summary.initial_max = summary.final_max = initial.max;
@@ -550,7 +554,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     for (size_t j = 1; free_timing && j < points.size(); ++j) {
       refined_angles[j] = input_angles->front() + Turn(task, state, j);
     }
-    const Judgement result = Judge(refined, points, weights, exact, refined_angles, length);
+    const Judgement result =
+        Judge(refined, points, weights, exact, refined_angles, length, options.closed);
     accept = NotWorse(result, initial, options.exact_tolerance * length);
     if (accept) {
       summary.final_cost = result.cost;

@@ -38,6 +38,9 @@ struct PathRefinerOptions {
   double parameter_tolerance = 1e-14;  // Ceres relative step to stop
   double exact_tolerance = 1e-9;       // exact points' error, times L
   int max_penalty_rounds = 8;          // method-of-multipliers rounds for exact points
+  // A closed path (lib/path_motion.h): the seed and the result are judged with the closing step
+  // back to the first point, so a refinement that costs the crank its whole turn is not taken.
+  bool closed = false;
 };
 
 // Refines `four_bar` in place. `weights`/`exact` may be empty (all 1 / none). `input_angles`

@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "fitting/model_choice.h"
 #include "fitting/planar_motion.h"
 #include "lib/mechanism.h"
 #include "optimizers/task_solver.h"
@@ -42,6 +43,8 @@ struct PathData {
   std::vector<double> weights;
   std::vector<bool> exact;
   double length = 1.0;
+  bool closed = false;      // the crank makes a whole turn from the first point back to it
+  DataPrecision precision;  // the task's
 };
 
 PathData Data(const Task& task) {
@@ -58,6 +61,8 @@ PathData Data(const Task& task) {
   for (const Eigen::Vector2d& point : data.points) sum += (point - centroid).squaredNorm();
   data.length = task.scale ? *task.scale : std::sqrt(sum / static_cast<double>(task.points.size()));
   if (!(data.length > 0.0)) data.length = 1.0;
+  data.closed = task.closed;
+  data.precision = task.precision;
   return data;
 }
 
@@ -68,6 +73,7 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   report.type = ClassifyFourBar(design.input.type, design.output.type);
   PathAnalysisOptions options;
   options.transmission_samples = 64;
+  options.closed = data.closed;
   const PathFourBarAnalysis analysis =
       AnalyzePathFourBar(design, data.points, angles, data.length, options);
   report.max_point_error = analysis.max_point_error;
@@ -169,9 +175,58 @@ StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point
   return stage;
 }
 
-// Refines each report's four-bar under the prescribed timing, re-measured after.
-void RefineAll(const PathData& data, const PathRefinerOptions& options,
-               std::vector<PathMechanismReport>* reports) {
+// The model choice at the data's precision (fitting/model_choice.h) for a refined four-bar with
+// an RR output: the slider reading of the output circle on the coupler's poses at the points,
+// when it fits them within the poses' precision (TimedPathOptions::precision says how the
+// coupler poses inherit the points'), refined as a four-bar of its own. It replaces the circle
+// when its RMS point error is within kModelUnits point uncertainties (sqrt 2 delta) of the
+// circle's: at the data's precision the points cannot tell the two apart.
+bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
+                       const PathMechanismReport& circle, PathMechanismReport* slider) {
+  const PathFourBar& design = circle.design;
+  if (design.output.type != DyadType::kRR || !circle.rms_point_error ||
+      !(RelativePrecision(data.precision, data.length) > 1e-12)) {
+    return false;
+  }
+  const PathFourBarAnalysis analysis =
+      AnalyzePathFourBar(design, data.points, data.angles, data.length);
+  if (analysis.configurations.size() != data.points.size()) return false;
+  const double link = (design.coupler_point - design.input.moving_pivot).norm();
+  if (!(link > 0.0)) return false;
+  DataPrecision poses;
+  poses.length = data.precision.length + 2.0 * data.precision.angle * design.input.radius;
+  poses.angle = (data.precision.length + poses.length) / link;
+  PlanarDyad simpler;
+  if (!SimplerModel(design.output, analysis.configurations, poses, data.length, &simpler)) {
+    return false;
+  }
+  PathFourBar candidate = design;
+  candidate.output = simpler;
+  std::vector<double> angles = data.angles;
+  try {
+    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles,
+                      &candidate, options);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  PathMechanismReport report = Report(candidate, data, data.angles);
+  if (!report.rms_point_error || report.defects.size() > circle.defects.size() ||
+      !(*report.rms_point_error <=
+        *circle.rms_point_error +
+            kModelUnits * PointUncertainty(data.precision, 0.0, data.length, 2))) {
+    return false;
+  }
+  report.seed_max_point_error = circle.seed_max_point_error;
+  *slider = report;
+  return true;
+}
+
+// Refines each report's four-bar under the prescribed timing, re-measured after; a circle output
+// the points cannot tell from its slider at their precision becomes the slider
+// (SliderAtPrecision). Returns how many did.
+int RefineAll(const PathData& data, const PathRefinerOptions& options,
+              std::vector<PathMechanismReport>* reports) {
+  int simplified = 0;
   for (PathMechanismReport& report : *reports) {
     std::vector<double> angles = data.angles;
     PathFourBar design = report.design;
@@ -184,7 +239,13 @@ void RefineAll(const PathData& data, const PathRefinerOptions& options,
     const std::optional<double> seed_max = report.max_point_error;
     report = Report(design, data, angles);
     report.seed_max_point_error = seed_max;
+    PathMechanismReport slider;
+    if (SliderAtPrecision(data, options, report, &slider)) {
+      report = slider;
+      ++simplified;
+    }
   }
+  return simplified;
 }
 
 void Finish(const PathData& data, int reported, std::vector<PathMechanismReport> candidates,
@@ -204,7 +265,12 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
   result->stages.push_back(Stage("seed", stage_start, candidates));
   if (task.effort != Effort::kFast) {
     const auto refine_start = std::chrono::steady_clock::now();
-    RefineAll(data, options.path_refiner, &candidates);
+    const int simplified = RefineAll(data, options.path_refiner, &candidates);
+    if (simplified > 0) {
+      result->notes.push_back(std::to_string(simplified) +
+                              " refined output circle(s) reported as sliders: at the data's "
+                              "precision the points cannot tell them from their slider readings");
+    }
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
   if (task.effort == Effort::kThorough) {
@@ -342,7 +408,17 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     chord_sum += chords.back();
   }
   if (!(chord_sum > 0.0)) chord_sum = 1.0;
-  for (double span_turns : kGuessSpans) {
+  // A closed path: n points spaced over a whole turn, the last step (and chord) back to the
+  // first point; the open spans make no sense for it.
+  if (data.closed) {
+    chords.push_back((data.points[0] - data.points[count - 1]).norm());
+    chord_sum += chords.back();
+  }
+  const std::vector<double> spans =
+      data.closed ? std::vector<double>{1.0}
+                  : std::vector<double>(std::begin(kGuessSpans), std::end(kGuessSpans));
+  const int steps = data.closed ? count : count - 1;  // steps the span is divided into
+  for (double span_turns : spans) {
     const double span =
         2.0 * kPi * (span_turns < 0.0 ? static_cast<double>(count - 1) / count : span_turns);
     for (double direction : {1.0, -1.0}) {
@@ -351,8 +427,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       for (bool by_chord : {false, true}) {
         std::vector<double> angles = {0.0};
         for (int j = 1; j < count; ++j) {
-          angles.push_back(angles.back() +
-                           (by_chord ? chords[j - 1] / chord_sum : 1.0 / (count - 1)));
+          angles.push_back(angles.back() + (by_chord ? chords[j - 1] / chord_sum : 1.0 / steps));
         }
         for (double& angle : angles) angle *= direction * span;
         std::vector<PathMechanismReport> seeds =
@@ -375,10 +450,17 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
 
 }  // namespace
 
-PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options) {
+PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_options) {
   const auto start = std::chrono::steady_clock::now();
   PathResult result;
   const PathData data = Data(task);
+  // The data's precision types the five-point solver's output dyads, and a closed path is
+  // judged with its closing step in the refinements too.
+  TaskSolverOptions options = given_options;
+  options.timed_path.precision = task.precision;
+  options.path_refiner.closed = task.closed;
+  result.precision = task.precision;
+  result.closed = task.closed;
   result.scale = data.length;
   const bool free_timing = data.angles.size() != data.points.size();
   result.timing = free_timing ? "free" : "prescribed";
@@ -396,8 +478,23 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options) {
     result.crank_roots_real = summary.crank_roots_real;
     result.four_bars_total = summary.four_bars_total;
     result.notes = summary.notes;
+    // A circle output the points cannot tell from its slider at their precision is the slider
+    // (the slider-crank fitted to the five points in least squares: the exact solver keeps the
+    // circle where its slider reading alone misses them).
+    int simplified = 0;
     for (const PathFourBar& four_bar : four_bars) {
-      result.mechanisms.push_back(Report(four_bar, data, data.angles));
+      PathMechanismReport report = Report(four_bar, data, data.angles), slider;
+      if (SliderAtPrecision(data, options.path_refiner, report, &slider)) {
+        ++simplified;
+        AddDistinct(slider, data.length, &result.mechanisms);  // the solver's own slider
+      } else {
+        result.mechanisms.push_back(report);
+      }
+    }
+    if (simplified > 0) {
+      result.notes.push_back(std::to_string(simplified) +
+                             " output circle(s) reported as sliders: at the data's precision the "
+                             "points cannot tell them from their slider readings");
     }
     Rank(false, &result.mechanisms);
     if (four_bars.empty() && !summary.degenerate) {
@@ -419,6 +516,14 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options) {
     if (result.mechanisms.empty()) {
       result.notes.push_back("no four-bar found: the seeds failed (degenerate points?)");
     }
+  }
+  if (task.closed && count >= 5) {
+    result.notes.push_back(
+        std::string("solved as a closed path: the crank makes a whole turn from points[0] back "
+                    "to it") +
+        (free_timing ? " (the fitted input angles span less than a turn, in one direction)"
+                     : " in the direction of the timing") +
+        ", and a four-bar whose crank cannot is marked with a branch defect");
   }
   result.solve_seconds = Seconds(start);
   return result;

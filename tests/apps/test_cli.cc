@@ -270,6 +270,36 @@ TEST_F(CliTest, SolvesTheBundledSliderCrankAsASlider) {
   EXPECT_TRUE(slider_crank);
 }
 
+// The same slider-crank printed to four decimals, as a table gives it: the precision is read
+// from the digits and stated, the slider is still a slider, and the generating dyads come back
+// within the error bounds the result states (twice: the bounds are first order).
+TEST_F(CliTest, SolvesTheSliderCrankPrintedToFourDecimals) {
+  const RunResult run = Run("solve '" + DataPath("slider_crank_5_poses_4_decimals.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(run.out);
+  EXPECT_EQ(result["precision"]["source"], "digits");
+  EXPECT_DOUBLE_EQ(result["precision"]["length"].get<double>(), 5e-5);
+  EXPECT_DOUBLE_EQ(result["precision"]["angle_deg"].get<double>(), 5e-5);
+  bool crank = false, slider = false;
+  for (const nlohmann::json& dyad : result["dyads"]) {
+    ASSERT_TRUE(dyad.contains("error_bound")) << dyad.dump();
+    const double allowed = 2.0 * dyad["error_bound"].get<double>();
+    if (dyad["type"] == "RR") {
+      crank = crank || (std::hypot(dyad["fixed"][0].get<double>(),
+                                   dyad["fixed"][1].get<double>()) <= allowed &&
+                        std::abs(dyad["radius"].get<double>() - 30.0) <= allowed);
+    } else if (dyad["type"] == "PR") {
+      const double angle = dyad["line_angle_deg"].get<double>();
+      slider = slider || (std::abs(dyad["moving"][0].get<double>() - 80.0) <= allowed &&
+                          std::abs(dyad["moving"][1].get<double>()) <= allowed &&
+                          std::abs(dyad["line_point"][1].get<double>() + 10.0) <= allowed &&
+                          std::min(angle, 180.0 - angle) * M_PI / 180.0 * 80.0 <= allowed);
+    }
+  }
+  EXPECT_TRUE(crank) << result.dump(2);
+  EXPECT_TRUE(slider) << result.dump(2);
+}
+
 // Batch mode: one result line per task line, in order.
 TEST_F(CliTest, SolvesAJsonLinesBatch) {
   const RunResult run = Run("solve '" + DataPath("batch.jsonl") + "'");

@@ -123,6 +123,80 @@ TEST(PathMotion, LimitedInputThatMustPassItsLimitIsABranchDefect) {
   EXPECT_EQ(analysis.defects, std::vector<std::string>{"branch"});
 }
 
+TEST(PathMotion, ClosingInputAngleTurnsOnceInTheTimingsDirection) {
+  EXPECT_NEAR(ClosingInputAngle({0.5, 1.0, 3.0}), 0.5 + 2.0 * kPi, 1e-15);
+  EXPECT_NEAR(ClosingInputAngle({0.5, -1.0, -3.0}), 0.5 - 2.0 * kPi, 1e-15);
+  // Angles past a turn close at the next whole turn in the same direction.
+  EXPECT_NEAR(ClosingInputAngle({0.0, 3.0, 7.0}), 4.0 * kPi, 1e-15);
+  // A last angle equal to the first: the second angle gives the direction.
+  EXPECT_NEAR(ClosingInputAngle({1.0, 0.5, 1.0}), 1.0 - 2.0 * kPi, 1e-15);
+}
+
+TEST(PathMotion, ClosedPathOfACrankTurnsBackWithoutDefect) {
+  // Grashof crank-rocker: 1 + 3 <= 2.8 + 2, the crank (shortest, on the ground) turns fully.
+  const PathFourBar four_bar = MakeFourBar(1.0, 3.0, 2.8, 2.0, 0.3);
+  const int label = FirstLabel(four_bar);
+  for (double direction : {1.0, -1.0}) {
+    SCOPED_TRACE("direction " + std::to_string(direction));
+    std::vector<double> alphas;
+    for (int j = 0; j < 7; ++j) alphas.push_back(0.3 + direction * j * 2.0 * kPi / 7.0);
+    const std::vector<Eigen::Vector2d> points = PointsAt(four_bar, alphas, label);
+    PathAnalysisOptions options;
+    options.closed = true;
+    options.transmission_samples = 16;
+    const PathFourBarAnalysis analysis = AnalyzePathFourBar(four_bar, points, alphas, 1.0, options);
+    EXPECT_TRUE(analysis.input_rotates_fully);
+    EXPECT_TRUE(analysis.defects.empty());
+    ASSERT_TRUE(analysis.max_point_error);
+    EXPECT_LE(*analysis.max_point_error, kExact);
+    EXPECT_TRUE(analysis.transmission_min_deg);
+  }
+}
+
+TEST(PathMotion, ClosedPathOfALimitedInputIsABranchDefect) {
+  // Grashof double-rocker: the coupler is the shortest link (1.5 + 3 <= 2.5 + 2.8); the input
+  // reaches crank angles of about 25 to 102 degrees only.
+  const PathFourBar four_bar = MakeFourBar(2.5, 3.0, 1.5, 2.8, 90.0 * kPi / 180.0);
+  const int label = FirstLabel(four_bar);
+  std::vector<double> alphas;
+  for (double degrees : {90.0, 75.0, 60.0, 45.0, 35.0}) alphas.push_back(degrees * kPi / 180.0);
+  const std::vector<Eigen::Vector2d> points = PointsAt(four_bar, alphas, label);
+  const PathFourBarAnalysis open = AnalyzePathFourBar(four_bar, points, alphas, 1.0);
+  EXPECT_FALSE(open.input_rotates_fully);
+  EXPECT_TRUE(open.defects.empty());
+  // Closed: the crank would have to turn on from 35 degrees down to 90 - 360 degrees.
+  PathAnalysisOptions options;
+  options.closed = true;
+  const PathFourBarAnalysis closed = AnalyzePathFourBar(four_bar, points, alphas, 1.0, options);
+  EXPECT_EQ(closed.defects, std::vector<std::string>{"branch"});
+  ASSERT_TRUE(closed.max_point_error);
+  EXPECT_LE(*closed.max_point_error, kExact);  // the points themselves are met
+}
+
+TEST(PathMotion, ErrorBoundIsLinearInThePrecisionAndNeedsEnoughPoints) {
+  const PathFourBar four_bar = MakeFourBar(1.0, 3.0, 2.8, 2.0, 0.3);
+  const int label = FirstLabel(four_bar);
+  std::vector<double> alphas;
+  for (int j = 0; j < 6; ++j) alphas.push_back(0.3 + j * 0.7);
+  const std::vector<Eigen::Vector2d> points = PointsAt(four_bar, alphas, label);
+  DataPrecision coarse, finer;
+  coarse.length = 1e-4;
+  coarse.angle = 1e-5;
+  finer.length = 1e-6;
+  finer.angle = 1e-7;
+  const double bound = PathFourBarErrorBound(four_bar, points, alphas, coarse, 1.0);
+  ASSERT_TRUE(std::isfinite(bound));
+  EXPECT_GE(bound, coarse.length);  // no better than the points themselves
+  EXPECT_NEAR(PathFourBarErrorBound(four_bar, points, alphas, finer, 1.0), 1e-2 * bound,
+              1e-3 * bound);
+  // Four points (8 coordinates) cannot determine the 10 parameters.
+  const std::vector<Eigen::Vector2d> four(points.begin(), points.begin() + 4);
+  const std::vector<double> four_angles(alphas.begin(), alphas.begin() + 4);
+  EXPECT_TRUE(std::isinf(PathFourBarErrorBound(four_bar, four, four_angles, coarse, 1.0)));
+  // Free timing adds the five angles: 15 parameters, 12 coordinates.
+  EXPECT_TRUE(std::isinf(PathFourBarErrorBound(four_bar, points, alphas, coarse, 1.0, true)));
+}
+
 TEST(PathMotion, AngleOutOfReachLeavesTheErrorOutWithANote) {
   const PathFourBar four_bar = MakeFourBar(2.2, 3.0, 1.8, 2.5, 1.0);
   const std::vector<double> alphas = {1.0, 1.0 + kPi};  // the opposite crank angle: no assembly

@@ -18,7 +18,9 @@
 #include "lib/path_motion.h"
 #include "lib/planar_pose.h"
 #include "optimizers/path_refiner.h"
+#include "optimizers/task_solver.h"
 #include "tests/support/random_path.h"
+#include "tests/support/rounded_task.h"
 
 namespace {
 
@@ -343,3 +345,144 @@ TEST(PathRefinerTest, BadArgumentsThrow) {
 }
 
 }  // namespace
+
+// ---- closed paths, solved end to end (optimizers/path_task_solver.cc) ----
+
+namespace linkfit {
+namespace {
+
+constexpr double kClosedFit = 1e-6;  // point error of the first four-bar, times L
+constexpr double kSameCurve = 1e-5;  // coupler point over a whole turn, times L
+constexpr int kClosedDigits = 12;    // the task text's significant digits
+constexpr int kClosedPoints = 9;     // distinct points over the whole turn
+
+// The coupler point of `four_bar` at the input angles, driven from the first configuration.
+std::vector<Eigen::Vector2d> DrivenPoints(const PathFourBar& four_bar,
+                                          const std::vector<double>& angles, double length) {
+  const PathFourBarAnalysis analysis = AnalyzePathFourBar(
+      four_bar, std::vector<Eigen::Vector2d>(angles.size(), Eigen::Vector2d::Zero()), angles,
+      length);
+  std::vector<Eigen::Vector2d> points;
+  for (const PlanarPose& pose : analysis.configurations) {
+    points.push_back(pose.ToFixed(four_bar.coupler_point));
+  }
+  return points;
+}
+
+// A random four-bar whose crank turns fully (`crank` true) or not, and its coupler point at
+// `count` input angles: evenly over a whole turn in `direction` (a crank), or the generated
+// task's own angles within the input's reach.
+GeneratedPathTask DrawClosed(std::mt19937_64& rng, bool crank, int count, double direction) {
+  for (;;) {
+    GeneratedPathTask task = RandomPathTask(rng, DyadType::kRR, count);
+    const double length = PathLength(task.points);
+    const PathFourBarAnalysis analysis =
+        AnalyzePathFourBar(task.four_bar, task.points, task.input_angles, length);
+    if (analysis.input_rotates_fully != crank) continue;
+    if (!crank) return task;
+    std::vector<double> angles;
+    for (int j = 0; j < count; ++j) {
+      angles.push_back(task.input_angles[0] + direction * 2.0 * kPi * j / count);
+    }
+    task.points = DrivenPoints(task.four_bar, angles, length);
+    task.input_angles = angles;
+    if (static_cast<int>(task.points.size()) == count) return task;
+  }
+}
+
+// The task text of a closed path: the points, then the first point again (at the first input
+// angle plus a turn in the timing's direction); no angles for free timing.
+Task ClosedTask(const GeneratedPathTask& generated, bool free_timing) {
+  std::vector<Eigen::Vector2d> points = generated.points;
+  std::vector<double> angles = generated.input_angles;
+  points.push_back(points.front());
+  angles.push_back(ClosingInputAngle(angles));
+  return testing::ReadRounded(
+      testing::PathText(points, free_timing ? std::vector<double>() : angles, kClosedDigits));
+}
+
+bool SaysClosed(const PathResult& result) {
+  return std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+    return note.find("solved as a closed path") != std::string::npos;
+  });
+}
+
+TEST(ClosedPath, CrankRockerCurveComesBackWithTheCrankTurningFully) {
+  std::mt19937_64 rng(kSeed + 40);
+  for (int t = 0; t < 4; ++t) {
+    const double direction = t % 2 == 0 ? 1.0 : -1.0;
+    const GeneratedPathTask generated = DrawClosed(rng, true, kClosedPoints, direction);
+    const double length = PathLength(generated.points);
+    for (bool free_timing : {false, true}) {
+      SCOPED_TRACE("seed " + std::to_string(kSeed + 40) + ", task " + std::to_string(t) +
+                   (free_timing ? ", free timing" : ", prescribed timing"));
+      const Task task = ClosedTask(generated, free_timing);
+      ASSERT_TRUE(task.closed);
+      ASSERT_EQ(task.points.size(), generated.points.size());
+      const PathResult result = SolvePathTask(task);
+      EXPECT_TRUE(result.closed);
+      EXPECT_TRUE(SaysClosed(result));
+      ASSERT_FALSE(result.mechanisms.empty());
+      const PathMechanismReport& first = result.mechanisms.front();
+      EXPECT_TRUE(first.defects.empty());
+      EXPECT_TRUE(first.input_rotates_fully);
+      ASSERT_TRUE(first.max_point_error);
+      EXPECT_LE(*first.max_point_error, kClosedFit * length);
+      if (free_timing) {
+        // The fitted angles turn one way and span less than a turn.
+        const std::vector<double>& angles = first.input_angles;
+        ASSERT_EQ(angles.size(), generated.points.size());
+        const double sign = angles.back() > angles.front() ? 1.0 : -1.0;
+        for (size_t j = 1; j < angles.size(); ++j)
+          EXPECT_GT(sign * (angles[j] - angles[j - 1]), 0.0);
+        EXPECT_LT(sign * (angles.back() - angles.front()), 2.0 * kPi);
+        continue;
+      }
+      // Prescribed: the same coupler curve with the same timing over the whole turn.
+      std::vector<double> turn;
+      for (int k = 0; k < 24; ++k) {
+        turn.push_back(generated.input_angles[0] + direction * 2.0 * kPi * k / 24.0);
+      }
+      const std::vector<Eigen::Vector2d> expected = DrivenPoints(generated.four_bar, turn, length);
+      const std::vector<Eigen::Vector2d> found = DrivenPoints(first.design, turn, length);
+      ASSERT_EQ(found.size(), expected.size());
+      for (size_t k = 0; k < found.size(); ++k) {
+        EXPECT_LE((found[k] - expected[k]).norm(), kSameCurve * length) << "angle " << k;
+      }
+    }
+  }
+}
+
+TEST(ClosedPath, LimitedInputIsABranchDefect) {
+  std::mt19937_64 rng(kSeed + 41);
+  for (int t = 0; t < 4; ++t) {
+    SCOPED_TRACE("seed " + std::to_string(kSeed + 41) + ", task " + std::to_string(t));
+    const GeneratedPathTask generated = DrawClosed(rng, false, 7, 1.0);
+    const double length = PathLength(generated.points);
+    const Task task = ClosedTask(generated, false);
+    ASSERT_TRUE(task.closed);
+    const PathResult result = SolvePathTask(task);
+    EXPECT_TRUE(SaysClosed(result));
+    // The generating four-bar meets the points but cannot close the path.
+    PathAnalysisOptions closed;
+    closed.closed = true;
+    const PathFourBarAnalysis analysis = AnalyzePathFourBar(generated.four_bar, generated.points,
+                                                            generated.input_angles, length, closed);
+    ASSERT_TRUE(analysis.max_point_error);
+    EXPECT_LE(*analysis.max_point_error, 1e-9 * length);
+    EXPECT_EQ(analysis.defects, std::vector<std::string>{"branch"});
+    for (const PathMechanismReport& mechanism : result.mechanisms) {
+      // A crank that cannot turn fully cannot close the path (the generating four-bar among
+      // them, when it is reported).
+      if (!mechanism.input_rotates_fully) {
+        EXPECT_FALSE(mechanism.defects.empty());
+      }
+      if (PathFourBarDistance(mechanism.design, generated.four_bar, length) <= 1e-6) {
+        EXPECT_EQ(mechanism.defects, std::vector<std::string>{"branch"});
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace linkfit

@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fitting/model_choice.h"
+
 namespace linkfit {
 namespace {
 
@@ -492,9 +494,14 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
     return total / weight_sum;
   };
 
+  // The data's precision in the normalized frames; coarser than rounding, complex roots may
+  // be real within it.
+  DataPrecision precision = options.precision;
+  precision.length /= length;
+  const bool coarse = RelativePrecision(precision, 1.0) > 1e-12;
   std::vector<Reading> found;
   for (const BilinearRoot& root : roots) {
-    if (!root.real) continue;
+    if (!root.real && !coarse) continue;
     const Eigen::Vector4d a = root.a.real(), c = root.c.real();
     Reading readings[3];
     int readings_count = 0;
@@ -567,6 +574,21 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
       }
     }
     if (!std::isfinite(readings[chosen].max_residual)) continue;
+    if (!root.real) {
+      // The real part of a complex root: kept when its dyad, fitted to the poses, fits them
+      // within precision, and once for a conjugate pair.
+      Reading& reading = readings[chosen];
+      reading.dyad = PolishGeometric(reading.dyad, frames, 20);
+      reading.max_residual = MaxResidual(reading.dyad, frames);
+      if (!(PrecisionRatio(reading.dyad, normalized, precision, 1.0) <= kModelUnits)) continue;
+      const bool repeat = std::any_of(found.begin(), found.end(), [&](const Reading& other) {
+        return other.dyad.type == reading.dyad.type &&
+               (other.dyad.moving_pivot - reading.dyad.moving_pivot).norm() < 1e-6 &&
+               (other.dyad.fixed_pivot - reading.dyad.fixed_pivot).norm() < 1e-6;
+      });
+      if (repeat) continue;
+      ++local.real_within_precision;
+    }
     found.push_back(readings[chosen]);
   }
   for (const Reading& reading : found) {

@@ -31,6 +31,7 @@
 #include <complex>
 #include <vector>
 
+#include "lib/precision.h"
 #include "lib/spatial_dyad.h"
 #include "lib/spatial_pose.h"
 
@@ -90,18 +91,24 @@ struct SpatialBurmesterOptions {
   double plane_tolerance = 1e-9;
   // Newton iterations on a real dyad's own geometric equations (seven poses).
   int newton_iterations = 4;
+  // The precision of the poses (lib/precision.h; zero: rounding level). With data coarser than
+  // rounding, a complex root whose real part, read as a dyad and fitted to the poses by least
+  // squares, fits them within precision (fitting/model_choice.h) is kept: rounding turns two
+  // nearby real dyads into a complex pair.
+  DataPrecision precision;
 };
 
 struct SpatialBurmesterSummary {
-  int roots_total = 0;        // complex roots of the bilinear system (20 when generic)
-  int roots_real = 0;         // real ones among them
-  int roots_verified = 0;     // roots whose polished residual is below tolerance
-  int imaginary_spheres = 0;  // real roots whose sphere has r^2 < 0 (no physical dyad)
-  double condition = 0.0;     // sigma_1 / sigma_6 of the centered n x 16 constraint rows
-  double fit_residual = 0.0;  // more than seven poses: RMS algebraic residual of the seed space
-  bool degenerate = false;    // rank-deficient rows or Macaulay matrix: a family of dyads
-  int nearly_real = 0;        // complex roots near a double real root (BilinearSolverSummary)
-  double seconds = 0.0;       // wall time of the solve
+  int roots_total = 0;            // complex roots of the bilinear system (20 when generic)
+  int roots_real = 0;             // real ones among them
+  int roots_verified = 0;         // roots whose polished residual is below tolerance
+  int imaginary_spheres = 0;      // real roots whose sphere has r^2 < 0 (no physical dyad)
+  double condition = 0.0;         // sigma_1 / sigma_6 of the centered n x 16 constraint rows
+  double fit_residual = 0.0;      // more than seven poses: RMS algebraic residual of the seed space
+  bool degenerate = false;        // rank-deficient rows or Macaulay matrix: a family of dyads
+  int nearly_real = 0;            // complex roots near a double real root (BilinearSolverSummary)
+  int real_within_precision = 0;  // complex roots kept: real within the data's precision
+  double seconds = 0.0;           // wall time of the solve
 };
 
 // The six bilinear matrices B_k of the (normalized) poses: the top six right singular vectors

@@ -263,6 +263,7 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   // Rounding by a relative p splits a double root by about sqrt(p): complex roots that close to
   // real are counted (and noted) as nearly real at the data's precision.
   SpatialBurmesterOptions burmester = options.burmester;
+  burmester.precision = task.precision;
   burmester.bilinear.nearly_real_share =
       std::max(burmester.bilinear.nearly_real_share,
                10.0 * std::sqrt(RelativePrecision(task.precision, length)));
@@ -295,6 +296,12 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
         "): ill-conditioned near a double root, where rounding of the data can turn two real "
         "dyads into a complex pair (condition estimate " +
         Format("%.3g", summary.condition) + ")");
+  }
+  if (summary.real_within_precision > 0) {
+    result.notes.push_back(std::to_string(summary.real_within_precision) +
+                           " complex roots are real within the data's precision (rounding turns "
+                           "two nearby dyads into a complex pair): their real parts, fitted to "
+                           "the poses, fit them within it and are listed");
   }
   if (summary.imaginary_spheres > 0) {
     result.notes.push_back(std::to_string(summary.imaginary_spheres) +

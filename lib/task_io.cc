@@ -947,7 +947,7 @@ class TaskParser {
           std::max((unit.q - dq.q).cwiseAbs().maxCoeff(),
                    (unit.g - dq.g).cwiseAbs().maxCoeff() / std::max(1.0, g_sum)),
           std::max((unit.q - dq.q).cwiseAbs().maxCoeff(), (unit.g - dq.g).cwiseAbs().maxCoeff()),
-          q_item);
+          item);
       return unit;
     }
     const std::string translation_item = KeyItem(item, "translation");

@@ -152,21 +152,8 @@ Verdict SolveTransformedPlanar(const testing::GeneratedTask& generated, const Si
 
 // ---- spatial motion, seven poses ----
 
-struct PlantedSpatialTask {
-  std::vector<SpatialDyad> planted;  // five SS dyads: a platform
-  std::vector<DualQuaternion> poses;
-};
-
-PlantedSpatialTask RandomPlatformTask(std::mt19937_64& rng, int count) {
-  PlantedSpatialTask task;
-  while (task.poses.empty()) {
-    const DualQuaternion start = testing::RandomSpatialPose(rng);
-    task.planted = testing::DyadsThroughPose(rng, start,
-                                             std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
-    task.poses = testing::TryPosesOnDyads(rng, task.planted, start, count, 2000);
-  }
-  return task;
-}
+using testing::PlantedSpatialTask;
+using testing::RandomPlatformTask;
 
 Verdict SolveTransformedSpatial(const PlantedSpatialTask& generated, const Similarity3& sigma,
                                 const Similarity3& epsilon) {
@@ -271,54 +258,8 @@ void ExactOnCircle(const PlanarDyad& input, double radius, testing::GeneratedTas
 
 // ---- rounded data: tasks printed to a few significant digits and read back ----
 
-// A stated error bound above this fraction of a dyad's size says that the data barely
-// determine it (the bound is first order, and so itself rough there): the result says the data
-// are too coarse for that dyad.
-constexpr double kRoughBound = 0.25;
-
-// The result says that its data are too coarse: a family of solutions at this precision, or an
-// error bound beyond the dyads' own size.
-bool SaysTooCoarse(const std::vector<std::string>& notes) {
-  return std::any_of(notes.begin(), notes.end(), [](const std::string& note) {
-    return note.find("means nothing") != std::string::npos ||
-           note.find("rounding of the data can turn two real dyads into a complex pair") !=
-               std::string::npos ||
-           note.find("dependent within the data's precision") != std::string::npos ||
-           note.find("rank-deficient") != std::string::npos;
-  });
-}
-
-// Recovery of a generating planar dyad from rounded data, in units of twice the error bound
-// the result states for the matching dyad (twice: the bound is first order): right at most 1.
-// A generating circle whose slider reading fits the rounded poses within their precision may
-// come back as that slider (the simpler model, fitting/model_choice.h). *undetermined is set
-// when the nearest dyad's bound says the poses do not determine it at this precision.
-double RoundedPlanarRecovery(const PlanarDyad& expected, const std::vector<DyadReport>& found,
-                             const Task& task, const std::vector<PlanarPose>& poses,
-                             bool* undetermined) {
-  const double length = CharacteristicLength(poses);
-  std::vector<PlanarDyad> targets = {expected};
-  PlanarDyad simpler;
-  if (SimplerModel(expected, poses, task.precision, length, &simpler)) targets.push_back(simpler);
-  double best = kInfinity, nearest = kInfinity;
-  bool nearest_undetermined = false;
-  for (const PlanarDyad& target : targets) {
-    const double scale = testing::DyadScale(target, poses);
-    for (const DyadReport& report : found) {
-      const double distance = testing::DyadDistance(report.dyad, target, scale);
-      if (!std::isfinite(distance)) continue;
-      const double bound = report.error_bound.value_or(0.0);
-      if (distance < nearest) {
-        nearest = distance;
-        nearest_undetermined = !(bound < kRoughBound * scale);
-      }
-      if (!std::isfinite(bound)) continue;
-      best = std::min(best, distance / ((2.0 * bound + 1e-9 * scale) / scale));
-    }
-  }
-  *undetermined = *undetermined || (nearest_undetermined && !(best <= 1.0));
-  return best;
-}
+using testing::RoundedRecovery;
+using testing::SaysTooCoarse;
 
 // Planar motion from rounded data: both generating dyads within their bounds.
 Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) {
@@ -327,10 +268,10 @@ Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) 
   Verdict verdict;
   verdict.finite = AllFinite(result);
   bool undetermined = false;
-  verdict.error = std::max(
-      RoundedPlanarRecovery(generated.input, result.dyads, task, task.planar_poses, &undetermined),
-      RoundedPlanarRecovery(generated.output, result.dyads, task, task.planar_poses,
-                            &undetermined));
+  verdict.error = std::max(RoundedRecovery(generated.input, result.dyads, task.precision,
+                                           task.planar_poses, &undetermined),
+                           RoundedRecovery(generated.output, result.dyads, task.precision,
+                                           task.planar_poses, &undetermined));
   verdict.noted = undetermined || SaysTooCoarse(result.notes);
   verdict.tolerance = 1.0;
   // The type the generating output came back as.
@@ -354,41 +295,6 @@ Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) 
   return verdict;
 }
 
-// Recovery of a generating spatial dyad from rounded data, as RoundedPlanarRecovery: in units
-// of twice the matching dyad's stated error bound; a sphere the rounded poses cannot tell from
-// its plane reading may come back as that plane.
-double RoundedSpatialRecovery(const SpatialDyad& expected,
-                              const std::vector<SpatialDyadReport>& found, const Task& task,
-                              double length, bool* undetermined) {
-  std::vector<SpatialDyad> targets = {expected};
-  SpatialDyad plane;
-  if (SimplerModel(expected, task.spatial_poses, task.precision, length, &plane)) {
-    targets.push_back(plane);
-  }
-  double best = kInfinity, nearest = kInfinity;
-  bool nearest_undetermined = false;
-  for (const SpatialDyad& target : targets) {
-    // SpatialDyadDistance is relative to the dyad's size: bring the bound to the same units.
-    const double size = testing::SpatialDyadDistance(
-        SpatialDyad::SS(target.fixed_pivot + Eigen::Vector3d::UnitX(), target.moving_pivot,
-                        target.radius),
-        SpatialDyad::SS(target.fixed_pivot, target.moving_pivot, target.radius));
-    for (const SpatialDyadReport& report : found) {
-      const double distance = testing::SpatialDyadDistance(report.dyad, target);
-      if (!std::isfinite(distance)) continue;
-      const double bound = report.error_bound.value_or(0.0);
-      if (distance < nearest) {
-        nearest = distance;
-        nearest_undetermined = !(bound * size < kRoughBound);
-      }
-      if (!std::isfinite(bound)) continue;
-      best = std::min(best, distance / ((2.0 * bound + 1e-9 * length) * size));
-    }
-  }
-  *undetermined = *undetermined || (nearest_undetermined && !(best <= 1.0));
-  return best;
-}
-
 // Seven spatial poses from rounded data: the five generating SS dyads within their bounds.
 Verdict SolveRoundedSpatial(const PlantedSpatialTask& generated, int digits,
                             testing::SpatialForm form) {
@@ -401,8 +307,9 @@ Verdict SolveRoundedSpatial(const PlantedSpatialTask& generated, int digits,
   bool undetermined = false;
   verdict.error = 0.0;
   for (const SpatialDyad& expected : generated.planted) {
-    verdict.error = std::max(
-        verdict.error, RoundedSpatialRecovery(expected, result.dyads, task, length, &undetermined));
+    verdict.error =
+        std::max(verdict.error, RoundedRecovery(expected, result.dyads, task.precision,
+                                                task.spatial_poses, length, &undetermined));
   }
   verdict.noted = undetermined || SaysTooCoarse(result.notes);
   verdict.tolerance = 1.0;
@@ -449,8 +356,8 @@ Verdict SolveRoundedPlanarAsSpatial(const testing::GeneratedTask& generated, int
   }
   bool undetermined = false;
   verdict.error = std::max(
-      RoundedPlanarRecovery(generated.input, lifted, task, generated.poses, &undetermined),
-      RoundedPlanarRecovery(generated.output, lifted, task, generated.poses, &undetermined));
+      RoundedRecovery(generated.input, lifted, task.precision, generated.poses, &undetermined),
+      RoundedRecovery(generated.output, lifted, task.precision, generated.poses, &undetermined));
   verdict.noted = undetermined || SaysTooCoarse(result.notes);
   return verdict;
 }

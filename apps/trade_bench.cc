@@ -122,14 +122,9 @@ double RmsResidual(const SpatialDyad& dyad, const std::vector<DualQuaternion>& p
 Outcome RunSpatial(std::mt19937_64& rng, Effort effort, int count, double noise) {
   // A random 5-SS platform and `count` poses on its motion (redrawn when its motion is too short
   // for that many distinct poses).
-  std::vector<SpatialDyad> planted;
-  std::vector<DualQuaternion> poses;
-  while (poses.empty()) {
-    const DualQuaternion start = testing::RandomSpatialPose(rng);
-    planted = testing::DyadsThroughPose(rng, start,
-                                        std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
-    poses = testing::TryPosesOnDyads(rng, planted, start, count, 2000);
-  }
+  testing::PlantedSpatialTask platform = testing::RandomPlatformTask(rng, count);
+  const std::vector<SpatialDyad>& planted = platform.planted;
+  std::vector<DualQuaternion>& poses = platform.poses;
   testing::PerturbSpatialPoses(rng, noise, &poses);
   const Task task = SpatialMotionTask(poses, effort);
   Outcome outcome;

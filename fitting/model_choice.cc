@@ -4,6 +4,8 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <initializer_list>
 #include <limits>
 
 namespace linkfit {
@@ -12,8 +14,13 @@ namespace {
 // The total-least-squares hyperplane n . x = h through points (n the scatter's smallest
 // eigenvector; the centroid lies on it).
 template <int N>
-void FitHyperplane(const std::vector<Eigen::Matrix<double, N, 1>>& points,
-                   Eigen::Matrix<double, N, 1>* normal, double* offset) {
+struct FittedHyperplane {
+  Eigen::Matrix<double, N, 1> normal;
+  double offset = 0.0;
+};
+
+template <int N>
+FittedHyperplane<N> FitHyperplane(const std::vector<Eigen::Matrix<double, N, 1>>& points) {
   using Vector = Eigen::Matrix<double, N, 1>;
   Vector centroid = Vector::Zero();
   for (const Vector& point : points) centroid += point;
@@ -21,8 +28,22 @@ void FitHyperplane(const std::vector<Eigen::Matrix<double, N, 1>>& points,
   Eigen::Matrix<double, N, N> scatter = Eigen::Matrix<double, N, N>::Zero();
   for (const Vector& point : points) scatter += (point - centroid) * (point - centroid).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, N, N>> eigen(scatter);
-  *normal = eigen.eigenvectors().col(0);
-  *offset = normal->dot(centroid);
+  FittedHyperplane<N> plane;
+  plane.normal = eigen.eigenvectors().col(0);
+  plane.offset = plane.normal.dot(centroid);
+  return plane;
+}
+
+// Each parameter's first-order move when residual j may move by uncertainty[j]:
+// |J^+| uncertainty; empty when J is rank-deficient (the poses do not determine the dyad).
+Eigen::VectorXd ParameterMoves(const Eigen::MatrixXd& jacobian,
+                               const Eigen::VectorXd& uncertainty) {
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  if (!(sigma[sigma.size() - 1] > 1e-12 * sigma[0])) return Eigen::VectorXd();
+  const Eigen::MatrixXd pseudo_inverse =
+      svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+  return pseudo_inverse.cwiseAbs() * uncertainty;
 }
 
 }  // namespace
@@ -155,44 +176,25 @@ PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<Planar
 double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                       const DataPrecision& precision, double scale) {
   const bool rr = dyad.type == DyadType::kRR, pr = dyad.type == DyadType::kPR;
-  const int parameters = rr ? 5 : 4;
   const int n = static_cast<int>(poses.size());
-  if (n < parameters) return std::numeric_limits<double>::infinity();
-  Eigen::MatrixXd jacobian(n, parameters);
-  Eigen::VectorXd uncertainty(n);
-  const Eigen::Vector2d normal(-dyad.line_direction.y(), dyad.line_direction.x());
-  const Eigen::Vector2d normal_rate(-normal.y(), normal.x());
-  double extent = 0.0;
+  if (n < (rr ? 5 : 4)) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd residual, uncertainty(n);
+  Eigen::MatrixXd jacobian;
+  DyadResiduals(dyad, poses, &residual, &jacobian);
+  double extent = 0.0;  // sliders: how far along its line the constrained point runs
   for (int j = 0; j < n; ++j) {
-    const Eigen::Matrix2d rotation = Rotation2(poses[j].theta);
-    const Eigen::Vector2d& origin = poses[j].origin_in_fixed;
-    if (rr) {
-      const Eigen::Vector2d arm = rotation * dyad.moving_pivot + origin - dyad.fixed_pivot;
-      const Eigen::Vector2d u = arm.normalized();
-      jacobian.block<1, 2>(j, 0) = -u.transpose();
-      jacobian.block<1, 2>(j, 2) = u.transpose() * rotation;
-      jacobian(j, 4) = -1.0;
-    } else {
-      // PR: the moving pivot in Sigma on n . P = h; RP: the fixed pivot in E on n . p = h.
+    const PlanarPose& pose = poses[j];
+    if (!rr) {
       const Eigen::Vector2d point =
-          pr ? Eigen::Vector2d(rotation * dyad.moving_pivot + origin)
-             : Eigen::Vector2d(rotation.transpose() * (dyad.fixed_pivot - origin));
-      jacobian.block<1, 2>(j, 0) = pr ? Eigen::RowVector2d(normal.transpose() * rotation)
-                                      : Eigen::RowVector2d((rotation * normal).transpose());
-      jacobian(j, 2) = normal_rate.dot(point);
-      jacobian(j, 3) = -1.0;
+          pr ? pose.ToFixed(dyad.moving_pivot) : pose.ToMoving(dyad.fixed_pivot);
       extent = std::max(extent, (point - dyad.LineFoot()).norm());
     }
     const double distance =
-        pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - origin).norm();
+        pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
     uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
-  if (!(sigma[parameters - 1] > 1e-12 * sigma[0])) return std::numeric_limits<double>::infinity();
-  const Eigen::MatrixXd pseudo_inverse =
-      svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
-  const Eigen::VectorXd moves = pseudo_inverse.cwiseAbs() * uncertainty;
+  const Eigen::VectorXd moves = ParameterMoves(jacobian, uncertainty);
+  if (moves.size() == 0) return std::numeric_limits<double>::infinity();
   double bound = std::max(moves[0], moves[1]) * std::sqrt(2.0);
   if (rr) {
     bound = std::max({bound, std::sqrt(2.0) * std::max(moves[2], moves[3]), moves[4]});
@@ -241,12 +243,8 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
     const double distance = sp ? (dyad.fixed_pivot - translation).norm() : dyad.moving_pivot.norm();
     uncertainty[j] = PointUncertainty(precision, distance, scale, 3);
   }
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
-  if (!(sigma[parameters - 1] > 1e-12 * sigma[0])) return std::numeric_limits<double>::infinity();
-  const Eigen::MatrixXd pseudo_inverse =
-      svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
-  const Eigen::VectorXd moves = pseudo_inverse.cwiseAbs() * uncertainty;
+  const Eigen::VectorXd moves = ParameterMoves(jacobian, uncertainty);
+  if (moves.size() == 0) return std::numeric_limits<double>::infinity();
   const double point_move = std::sqrt(3.0) * moves.head<3>().maxCoeff();
   double bound = point_move;
   if (ss) {
@@ -257,33 +255,39 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
   return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
 }
 
+std::string ConditionNote(double condition, double relative_precision, double bound) {
+  char text[256];
+  std::snprintf(text, sizeof(text),
+                "condition estimate %.3g with data precise to %.2g (relative): the dyads may be "
+                "off by up to about %.2g of their size%s",
+                condition, relative_precision, bound,
+                bound >= 1.0
+                    ? ", more than the dyads themselves: at this precision the answer means nothing"
+                    : "");
+  return text;
+}
+
 PlanarDyad FitSliderPR(const PlanarDyad& circle, const std::vector<PlanarPose>& poses) {
   std::vector<Eigen::Vector2d> points;
   for (const PlanarPose& pose : poses) points.push_back(pose.ToFixed(circle.moving_pivot));
-  Eigen::Vector2d normal;
-  double offset;
-  FitHyperplane<2>(points, &normal, &offset);
-  return PlanarDyad::PR(circle.moving_pivot, offset * normal,
-                        Eigen::Vector2d(-normal.y(), normal.x()));
+  const FittedHyperplane<2> line = FitHyperplane<2>(points);
+  return PlanarDyad::PR(circle.moving_pivot, line.offset * line.normal,
+                        Eigen::Vector2d(-line.normal.y(), line.normal.x()));
 }
 
 PlanarDyad FitSliderRP(const PlanarDyad& circle, const std::vector<PlanarPose>& poses) {
   std::vector<Eigen::Vector2d> points;
   for (const PlanarPose& pose : poses) points.push_back(pose.ToMoving(circle.fixed_pivot));
-  Eigen::Vector2d normal;
-  double offset;
-  FitHyperplane<2>(points, &normal, &offset);
-  return PlanarDyad::RP(circle.fixed_pivot, offset * normal,
-                        Eigen::Vector2d(-normal.y(), normal.x()));
+  const FittedHyperplane<2> line = FitHyperplane<2>(points);
+  return PlanarDyad::RP(circle.fixed_pivot, line.offset * line.normal,
+                        Eigen::Vector2d(-line.normal.y(), line.normal.x()));
 }
 
 SpatialDyad FitPlanePS(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses) {
   std::vector<Eigen::Vector3d> points;
   for (const DualQuaternion& pose : poses) points.push_back(pose.ToFixed(sphere.moving_pivot));
-  Eigen::Vector3d normal;
-  double offset;
-  FitHyperplane<3>(points, &normal, &offset);
-  return SpatialDyad::PS(sphere.moving_pivot, normal, offset);
+  const FittedHyperplane<3> plane = FitHyperplane<3>(points);
+  return SpatialDyad::PS(sphere.moving_pivot, plane.normal, plane.offset);
 }
 
 SpatialDyad FitPlaneSP(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses) {
@@ -291,44 +295,44 @@ SpatialDyad FitPlaneSP(const SpatialDyad& sphere, const std::vector<DualQuaterni
   for (const DualQuaternion& pose : poses) {
     points.push_back(pose.Rotation().transpose() * (sphere.fixed_pivot - pose.Translation()));
   }
-  Eigen::Vector3d normal;
-  double offset;
-  FitHyperplane<3>(points, &normal, &offset);
-  return SpatialDyad::SP(sphere.fixed_pivot, normal, offset);
+  const FittedHyperplane<3> plane = FitHyperplane<3>(points);
+  return SpatialDyad::SP(sphere.fixed_pivot, plane.normal, plane.offset);
 }
 
-bool SimplerModel(const PlanarDyad& circle, const std::vector<PlanarPose>& poses,
-                  const DataPrecision& precision, double scale, PlanarDyad* simpler) {
-  if (circle.type != DyadType::kRR || poses.size() < 3) return false;
+namespace {
+
+// The candidate with the smallest PrecisionRatio when it is at most kModelUnits.
+template <typename Dyad, typename Pose>
+bool BestWithinPrecision(std::initializer_list<Dyad> candidates, const std::vector<Pose>& poses,
+                         const DataPrecision& precision, double scale, Dyad* simpler) {
   double best = kModelUnits;
   bool found = false;
-  for (const PlanarDyad& slider : {FitSliderPR(circle, poses), FitSliderRP(circle, poses)}) {
-    if (!slider.AllFinite()) continue;
-    const double ratio = PrecisionRatio(slider, poses, precision, scale);
+  for (const Dyad& candidate : candidates) {
+    if (!candidate.AllFinite()) continue;
+    const double ratio = PrecisionRatio(candidate, poses, precision, scale);
     if (ratio <= best) {
       best = ratio;
-      *simpler = slider;
+      *simpler = candidate;
       found = true;
     }
   }
   return found;
+}
+
+}  // namespace
+
+bool SimplerModel(const PlanarDyad& circle, const std::vector<PlanarPose>& poses,
+                  const DataPrecision& precision, double scale, PlanarDyad* simpler) {
+  if (circle.type != DyadType::kRR || poses.size() < 3) return false;
+  return BestWithinPrecision({FitSliderPR(circle, poses), FitSliderRP(circle, poses)}, poses,
+                             precision, scale, simpler);
 }
 
 bool SimplerModel(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses,
                   const DataPrecision& precision, double scale, SpatialDyad* simpler) {
   if (sphere.type != SpatialDyadType::kSS || poses.size() < 4) return false;
-  double best = kModelUnits;
-  bool found = false;
-  for (const SpatialDyad& plane : {FitPlanePS(sphere, poses), FitPlaneSP(sphere, poses)}) {
-    if (!plane.AllFinite()) continue;
-    const double ratio = PrecisionRatio(plane, poses, precision, scale);
-    if (ratio <= best) {
-      best = ratio;
-      *simpler = plane;
-      found = true;
-    }
-  }
-  return found;
+  return BestWithinPrecision({FitPlanePS(sphere, poses), FitPlaneSP(sphere, poses)}, poses,
+                             precision, scale, simpler);
 }
 
 }  // namespace linkfit

@@ -14,6 +14,7 @@
 #ifndef LINKFIT_FITTING_MODEL_CHOICE_H_
 #define LINKFIT_FITTING_MODEL_CHOICE_H_
 
+#include <string>
 #include <vector>
 
 #include "lib/dyad.h"
@@ -57,6 +58,11 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
 // by rounding (its slider reading), the real part of a complex root pair.
 PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
                                int iterations);
+
+// The note of a condition-based error bound: "condition estimate K with data precise to p
+// (relative): the dyads may be off by up to about B of their size", and, when B >= 1, that the
+// answer means nothing at this precision.
+std::string ConditionNote(double condition, double relative_precision, double bound);
 
 // The slider readings of a circle by total least squares: PR keeps the moving pivot and fits
 // the line to its positions in Sigma; RP keeps the fixed pivot and fits the line to where E

@@ -182,7 +182,7 @@ bool SliderAtPrecision(const PlanarDyad& circle, const std::vector<PlanarPose>& 
   // and an arc of chord c bows off its best line by about c^2 / (16 r). A slider that fits
   // within kModelUnits of the data's uncertainty needs that bow within a few times as much.
   const auto bowed = [&](bool pr) {
-    double chord = 0.0, distance = 0.0;
+    double chord = 0.0, distance = pr ? circle.moving_pivot.norm() : 0.0;
     Eigen::Vector2d first = Eigen::Vector2d::Zero();
     for (size_t j = 0; j < frames.size(); ++j) {
       const Eigen::Vector2d point =
@@ -191,8 +191,7 @@ bool SliderAtPrecision(const PlanarDyad& circle, const std::vector<PlanarPose>& 
                                (circle.fixed_pivot - frames[j].origin));
       if (j == 0) first = point;
       chord = std::max(chord, (point - first).norm());
-      distance = std::max(distance, pr ? circle.moving_pivot.norm()
-                                       : (circle.fixed_pivot - frames[j].origin).norm());
+      if (!pr) distance = std::max(distance, (circle.fixed_pivot - frames[j].origin).norm());
     }
     // (A root that rounding bent from a line can be bowed more, by its own conditioning,
     // but then its radius is huge: those are always tried.)
@@ -207,19 +206,20 @@ bool SliderAtPrecision(const PlanarDyad& circle, const std::vector<PlanarPose>& 
     if (bowed(pr)) continue;
     PlanarDyad candidate = pr ? FitSliderPR(circle, poses) : FitSliderRP(circle, poses);
     if (!candidate.AllFinite()) continue;
+    double ratio = PrecisionRatio(candidate, poses, precision, 1.0);
     // Polished only for data coarser than rounding: at full precision a slider root is read
     // as a slider already (ChooseReading), and a circle is a circle.
-    if (poses.size() == 5 && RelativePrecision(precision, 1.0) > 1e-12 &&
-        !(PrecisionRatio(candidate, poses, precision, 1.0) <= best)) {
+    if (poses.size() == 5 && RelativePrecision(precision, 1.0) > 1e-12 && !(ratio <= best)) {
       const PlanarDyad polished = FitDyadLeastSquares(candidate, poses, iterations);
       if (allowed < 0.0) allowed = 2.0 * DyadErrorBound(circle, poses, precision, 1.0);
-      const bool pr = candidate.type == DyadType::kPR;
       const double moved = pr ? (polished.moving_pivot - candidate.moving_pivot).norm()
                               : (polished.fixed_pivot - candidate.fixed_pivot).norm();
       const double reach = kPolishReach * (pr ? circle.radius : circle.moving_pivot.norm());
-      if (moved <= std::min(allowed, reach)) candidate = polished;
+      if (moved <= std::min(allowed, reach)) {
+        candidate = polished;
+        ratio = PrecisionRatio(candidate, poses, precision, 1.0);
+      }
     }
-    const double ratio = PrecisionRatio(candidate, poses, precision, 1.0);
     if (ratio <= best) {
       best = ratio;
       slider->dyad = candidate;

@@ -115,15 +115,11 @@ void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
   } else if (poses.size() == 5) {
     const double bound = ConditionErrorBound(summary.condition, relative, options);
     if (summary.condition > options.ill_conditioned || bound > options.error_note) {
-      std::string note = summary.condition > options.ill_conditioned
-                             ? "ill-conditioned: the five poses nearly admit a family of dyads; "
-                             : "";
-      note += "condition estimate " + Format("%.3g", summary.condition) + " with data precise to " +
-              Format("%.2g", relative) + " (relative): the dyads may be off by up to about " +
-              Format("%.2g", bound) + " of their size";
-      if (bound >= 1.0) {
-        note += ", more than the dyads themselves: at this precision the answer means nothing";
-      }
+      const std::string prefix =
+          summary.condition > options.ill_conditioned
+              ? "ill-conditioned: the five poses nearly admit a family of dyads; "
+              : "";
+      const std::string note = prefix + ConditionNote(summary.condition, relative, bound);
       result->notes.push_back(note);
     }
   }

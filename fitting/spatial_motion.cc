@@ -330,16 +330,9 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
                            " deg) the poses cannot tell them from their plane readings");
   }
   const double relative = RelativePrecision(task.precision, length);
-  const double bound = 10.0 * summary.condition * relative;
-  if (n == 7 && bound > 1e-2) {
-    std::string note = "condition estimate " + Format("%.3g", summary.condition) +
-                       " with data precise to " + Format("%.2g", relative) +
-                       " (relative): the dyads may be off by up to about " + Format("%.2g", bound) +
-                       " of their size";
-    if (bound >= 1.0) {
-      note += ", more than the dyads themselves: at this precision the answer means nothing";
-    }
-    result.notes.push_back(note);
+  const double bound = options.planar.condition_error_factor * summary.condition * relative;
+  if (n == 7 && bound > options.planar.error_note) {
+    result.notes.push_back(ConditionNote(summary.condition, relative, bound));
   }
   SortDyadsByRadius(&result.dyads);
   if (result.dyads.empty()) result.notes.push_back("no real dyad: all roots are complex");

@@ -315,6 +315,13 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
   return report.crank_roots_total;
 }
 
+DataPrecision CouplerPosePrecision(const DataPrecision& points, double crank, double link) {
+  DataPrecision poses = points;
+  poses.length = points.length + 2.0 * points.angle * crank;
+  poses.angle = (points.length + poses.length) / link;
+  return poses;
+}
+
 int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
                    const std::vector<double>& input_angles, const TimedPathOptions& options,
                    std::vector<PathFourBar>* four_bars, TimedPathSummary* summary,
@@ -363,11 +370,10 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
     // crank equations: these five poses are exact for this crank, so a family of output dyads
     // is one at rounding level only.
     PlanarBurmesterOptions burmester_options = options.burmester;
-    const double delta = options.precision.length / scaled.length;
-    const double pin_delta = delta + 2.0 * options.precision.angle * crank.norm();
     if (coarse) {
-      burmester_options.precision.length = pin_delta;
-      burmester_options.precision.angle = (delta + pin_delta) / link.norm();
+      DataPrecision scaled_points = options.precision;
+      scaled_points.length /= scaled.length;
+      burmester_options.precision = CouplerPosePrecision(scaled_points, crank.norm(), link.norm());
       burmester_options.family_units = 0.0;
       burmester_options.conic_family_units = 0.0;
     }

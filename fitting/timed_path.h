@@ -98,6 +98,12 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
                      const std::vector<double>& input_angles, const TimedPathOptions& options,
                      std::vector<TimedCrank>* cranks, TimedPathSummary* summary = nullptr);
 
+// The precision of a crank's coupler poses from points of precision `points` (the points'
+// length and input-angle precision; TimedPathOptions::precision): the crank pin is known to
+// delta_A = delta + 2 alpha crank, the coupler's turn to (delta + delta_A) / link, with `crank`
+// the crank's length and `link` = |R_0 - A_0| (point to crank pin).
+DataPrecision CouplerPosePrecision(const DataPrecision& points, double crank, double link);
+
 // Every real four-bar through the five timed points, in the first point's configuration
 // (lib/path_motion.h), each assembled and driven through the points (AnalyzePathFourBar; the
 // analyses are returned in `analyses` when given, one per four-bar). Returns the count.

@@ -193,9 +193,7 @@ bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
   if (analysis.configurations.size() != data.points.size()) return false;
   const double link = (design.coupler_point - design.input.moving_pivot).norm();
   if (!(link > 0.0)) return false;
-  DataPrecision poses;
-  poses.length = data.precision.length + 2.0 * data.precision.angle * design.input.radius;
-  poses.angle = (data.precision.length + poses.length) / link;
+  const DataPrecision poses = CouplerPosePrecision(data.precision, design.input.radius, link);
   PlanarDyad simpler;
   if (!SimplerModel(design.output, analysis.configurations, poses, data.length, &simpler)) {
     return false;

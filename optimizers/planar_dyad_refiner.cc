@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimizers/exact_poses.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
 #include "optimizers/planar_dyad_blocks.h"
@@ -31,9 +32,6 @@ constexpr double kGradientTolerance = 1e-16;
 // steps) and the solve ends quietly, as converged.
 constexpr int kMaxInvalidSteps = 50;
 
-// Penalty continuation: the exact poses' weights grow by this factor per round.
-constexpr double kPenaltyGrowth = 1e3;
-
 // The poses in the centred and scaled frames: Sigma' = (Sigma - centroid) / L, E' = E / L.
 struct ScaledTask {
   std::vector<Eigen::Matrix2d> rotations;
@@ -43,20 +41,9 @@ struct ScaledTask {
   int exact_count = 0;
 };
 
-// How well a dyad fits, in the scaled frames, with the task's own weights (no penalty).
-struct Fit {
-  double cost = kInfinity;       // 1/2 sum w' e'^2; infinity if not finite
-  double max = kInfinity;        // max |e'|
-  double exact_max = kInfinity;  // max |e'| over the exact poses (0 if none)
-  bool meets_exact = false;      // exact_max <= exact_tolerance
-};
-
-// The order of designs: one that meets the exact poses beats one that does not; then the lower
-// cost wins.
-bool Better(const Fit& a, const Fit& b) {
-  if (a.meets_exact != b.meets_exact) return a.meets_exact;
-  return a.cost < b.cost;
-}
+using internal::Better;
+using internal::kPenaltyGrowth;
+using Fit = internal::DyadFit;
 
 // One model refined from one start (the start included: an attempt never ends worse than it
 // began), in the scaled frames.
@@ -210,18 +197,10 @@ PlanarDyad FromParameters(const Parameters& p) {
 }
 
 Fit Evaluate(const ScaledTask& task, const PlanarDyad& dyad, double exact_tolerance) {
-  Fit fit;
-  if (!dyad.AllFinite()) return fit;
-  fit.cost = fit.max = fit.exact_max = 0.0;
-  for (size_t j = 0; j < task.rotations.size(); ++j) {
-    const double residual = std::abs(dyad.Residual(task.rotations[j], task.origins[j]));
-    fit.cost += 0.5 * task.weights[j] * residual * residual;
-    fit.max = std::max(fit.max, residual);
-    if (task.exact[j]) fit.exact_max = std::max(fit.exact_max, residual);
-  }
-  if (!std::isfinite(fit.cost) || !std::isfinite(fit.max)) return Fit();
-  fit.meets_exact = fit.exact_max <= exact_tolerance;
-  return fit;
+  if (!dyad.AllFinite()) return Fit();
+  return internal::EvaluateFit(task.weights, task.exact, exact_tolerance, [&](size_t j) {
+    return dyad.Residual(task.rotations[j], task.origins[j]);
+  });
 }
 
 // Refines one model from `start`, with the penalty continuation on the exact poses: solve,

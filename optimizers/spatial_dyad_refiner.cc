@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimizers/exact_poses.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/refiner_input.h"
 #include "optimizers/solver_options.h"
@@ -31,9 +32,6 @@ constexpr double kGradientTolerance = 1e-16;
 // poses solves as it always did.
 constexpr int kMaxInvalidSteps = 50;
 
-// Penalty continuation: the exact poses' weights grow by this factor per round.
-constexpr double kPenaltyGrowth = 1e3;
-
 // The poses in the centred and scaled frames: Sigma' = (Sigma - centroid) / L, E' = E / L.
 struct ScaledTask {
   std::vector<Eigen::Matrix3d> rotations;
@@ -43,20 +41,9 @@ struct ScaledTask {
   int exact_count = 0;
 };
 
-// How well a dyad fits, in the scaled frames, with the task's own weights (no penalty).
-struct Fit {
-  double cost = kInfinity;       // 1/2 sum w' e'^2; infinity if not finite
-  double max = kInfinity;        // max |e'|
-  double exact_max = kInfinity;  // max |e'| over the exact poses (0 if none)
-  bool meets_exact = false;      // exact_max <= exact_tolerance
-};
-
-// The order of designs: one that meets the exact poses beats one that does not; then the lower
-// cost wins.
-bool Better(const Fit& a, const Fit& b) {
-  if (a.meets_exact != b.meets_exact) return a.meets_exact;
-  return a.cost < b.cost;
-}
+using internal::Better;
+using internal::kPenaltyGrowth;
+using Fit = internal::DyadFit;
 
 // One model refined from one start, in the scaled frames.
 struct Attempt {
@@ -147,17 +134,9 @@ bool IsFinite(const SpatialDyad& dyad) {
 
 Fit Evaluate(const ScaledTask& task, const SpatialDyad& dyad, double exact_tolerance) {
   if (!IsFinite(dyad)) return Fit();
-  Fit fit;
-  fit.cost = fit.max = fit.exact_max = 0.0;
-  for (size_t j = 0; j < task.rotations.size(); ++j) {
-    const double residual = dyad.Residual(task.rotations[j], task.translations[j]);
-    fit.cost += 0.5 * task.weights[j] * residual * residual;
-    fit.max = std::max(fit.max, std::abs(residual));
-    if (task.exact[j]) fit.exact_max = std::max(fit.exact_max, std::abs(residual));
-  }
-  if (!std::isfinite(fit.cost) || !std::isfinite(fit.max)) return Fit();
-  fit.meets_exact = fit.exact_max <= exact_tolerance;
-  return fit;
+  return internal::EvaluateFit(task.weights, task.exact, exact_tolerance, [&](size_t j) {
+    return dyad.Residual(task.rotations[j], task.translations[j]);
+  });
 }
 
 // The plane an SS dyad flattens into as its radius grows: normal from A towards the weighted

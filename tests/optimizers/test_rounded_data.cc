@@ -11,7 +11,6 @@
 #include <random>
 #include <string>
 
-#include "fitting/model_choice.h"
 #include "lib/mechanism.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
@@ -30,42 +29,12 @@ bool HasNote(const std::vector<std::string>& notes, const std::string& words) {
   });
 }
 
-// The result says the data are too coarse for this task.
-bool SaysTooCoarse(const std::vector<std::string>& notes) {
-  return HasNote(notes, "means nothing") ||
-         HasNote(notes, "dependent within the data's precision") ||
-         HasNote(notes, "rounding of the data can turn two real dyads into a complex pair");
-}
+using testing::SaysTooCoarse;
 
-// A stated error bound above this fraction of a dyad's size says that the data barely
-// determine the dyad (the bound is first order, and so itself rough there).
-constexpr double kRoughBound = 0.25;
-
-// Distance of `expected` from the nearest listed dyad of its type, in units of twice that
-// dyad's stated error bound (relative to the dyad's size); infinity when none. A generating
-// circle that the rounded poses cannot tell from its slider may come back as the slider.
-// *rough is set when the nearest dyad's bound is rough (kRoughBound).
+// The generating dyad's recovery in units of twice its stated bound (tests/support).
 double BoundRatio(const PlanarDyad& expected, const std::vector<DyadReport>& found,
-                  const Task& task, const std::vector<PlanarPose>& poses, bool* rough = nullptr) {
-  std::vector<PlanarDyad> targets = {expected};
-  PlanarDyad simpler;
-  if (SimplerModel(expected, poses, task.precision, CharacteristicLength(poses), &simpler)) {
-    targets.push_back(simpler);
-  }
-  double best = kInfinity, nearest = kInfinity;
-  for (const PlanarDyad& target : targets) {
-    const double scale = testing::DyadScale(target, poses);
-    for (const DyadReport& report : found) {
-      if (!report.error_bound) continue;
-      const double distance = testing::DyadDistance(report.dyad, target, scale);
-      if (rough != nullptr && distance < nearest) {
-        nearest = distance;
-        *rough = !(*report.error_bound < kRoughBound * scale);
-      }
-      best = std::min(best, distance / ((2.0 * *report.error_bound + 1e-9 * scale) / scale));
-    }
-  }
-  return best;
+                  const Task& task, bool* rough = nullptr) {
+  return testing::RoundedRecovery(expected, found, task.precision, task.planar_poses, rough);
 }
 
 TEST(RoundedData, PlanarFivePosesComeBackTypedAndWithinTheirBounds) {
@@ -88,8 +57,7 @@ TEST(RoundedData, PlanarFivePosesComeBackTypedAndWithinTheirBounds) {
         bool rough = false;
         double ratio = 0.0;
         for (const PlanarDyad& expected : {generated.input, generated.output}) {
-          ratio =
-              std::max(ratio, BoundRatio(expected, result.dyads, task, task.planar_poses, &rough));
+          ratio = std::max(ratio, BoundRatio(expected, result.dyads, task, &rough));
         }
         if (ratio > 1.0 && rough) {
           ++coarse;  // the result's own bound says the data barely determine the dyad
@@ -128,8 +96,8 @@ TEST(RoundedData, SliderCrankLeastSquaresKeepsItsSlider) {
     const testing::GeneratedTask generated = testing::RandomSliderCrankTask(rng, 12);
     const Task task = testing::ReadRounded(testing::PlanarMotionText(generated.poses, 6));
     const PlanarMotionResult result = SolvePlanarTask(task);
-    EXPECT_LE(BoundRatio(generated.output, result.dyads, task, task.planar_poses), 1.0);
-    EXPECT_LE(BoundRatio(generated.input, result.dyads, task, task.planar_poses), 1.0);
+    EXPECT_LE(BoundRatio(generated.output, result.dyads, task), 1.0);
+    EXPECT_LE(BoundRatio(generated.input, result.dyads, task), 1.0);
     // The slider is listed as PR, not only as a huge circle.
     EXPECT_TRUE(std::any_of(result.dyads.begin(), result.dyads.end(),
                             [](const DyadReport& d) { return d.dyad.type == DyadType::kPR; }));
@@ -145,14 +113,9 @@ TEST(RoundedData, SpatialSevenPosesInEveryFormAreAcceptedAndSolved) {
       for (int t = 0; t < 4; ++t) {
         SCOPED_TRACE("form " + std::to_string(static_cast<int>(form)) + ", " +
                      std::to_string(digits) + " digits, task " + std::to_string(t));
-        std::vector<SpatialDyad> planted;
-        std::vector<DualQuaternion> poses;
-        while (poses.empty()) {
-          const DualQuaternion start = testing::RandomSpatialPose(rng);
-          planted = testing::DyadsThroughPose(
-              rng, start, std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
-          poses = testing::TryPosesOnDyads(rng, planted, start, 7, 2000);
-        }
+        const testing::PlantedSpatialTask platform = testing::RandomPlatformTask(rng, 7);
+        const std::vector<SpatialDyad>& planted = platform.planted;
+        const std::vector<DualQuaternion>& poses = platform.poses;
         // Nothing within precision is refused.
         Task task;
         ASSERT_NO_THROW(task =
@@ -162,18 +125,9 @@ TEST(RoundedData, SpatialSevenPosesInEveryFormAreAcceptedAndSolved) {
         if (SaysTooCoarse(result.notes)) continue;
         const double length = SpatialTaskLength(task);
         for (const SpatialDyad& expected : planted) {
-          double best = kInfinity;
-          const double size =
-              1.0 / testing::SpatialDyadDistance(
-                        SpatialDyad::SS(expected.fixed_pivot + Eigen::Vector3d::UnitX(),
-                                        expected.moving_pivot, expected.radius),
-                        expected);
-          for (const SpatialDyadReport& report : result.dyads) {
-            if (!report.error_bound) continue;
-            best = std::min(best, testing::SpatialDyadDistance(report.dyad, expected) * size /
-                                      (2.0 * *report.error_bound + 1e-9 * length));
-          }
-          EXPECT_LE(best, 1.0);
+          EXPECT_LE(testing::RoundedRecovery(expected, result.dyads, task.precision,
+                                             task.spatial_poses, length),
+                    1.0);
         }
       }
     }
@@ -241,7 +195,7 @@ TEST(RoundedData, IllConditionedFivePosesSayHowFarTheDyadsMayBeOff) {
     EXPECT_TRUE(HasNote(result.notes, "with data precise to"));
     for (const PlanarDyad& expected : {generated.input, generated.output}) {
       if (!SaysTooCoarse(result.notes)) {
-        EXPECT_LE(BoundRatio(expected, result.dyads, task, task.planar_poses), 1.0);
+        EXPECT_LE(BoundRatio(expected, result.dyads, task), 1.0);
       }
     }
   }

@@ -552,11 +552,10 @@ struct PinnedPlatformTask {
 PinnedPlatformTask MakePinnedPlatformTask(std::mt19937_64& rng,
                                           const std::vector<SpatialDyadType>& types) {
   PinnedPlatformTask task;
-  while (task.poses.empty()) {
-    const DualQuaternion start = linkfit::testing::RandomSpatialPose(rng);
-    task.planted = linkfit::testing::DyadsThroughPose(rng, start, types);
-    task.poses = linkfit::testing::TryPosesOnDyads(rng, task.planted, start, kPlatformPoses, 2000);
-  }
+  const linkfit::testing::PlantedSpatialTask platform =
+      linkfit::testing::RandomPlatformTask(rng, kPlatformPoses, types);
+  task.planted = platform.planted;
+  task.poses = platform.poses;
   const std::vector<DualQuaternion> clean = task.poses;
   linkfit::testing::PerturbSpatialPoses(rng, kPlatformNoise, &task.poses);
   task.exact.assign(task.poses.size(), false);

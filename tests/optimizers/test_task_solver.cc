@@ -202,14 +202,9 @@ TEST(TaskSolver, SpatialExactPosesAreMetByTheRefinedDyads) {
   for (int seed = 900; seed < 903; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     std::mt19937_64 rng(seed);
-    std::vector<SpatialDyad> planted;
-    std::vector<DualQuaternion> poses;
-    while (poses.empty()) {
-      const DualQuaternion start = testing::RandomSpatialPose(rng);
-      planted = testing::DyadsThroughPose(rng, start,
-                                          std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
-      poses = testing::TryPosesOnDyads(rng, planted, start, 12, 2000);
-    }
+    testing::PlantedSpatialTask platform = testing::RandomPlatformTask(rng, 12);
+    const std::vector<SpatialDyad>& planted = platform.planted;
+    std::vector<DualQuaternion>& poses = platform.poses;
     const std::vector<DualQuaternion> clean = poses;
     testing::PerturbSpatialPoses(rng, 1e-3, &poses);
     Task task = SpatialMotionTask(poses);

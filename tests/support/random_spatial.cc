@@ -26,13 +26,6 @@ Eigen::Matrix3d Exp(const Eigen::Vector3d& w) {
   return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
 }
 
-double Size(const SpatialDyad& dyad) {
-  double size = std::max({1.0, dyad.moving_pivot.norm(), std::abs(dyad.plane_offset)});
-  if (dyad.type != SpatialDyadType::kPS) size = std::max(size, dyad.fixed_pivot.norm());
-  if (dyad.type == SpatialDyadType::kSS) size = std::max(size, dyad.radius);
-  return size;
-}
-
 }  // namespace
 
 DualQuaternion RandomSpatialPose(std::mt19937_64& rng, double extent) {
@@ -136,6 +129,17 @@ std::vector<DualQuaternion> TryPosesOnDyads(std::mt19937_64& rng,
   return poses;
 }
 
+PlantedSpatialTask RandomPlatformTask(std::mt19937_64& rng, int count,
+                                      const std::vector<SpatialDyadType>& types) {
+  PlantedSpatialTask task;
+  while (task.poses.empty()) {
+    const DualQuaternion start = RandomSpatialPose(rng);
+    task.planted = DyadsThroughPose(rng, start, types);
+    task.poses = TryPosesOnDyads(rng, task.planted, start, count, 2000);
+  }
+  return task;
+}
+
 void PerturbSpatialPoses(std::mt19937_64& rng, double noise, std::vector<DualQuaternion>* poses) {
   std::normal_distribution<double> normal;
   for (DualQuaternion& pose : *poses) {
@@ -143,6 +147,13 @@ void PerturbSpatialPoses(std::mt19937_64& rng, double noise, std::vector<DualQua
     const Eigen::Vector3d v(normal(rng), normal(rng), normal(rng));
     pose = DualQuaternion::FromAxisAngle(w, noise * w.norm(), noise * v) * pose;
   }
+}
+
+double SpatialDyadSize(const SpatialDyad& dyad) {
+  double size = std::max({1.0, dyad.moving_pivot.norm(), std::abs(dyad.plane_offset)});
+  if (dyad.type != SpatialDyadType::kPS) size = std::max(size, dyad.fixed_pivot.norm());
+  if (dyad.type == SpatialDyadType::kSS) size = std::max(size, dyad.radius);
+  return size;
 }
 
 double SpatialDyadDistance(const SpatialDyad& found, const SpatialDyad& expected) {
@@ -162,7 +173,7 @@ double SpatialDyadDistance(const SpatialDyad& found, const SpatialDyad& expected
     difference = std::max({difference, (sign * found.plane_normal - expected.plane_normal).norm(),
                            std::abs(sign * found.plane_offset - expected.plane_offset)});
   }
-  return difference / Size(expected);
+  return difference / SpatialDyadSize(expected);
 }
 
 double NearestSpatialDyadDistance(const std::vector<SpatialDyad>& candidates,

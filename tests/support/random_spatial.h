@@ -39,12 +39,26 @@ std::vector<DualQuaternion> TryPosesOnDyads(std::mt19937_64& rng,
                                             const DualQuaternion& start, int count,
                                             int max_attempts);
 
+// A random platform: dyads of the given types through a random pose (five SS by default), and
+// `count` poses on its motion, drawn again until the motion holds that many distinct poses.
+struct PlantedSpatialTask {
+  std::vector<SpatialDyad> planted;
+  std::vector<DualQuaternion> poses;
+};
+PlantedSpatialTask RandomPlatformTask(std::mt19937_64& rng, int count,
+                                      const std::vector<SpatialDyadType>& types =
+                                          std::vector<SpatialDyadType>(5, SpatialDyadType::kSS));
+
 // Noise on spatial poses: each turned by about `noise` (a normal axis vector of length noise
 // |w|, w standard normal) and moved by noise times a standard normal vector, applied in Sigma.
 void PerturbSpatialPoses(std::mt19937_64& rng, double noise, std::vector<DualQuaternion>* poses);
 
+// A spatial dyad's size: the largest of 1 and its pivots' distances from the origins, its
+// radius and plane offset (those its type uses).
+double SpatialDyadSize(const SpatialDyad& dyad);
+
 // Relative difference of two spatial dyads: the largest of the pivot, radius and plane
-// differences divided by max(1, the dyad's size). Infinity for different types.
+// differences divided by the expected dyad's SpatialDyadSize. Infinity for different types.
 double SpatialDyadDistance(const SpatialDyad& found, const SpatialDyad& expected);
 double NearestSpatialDyadDistance(const std::vector<SpatialDyad>& candidates,
                                   const SpatialDyad& expected);

@@ -1,10 +1,15 @@
 #include "tests/support/rounded_task.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
+#include "fitting/model_choice.h"
 #include "lib/task_io.h"
+#include "tests/support/random_mechanism.h"
+#include "tests/support/random_spatial.h"
 
 namespace linkfit::testing {
 namespace {
@@ -104,6 +109,80 @@ Task ReadRounded(const std::string& text, Effort effort) {
   Task task = ParseTask(text, "rounded");
   task.effort = effort;
   return task;
+}
+
+bool SaysTooCoarse(const std::vector<std::string>& notes) {
+  return std::any_of(notes.begin(), notes.end(), [](const std::string& note) {
+    return note.find("means nothing") != std::string::npos ||
+           note.find("rounding of the data can turn two real dyads into a complex pair") !=
+               std::string::npos ||
+           note.find("dependent within the data's precision") != std::string::npos ||
+           note.find("rank-deficient") != std::string::npos;
+  });
+}
+
+namespace {
+
+// RoundedRecovery for either kind of dyad: `distance(found, target, scale)` relative to the
+// target's size `scale = size(target)`; the bounds, and `floor(scale)` added to them for
+// rounding, in length units.
+template <typename Dyad, typename Report, typename Distance, typename Size, typename Floor>
+double Recovery(const std::vector<Dyad>& targets, const std::vector<Report>& found,
+                const Distance& distance, const Size& size, const Floor& floor, bool* rough) {
+  double best = std::numeric_limits<double>::infinity();
+  double nearest = std::numeric_limits<double>::infinity();
+  bool nearest_rough = false;
+  for (const Dyad& target : targets) {
+    const double scale = size(target);
+    for (const Report& report : found) {
+      if (!report.error_bound) continue;
+      const double relative = distance(report.dyad, target, scale);
+      if (!std::isfinite(relative)) continue;
+      const double bound = *report.error_bound;
+      if (relative < nearest) {
+        nearest = relative;
+        nearest_rough = !(bound < kRoughBound * scale);
+      }
+      if (!std::isfinite(bound)) continue;
+      best = std::min(best, relative / ((2.0 * bound + floor(scale)) / scale));
+    }
+  }
+  if (rough != nullptr && nearest_rough && !(best <= 1.0)) *rough = true;
+  return best;
+}
+
+}  // namespace
+
+double RoundedRecovery(const PlanarDyad& expected, const std::vector<DyadReport>& found,
+                       const DataPrecision& precision, const std::vector<PlanarPose>& poses,
+                       bool* rough) {
+  std::vector<PlanarDyad> targets = {expected};
+  PlanarDyad simpler;
+  if (SimplerModel(expected, poses, precision, CharacteristicLength(poses), &simpler)) {
+    targets.push_back(simpler);
+  }
+  return Recovery(
+      targets, found,
+      [](const PlanarDyad& dyad, const PlanarDyad& target, double scale) {
+        return DyadDistance(dyad, target, scale);
+      },
+      [&](const PlanarDyad& target) { return DyadScale(target, poses); },
+      [](double scale) { return 1e-9 * scale; }, rough);
+}
+
+double RoundedRecovery(const SpatialDyad& expected, const std::vector<SpatialDyadReport>& found,
+                       const DataPrecision& precision, const std::vector<DualQuaternion>& poses,
+                       double length, bool* rough) {
+  std::vector<SpatialDyad> targets = {expected};
+  SpatialDyad plane;
+  if (SimplerModel(expected, poses, precision, length, &plane)) targets.push_back(plane);
+  return Recovery(
+      targets, found,
+      [](const SpatialDyad& dyad, const SpatialDyad& target, double) {
+        return SpatialDyadDistance(dyad, target);
+      },
+      [](const SpatialDyad& target) { return SpatialDyadSize(target); },
+      [length](double) { return 1e-9 * length; }, rough);
 }
 
 }  // namespace linkfit::testing

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lib/planar_pose.h"
+#include "lib/result.h"
 #include "lib/spatial_pose.h"
 #include "lib/task.h"
 
@@ -31,6 +32,30 @@ std::string PathText(const std::vector<Eigen::Vector2d>& points,
 
 // The text parsed as a user's file (source "rounded"); `effort` replaces the default.
 Task ReadRounded(const std::string& text, Effort effort = Effort::kBalanced);
+
+// What counts as recovered from rounded data (the tests and `linkfit bench`'s rounded-data
+// family judge alike).
+
+// A stated error bound above this fraction of a dyad's size says that the data barely
+// determine it (the bound is first order, and so itself rough there).
+inline constexpr double kRoughBound = 0.25;
+
+// The result says that its data are too coarse: a family within precision, an error bound
+// beyond the dyads' own size, or nearly real complex roots that rounding may have cost.
+bool SaysTooCoarse(const std::vector<std::string>& notes);
+
+// Recovery of a generating dyad from rounded data: the distance to the nearest listed dyad of
+// its type in units of twice that dyad's stated error_bound (twice: the bound is first order),
+// so right is at most 1. A generating circle (sphere) that the rounded poses cannot tell from
+// its slider (plane) reading may come back as that reading (fitting/model_choice.h).
+// *rough is set (never cleared) when the generating dyad is not right and the nearest listed
+// dyad's bound is rough (kRoughBound, or the poses do not determine it).
+double RoundedRecovery(const PlanarDyad& expected, const std::vector<DyadReport>& found,
+                       const DataPrecision& precision, const std::vector<PlanarPose>& poses,
+                       bool* rough = nullptr);
+double RoundedRecovery(const SpatialDyad& expected, const std::vector<SpatialDyadReport>& found,
+                       const DataPrecision& precision, const std::vector<DualQuaternion>& poses,
+                       double length, bool* rough = nullptr);
 
 }  // namespace linkfit::testing
 

@@ -455,6 +455,12 @@ int Run(int argc, char** argv) {
       bench->add_flag("--trade-only", trade_only, "only the speed/accuracy trade");
   bench->add_flag("--extremes-only", extremes_only, "only the extremes sweep")
       ->excludes(trade_flag);
+  bench->add_option(
+      "--wrong-dir", bench_options.wrong_dir,
+      "write the task files the extremes sweep answered wrongly (or with a note) here");
+  bench->add_option("--family", bench_options.family,
+                    "run only this family of the extremes sweep (e.g. rounded), or its rows whose "
+                    "variant contains a text (rounded:path 5 points)");
 
   try {
     app.parse(argc, argv);

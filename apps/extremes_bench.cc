@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -29,6 +30,11 @@ struct Verdict {
   double error = kInfinity;  // relative error of the mechanism (the case defines it)
   double tolerance = 0.0;    // when positive, replaces the row's tolerance for this task
   std::string kind;          // e.g. the type returned or the model chosen (for `detail`)
+  std::string task_text;     // the task file, when the case has one (BenchOptions::wrong_dir)
+  std::string expected;      // the generating mechanism, in words (written beside task_text)
+  // Not counted, another task drawn: the case measures something the task cannot show (the
+  // rounded-data paths: the solver misses the task at full precision already).
+  bool redraw = false;
 };
 
 // The solvers' "ill-conditioned" notes (the motion solvers' carry the condition estimate; the
@@ -258,14 +264,47 @@ void ExactOnCircle(const PlanarDyad& input, double radius, testing::GeneratedTas
 
 // ---- rounded data: tasks printed to a few significant digits and read back ----
 
+std::string Coordinates(const Eigen::VectorXd& point) {
+  std::string text = "[";
+  for (Eigen::Index i = 0; i < point.size(); ++i) {
+    char number[32];
+    std::snprintf(number, sizeof(number), "%s%.17g", i > 0 ? ", " : "", point[i]);
+    text += number;
+  }
+  return text + "]";
+}
+
+// A generating dyad in words, for the files BenchOptions::wrong_dir gets.
+std::string DyadText(const PlanarDyad& dyad) {
+  std::string text = DyadTypeName(dyad.type);
+  if (dyad.type == DyadType::kRR) {
+    text += " fixed_pivot " + Coordinates(dyad.fixed_pivot) + " moving_pivot " +
+            Coordinates(dyad.moving_pivot) + " radius " + std::to_string(dyad.radius);
+  } else {
+    text += (dyad.type == DyadType::kPR ? " moving_pivot " + Coordinates(dyad.moving_pivot)
+                                        : " fixed_pivot " + Coordinates(dyad.fixed_pivot)) +
+            " line_point " + Coordinates(dyad.line_point) + " line_direction " +
+            Coordinates(dyad.line_direction);
+  }
+  return text + "\n";
+}
+
+std::string DyadText(const SpatialDyad& dyad) {
+  return "SS fixed_pivot " + Coordinates(dyad.fixed_pivot) + " moving_pivot " +
+         Coordinates(dyad.moving_pivot) + " radius " + std::to_string(dyad.radius) + "\n";
+}
+
 using testing::RoundedRecovery;
 using testing::SaysTooCoarse;
 
 // Planar motion from rounded data: both generating dyads within their bounds.
 Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) {
-  const Task task = testing::ReadRounded(testing::PlanarMotionText(generated.poses, digits));
+  const std::string text = testing::PlanarMotionText(generated.poses, digits);
+  const Task task = testing::ReadRounded(text);
   const PlanarMotionResult result = SolvePlanarTask(task);
   Verdict verdict;
+  verdict.task_text = text;
+  verdict.expected = DyadText(generated.input) + DyadText(generated.output);
   verdict.finite = AllFinite(result);
   bool undetermined = false;
   verdict.error = std::max(RoundedRecovery(generated.input, result.dyads, task.precision,
@@ -298,15 +337,18 @@ Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) 
 // Seven spatial poses from rounded data: the five generating SS dyads within their bounds.
 Verdict SolveRoundedSpatial(const PlantedSpatialTask& generated, int digits,
                             testing::SpatialForm form) {
-  const Task task = testing::ReadRounded(testing::SpatialMotionText(generated.poses, digits, form));
+  const std::string text = testing::SpatialMotionText(generated.poses, digits, form);
+  const Task task = testing::ReadRounded(text);
   const SpatialMotionResult result = SolveSpatialTask(task);
   Verdict verdict;
+  verdict.task_text = text;
   verdict.finite = AllFinite(result);
   verdict.kind = result.model;
   const double length = SpatialTaskLength(task);
   bool undetermined = false;
   verdict.error = 0.0;
   for (const SpatialDyad& expected : generated.planted) {
+    verdict.expected += DyadText(expected);
     verdict.error =
         std::max(verdict.error, RoundedRecovery(expected, result.dyads, task.precision,
                                                 task.spatial_poses, length, &undetermined));
@@ -326,9 +368,11 @@ Verdict SolveRoundedPlanarAsSpatial(const testing::GeneratedTask& generated, int
         Eigen::Vector3d::UnitZ(), pose.theta,
         Eigen::Vector3d(pose.origin_in_fixed.x(), pose.origin_in_fixed.y(), 0.0)));
   }
-  const Task task = testing::ReadRounded(testing::SpatialMotionText(poses, digits, form));
+  const std::string text = testing::SpatialMotionText(poses, digits, form);
+  const Task task = testing::ReadRounded(text);
   const SpatialMotionResult result = SolveSpatialTask(task);
   Verdict verdict;
+  verdict.task_text = text;
   verdict.finite = AllFinite(result);
   verdict.kind = result.model;
   verdict.tolerance = 1.0;
@@ -362,6 +406,41 @@ Verdict SolveRoundedPlanarAsSpatial(const testing::GeneratedTask& generated, int
   return verdict;
 }
 
+std::string DyadText(const PathFourBar& four_bar) {
+  return "input " + DyadText(four_bar.input) + "output " + DyadText(four_bar.output) +
+         "coupler_point " + Coordinates(four_bar.coupler_point) + "\n";
+}
+
+// Points of a path from rounded data (timed, or free timing when `free_timing`): the generating
+// four-bar (free timing: or a cognate tracing the same curve) within twice the error bound the
+// result states. The case measures what rounding costs: a task whose generating four-bar the
+// solver misses at full precision already (the free-timing search's misses) is drawn again, and
+// the detail column counts those.
+Verdict SolveRoundedPath(const testing::GeneratedPathTask& generated, int digits, bool free_timing,
+                         Effort effort) {
+  const std::vector<double> angles = free_timing ? std::vector<double>() : generated.input_angles;
+  Verdict verdict;
+  const Task unrounded =
+      testing::ReadRounded(testing::PathText(generated.points, angles, 17), effort);
+  if (!(testing::RoundedPathRecovery(generated.four_bar, SolvePathTask(unrounded), generated.points,
+                                     angles) <= 1.0)) {
+    verdict.redraw = true;
+    return verdict;
+  }
+  const std::string text = testing::PathText(generated.points, angles, digits);
+  const Task task = testing::ReadRounded(text, effort);
+  const PathResult result = SolvePathTask(task);
+  verdict.task_text = text;
+  verdict.expected = DyadText(generated.four_bar);
+  verdict.finite = AllFinite(result);
+  bool rough = false;
+  verdict.error =
+      testing::RoundedPathRecovery(generated.four_bar, result, generated.points, angles, &rough);
+  verdict.noted = rough || SaysTooCoarse(result.notes);
+  verdict.tolerance = 1.0;
+  return verdict;
+}
+
 std::string Power(double value) {
   char text[32];
   std::snprintf(text, sizeof(text), "%g", value);
@@ -371,19 +450,34 @@ std::string Power(double value) {
 class Sweep {
  public:
   Sweep(const BenchOptions& options, std::FILE* table)
-      : tasks_(options.quick ? 10 : 100), seed_(options.seed), table_(table) {}
+      : tasks_(options.quick ? 10 : 100),
+        seed_(options.seed),
+        table_(table),
+        wrong_dir_(options.wrong_dir),
+        family_(options.family) {}
 
   // Runs `tasks` tasks of a case: `run(rng)` makes and solves one.
   template <typename Run>
   void Case(const std::string& family, const std::string& variant, double tolerance, Run run,
             int tasks = 0) {
+    if (!family_.empty()) {
+      // "family" or "family:part of the variant"
+      const size_t colon = family_.find(':');
+      if (family != family_.substr(0, colon)) return;
+      if (colon != std::string::npos &&
+          variant.find(family_.substr(colon + 1)) == std::string::npos) {
+        return;
+      }
+    }
     ExtremeRow row;
     row.family = family;
     row.variant = variant;
     row.tolerance = tolerance;
     std::mt19937_64 rng(seed_ + std::hash<std::string>()(family + variant));
     std::vector<std::string> kinds;
-    for (int t = 0; t < (tasks > 0 ? tasks : tasks_); ++t) {
+    const int wanted = tasks > 0 ? tasks : tasks_;
+    int redrawn = 0;
+    for (int t = 0; t < wanted && redrawn < 10 * wanted;) {
       Verdict verdict;
       try {
         verdict = run(rng);
@@ -391,10 +485,24 @@ class Sweep {
         verdict.finite = false;
         verdict.kind = std::string("exception: ") + error.what();
       }
+      if (verdict.redraw) {
+        ++redrawn;
+        continue;
+      }
+      const int wrong = row.wrong, noted = row.noted;
       Tally(verdict, &row);
       kinds.push_back(verdict.kind);
+      if (row.wrong + row.noted > wrong + noted && !wrong_dir_.empty() &&
+          !verdict.task_text.empty()) {
+        WriteWrong(row, t, row.wrong > wrong ? "" : "-noted", verdict);
+      }
+      ++t;
     }
     row.detail = KindCounts(kinds);
+    if (redrawn > 0) {
+      row.detail += (row.detail.empty() ? "" : "; ") + std::string("drawn again: ") +
+                    std::to_string(redrawn) + " missed at full precision";
+    }
     if (table_ != nullptr) {
       std::fprintf(table_, "%-16s %-56s %8.0e %6d %6d %6d %6d %6d %11.2e  %s\n", family.c_str(),
                    variant.c_str(), tolerance, row.tasks, row.right, row.noted, row.wrong,
@@ -410,7 +518,28 @@ class Sweep {
  private:
   int tasks_;
   uint64_t seed_;
+  // The task file of a wrong answer: <wrong_dir>/<family> <variant>-<task>.json, the name's
+  // spaces and punctuation as '_', and the generating mechanism beside it (.expected.txt); a
+  // noted one likewise, as <...>-<task>-noted.json.
+  void WriteWrong(const ExtremeRow& row, int task, const std::string& suffix,
+                  const Verdict& verdict) const {
+    std::string name = row.family + "_" + row.variant;
+    for (char& c : name) {
+      if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+    }
+    const std::string path = wrong_dir_ + "/" + name + "-" + std::to_string(task) + suffix;
+    for (const auto& [suffix, text] :
+         {std::pair{".json", verdict.task_text}, std::pair{".expected.txt", verdict.expected}}) {
+      if (std::FILE* file = std::fopen((path + suffix).c_str(), "w")) {
+        std::fputs(text.c_str(), file);
+        std::fclose(file);
+      }
+    }
+  }
+
   std::FILE* table_;
+  std::string wrong_dir_;
+  std::string family_;
   std::vector<ExtremeRow> rows_;
 };
 
@@ -715,6 +844,24 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
                  return SolveRoundedSpatial(RandomPlatformTask(rng, 7), digits,
                                             testing::SpatialForm::kRotationMatrix);
                });
+    // Paths: five timed points (exact), ten timed points and ten untimed points (least
+    // squares at the default effort).
+    for (const auto& [name, output] :
+         {std::pair{"4R", DyadType::kRR}, std::pair{"slider-crank", DyadType::kPR}}) {
+      sweep.Case("rounded", std::string("timed path 5 points, ") + name + printed, 1.0,
+                 [&, output = output](std::mt19937_64& rng) {
+                   return SolveRoundedPath(testing::RandomPathTask(rng, output), digits, false,
+                                           Effort::kBalanced);
+                 });
+    }
+    sweep.Case("rounded", "timed path 10 points, 4R" + printed, 1.0, [&](std::mt19937_64& rng) {
+      return SolveRoundedPath(testing::RandomPathTask(rng, DyadType::kRR, 10), digits, false,
+                              Effort::kBalanced);
+    });
+    sweep.Case("rounded", "free timing 10 points, 4R" + printed, 1.0, [&](std::mt19937_64& rng) {
+      return SolveRoundedPath(testing::RandomPathTask(rng, DyadType::kRR, 10), digits, true,
+                              Effort::kBalanced);
+    });
     for (const auto& [name, form] : {std::pair{"(q, g)", testing::SpatialForm::kDualQuaternion},
                                      std::pair{"(Euler ZYX)", testing::SpatialForm::kEulerZYX}}) {
       sweep.Case("rounded", std::string("planar 4R as 7 spatial poses ") + name + printed, 1.0,

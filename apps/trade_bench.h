@@ -31,6 +31,13 @@ struct BenchOptions {
   uint64_t seed = 2026;          // random task families
   bool trade = true;             // the speed/accuracy table
   bool extremes = true;          // the extremes sweep
+  // When set, the extremes sweep writes each wrongly answered task that has a task file (the
+  // rounded-data family) here, as <row>-<task>.json (noted ones as <row>-<task>-noted.json),
+  // with the generating mechanism beside it, to reproduce it with `linkfit solve`.
+  std::string wrong_dir;
+  // When set, the extremes sweep runs only this family ("rounded"), or only its rows whose
+  // variant contains a text ("rounded:path 5 points").
+  std::string family;
 };
 
 // One cell of the trade table: a task family at one noise level, solved by one solver path at

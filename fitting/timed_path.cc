@@ -370,9 +370,14 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
     // crank equations: these five poses are exact for this crank, so a family of output dyads
     // is one at rounding level only.
     PlanarBurmesterOptions burmester_options = options.burmester;
+    // A four-bar that passes the points within what their precision allows passes them: the
+    // exact solution of rounded data is itself only computed to the condition of the crank
+    // equations, and a miss far below the data's precision says nothing.
+    double passes = options.verify_tolerance;
     if (coarse) {
       DataPrecision scaled_points = options.precision;
       scaled_points.length /= scaled.length;
+      passes = std::max(passes, PointUncertainty(scaled_points, crank.norm(), 1.0, 2));
       burmester_options.precision = CouplerPosePrecision(scaled_points, crank.norm(), link.norm());
       burmester_options.family_units = 0.0;
       burmester_options.conic_family_units = 0.0;
@@ -417,7 +422,7 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
       PathFourBarAnalysis analysis =
           AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
       // A circle typed as its slider at the data's precision misses by what that allows.
-      double allowed = options.verify_tolerance;
+      double allowed = passes;
       if (coarse && dyads[d].type != DyadType::kRR) {
         const Eigen::Vector2d output_pin =
             dyads[d].type == DyadType::kPR ? dyads[d].moving_pivot : dyads[d].fixed_pivot;
@@ -426,11 +431,12 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
         const double lever = std::max(1.0, link.norm() / (output_pin - pin).norm());
         allowed = std::max(allowed, kModelUnits * uncertainty * lever);
       }
-      if (allowed > options.verify_tolerance &&
+      if (coarse && dyads[d].type != DyadType::kRR &&
           !(analysis.nearest_max_error <= allowed * scaled.length)) {
         // The simplified four-bar misses: the slider reading moved the output more than the
         // points allow for this four-bar (the coupler point is sensitive to it). The exact
         // circle stays (the task solver may still fit a slider-crank in least squares).
+        const PathFourBar reading = four_bar;
         if (circles.empty()) {
           PlanarBurmesterOptions exact_options = options.burmester;
           exact_options.family_units = 0.0;
@@ -451,7 +457,12 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
         }
         if (std::isfinite(nearest_circle)) {
           analysis = AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
-          allowed = options.verify_tolerance;
+          allowed = passes;
+        }
+        if (!(analysis.nearest_max_error <= allowed * scaled.length)) {
+          // The circle misses too (far, and sensitive to rounding): the slider reading is
+          // handed on for a joint fit of crank and slider to the points.
+          report.slider_readings.push_back(reading);
         }
       }
       if (!(analysis.nearest_max_error <= allowed * scaled.length)) {

@@ -65,8 +65,9 @@ struct TimedPathOptions {
     return options;
   }();
   // Every four-bar is assembled at the five input angles; one that misses a point by more than
-  // this (times L) on both assemblies is dropped as ill-conditioned (cranks or output pivots
-  // thousands of L away, where the coupler barely turns), with a note.
+  // this (times L), or for data coarser than rounding by more than their precision allows
+  // (delta + alpha times the crank), on both assemblies is dropped as ill-conditioned (cranks
+  // or output pivots thousands of L away, where the coupler barely turns), with a note.
   double verify_tolerance = 1e-8;
   // The precision of the points (length) and of the input angles (angle, radians); zero:
   // rounding level (lib/precision.h). The coupler poses of a crank inherit it (SolveTimedPath):
@@ -90,6 +91,11 @@ struct TimedPathSummary {
   double condition = 0.0;          // sigma_1 / sigma_12 of the Macaulay matrix
   bool degenerate = false;         // the crank equations have a family of solutions
   std::vector<std::string> notes;  // cranks skipped and why
+  // Data coarser than rounding: dropped four-bars whose output circle's slider reading fits the
+  // coupler poses within their precision but, with this crank, misses the points by more than
+  // they allow (and so does the circle). Crank and slider fitted together (least squares) may
+  // pass the points within their precision: the slider-crank the data describe.
+  std::vector<PathFourBar> slider_readings;
 };
 
 // All finite roots of the crank equations (complex included). Returns their count, or -1 when

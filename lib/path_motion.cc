@@ -385,6 +385,18 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
   const Eigen::MatrixXd pseudo_inverse =
       svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
   const Eigen::VectorXd moves = pseudo_inverse.cwiseAbs() * uncertainty;
+  const double size = PathFourBarSize(four_bar, points, length);
+  // The points' pairs: B, A, F or M, then (RR) M or (PR, RP) the line angle, then R.
+  double bound = 0.0;
+  for (const int i : {0, 2, 4, rr ? 6 : -1, rr ? 8 : 7}) {
+    if (i >= 0) bound = std::max(bound, std::sqrt(2.0) * std::max(moves[i], moves[i + 1]));
+  }
+  if (!rr) bound = std::max(bound, moves[6] * size);
+  return std::isfinite(bound) ? bound : unbounded;
+}
+
+double PathFourBarSize(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
+                       double length) {
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
   for (const Eigen::Vector2d& point : points) {
     centroid += point / static_cast<double>(points.size());
@@ -395,13 +407,7 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
         four_bar.output.moving_pivot, four_bar.coupler_point}) {
     size = std::max(size, (p - centroid).norm());
   }
-  // The points' pairs: B, A, F or M, then (RR) M or (PR, RP) the line angle, then R.
-  double bound = 0.0;
-  for (const int i : {0, 2, 4, rr ? 6 : -1, rr ? 8 : 7}) {
-    if (i >= 0) bound = std::max(bound, std::sqrt(2.0) * std::max(moves[i], moves[i + 1]));
-  }
-  if (!rr) bound = std::max(bound, moves[6] * size);
-  return std::isfinite(bound) ? bound : unbounded;
+  return size;
 }
 
 std::vector<PlanarPose> CouplerCycle(const PathFourBar& four_bar, double length, int samples) {

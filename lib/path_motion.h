@@ -110,6 +110,11 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
                              const DataPrecision& precision, double length,
                              bool free_timing = false);
 
+// A four-bar's size as PathFourBarErrorBound measures it: its largest pivot or coupler point
+// distance from the points' centroid, at least `length`.
+double PathFourBarSize(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
+                       double length);
+
 // The coupler poses along the motion through the first point's configuration: a full crank
 // turn, or the crank's reachable range (out and back on the other assembly) when it is
 // limited. The coupler point's curve is their images of coupler_point.

@@ -155,6 +155,10 @@ struct PathMechanismReport {
   std::optional<double> transmission_min_deg;  // over the crank's sweep, first to last point
   std::optional<double> transmission_max_deg;
   std::vector<double> input_angles;  // free timing: the fitted input angles, radians
+  // How far the data's precision can move the four-bar (lib/path_motion.h
+  // PathFourBarErrorBound; infinity: the points do not determine it); absent when it does not
+  // meet every point.
+  std::optional<double> error_bound;
 };
 
 struct PathResult {

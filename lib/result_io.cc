@@ -41,12 +41,14 @@ void PutPoint3(Json* object, const std::string& key, const Eigen::Vector3d& poin
 
 // "error_bound": how far the data's precision can move the dyad, or a note when the data do not
 // determine it at their precision.
-void PutErrorBound(Json* object, const std::optional<double>& error_bound) {
+void PutErrorBound(
+    Json* object, const std::optional<double>& error_bound,
+    const char* undetermined = "the poses do not determine this dyad at the data's precision") {
   if (!error_bound) return;
   if (std::isfinite(*error_bound)) {
     PutNumber(object, "error_bound", *error_bound);
   } else {
-    (*object)["error_bound_note"] = "the poses do not determine this dyad at the data's precision";
+    (*object)["error_bound_note"] = undetermined;
   }
 }
 
@@ -211,6 +213,8 @@ Json PathMechanismToJson(const PathMechanismReport& report) {
     object["max_point_error_note"] = report.error_note.empty() ? "not computed" : report.error_note;
   }
   if (report.rms_point_error) PutNumber(&object, "rms_point_error", *report.rms_point_error);
+  PutErrorBound(&object, report.error_bound,
+                "the points do not determine this four-bar at the data's precision");
   if (report.seed_max_point_error) {
     Json seed;
     PutNumber(&seed, "max_point_error", *report.seed_max_point_error);

@@ -8,6 +8,8 @@
 #include "fitting/model_choice.h"
 #include "fitting/planar_motion.h"
 #include "lib/mechanism.h"
+#include "lib/path_motion.h"
+#include "lib/precision.h"
 #include "optimizers/task_solver.h"
 
 namespace linkfit {
@@ -215,6 +217,57 @@ bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
     return false;
   }
   report.seed_max_point_error = circle.seed_max_point_error;
+  *slider = report;
+  return true;
+}
+
+// Refines a report's four-bar on the points under the prescribed timing; the refined one
+// replaces it when it meets the points better. Returns whether it did.
+bool Polish(const PathData& data, const PathRefinerOptions& options, PathMechanismReport* report) {
+  PathFourBar design = report->design;
+  std::vector<double> angles = data.angles;
+  try {
+    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
+                      options);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  PathMechanismReport refined = Report(design, data, data.angles);
+  if (!refined.max_point_error || refined.defects.size() > report->defects.size() ||
+      !(*refined.max_point_error <
+        report->max_point_error.value_or(std::numeric_limits<double>::infinity()))) {
+    return false;
+  }
+  refined.seed_max_point_error = report->seed_max_point_error;
+  *report = refined;
+  return true;
+}
+
+// A slider reading the five-point solver handed on (TimedPathSummary::slider_readings): crank
+// and slider fitted to the points together (least squares, 9 parameters on 10 coordinates). It
+// is the slider-crank the data describe when it passes every point within kModelUnits point
+// uncertainties: delta, and alpha times the largest distance of a point from the crank's pivot
+// (an input angle's error turns the coupler point about as far).
+bool FitSliderReading(const PathData& data, const PathRefinerOptions& options,
+                      const PathFourBar& reading, PathMechanismReport* slider) {
+  PathFourBar candidate = reading;
+  std::vector<double> angles = data.angles;
+  try {
+    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles,
+                      &candidate, options);
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+  double reach = 0.0;
+  for (const Eigen::Vector2d& point : data.points) {
+    reach = std::max(reach, (point - candidate.input.fixed_pivot).norm());
+  }
+  PathMechanismReport report = Report(candidate, data, data.angles);
+  if (!report.max_point_error || !report.defects.empty() ||
+      !(*report.max_point_error <=
+        kModelUnits * PointUncertainty(data.precision, reach, data.length, 2))) {
+    return false;
+  }
   *slider = report;
   return true;
 }
@@ -446,6 +499,41 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   Finish(data, options.path_reported, candidates, result);
 }
 
+// Every four-bar that meets the points gets its first-order error bound at the data's precision
+// (PathFourBarErrorBound; free timing with its fitted input angles as parameters), and a note
+// counts those the precision leaves loose: by more than 1 % of their size, and by more than
+// their size (those mean nothing at this precision).
+void BoundErrors(const PathData& data, bool free_timing, PathResult* result) {
+  int loose = 0, meaningless = 0, bounded = 0;
+  for (PathMechanismReport& report : result->mechanisms) {
+    if (!report.max_point_error) continue;
+    const std::vector<double>& angles = free_timing ? report.input_angles : data.angles;
+    if (angles.size() != data.points.size()) continue;
+    report.error_bound = PathFourBarErrorBound(report.design, data.points, angles, data.precision,
+                                               data.length, free_timing);
+    ++bounded;
+    const double relative =
+        *report.error_bound / PathFourBarSize(report.design, data.points, data.length);
+    if (relative > 1e-2) ++loose;
+    if (!(relative <= 1.0)) ++meaningless;
+  }
+  if (loose == 0) return;
+  std::string note =
+      "with the points precise to " + PrecisionText(data.precision.length) +
+      (free_timing ? std::string()
+                   : " and the input angles to " +
+                         PrecisionText(data.precision.angle * 180.0 / std::acos(-1.0)) + " deg") +
+      ", " + std::to_string(loose) + " of the " + std::to_string(bounded) +
+      " four-bars may be off by more than 1 % of their size (error_bound, first "
+      "order)";
+  if (meaningless > 0) {
+    note += "; " + std::to_string(meaningless) +
+            " by more than their own size or undetermined: such a four-bar means nothing at this "
+            "precision";
+  }
+  result->notes.push_back(note);
+}
+
 }  // namespace
 
 PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_options) {
@@ -482,11 +570,26 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
     int simplified = 0;
     for (const PathFourBar& four_bar : four_bars) {
       PathMechanismReport report = Report(four_bar, data, data.angles), slider;
+      // Kept within the data's precision (a complex pair's real part, a root computed only to
+      // the crank equations' condition): polished onto the points.
+      if (report.max_point_error && report.defects.empty() &&
+          *report.max_point_error > options.timed_path.verify_tolerance * data.length) {
+        Polish(data, options.path_refiner, &report);
+      }
       if (SliderAtPrecision(data, options.path_refiner, report, &slider)) {
         ++simplified;
         AddDistinct(slider, data.length, &result.mechanisms);  // the solver's own slider
       } else {
         result.mechanisms.push_back(report);
+      }
+    }
+    // Four-bars the solver dropped (far circles that miss the points) whose slider reading,
+    // fitted with its crank to the points, passes them within their precision.
+    for (const PathFourBar& reading : summary.slider_readings) {
+      PathMechanismReport slider;
+      if (FitSliderReading(data, options.path_refiner, reading, &slider)) {
+        ++simplified;
+        AddDistinct(slider, data.length, &result.mechanisms);
       }
     }
     if (simplified > 0) {
@@ -515,6 +618,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
       result.notes.push_back("no four-bar found: the seeds failed (degenerate points?)");
     }
   }
+  if (count >= 5) BoundErrors(data, free_timing, &result);
   if (task.closed && count >= 5) {
     result.notes.push_back(
         std::string("solved as a closed path: the crank makes a whole turn from points[0] back "

@@ -7,8 +7,10 @@
 #include <limits>
 
 #include "fitting/model_choice.h"
+#include "fitting/timed_path.h"
 #include "lib/task_io.h"
 #include "tests/support/random_mechanism.h"
+#include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
 
 namespace linkfit::testing {
@@ -33,7 +35,13 @@ std::string Items(const char* key, const std::vector<std::string>& items) {
 std::string Printed(double value, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof(buffer), "%#.*g", digits, value);
-  return buffer;
+  std::string text = buffer;
+  // "-157." is not JSON: exponent form keeps the digits ("-1.57e+02").
+  if (text.back() == '.') {
+    std::snprintf(buffer, sizeof(buffer), "%.*e", digits - 1, value);
+    text = buffer;
+  }
+  return text;
 }
 
 std::string PlanarMotionText(const std::vector<PlanarPose>& poses, int digits) {
@@ -123,12 +131,14 @@ bool SaysTooCoarse(const std::vector<std::string>& notes) {
 
 namespace {
 
-// RoundedRecovery for either kind of dyad: `distance(found, target, scale)` relative to the
-// target's size `scale = size(target)`; the bounds, and `floor(scale)` added to them for
-// rounding, in length units.
-template <typename Dyad, typename Report, typename Distance, typename Size, typename Floor>
+// RoundedRecovery for any kind of dyad or four-bar: `design(report)` the listed one,
+// `distance(design, target, scale)` relative to the target's size `scale = size(target)`; the
+// bounds, and `floor(scale)` added to them for rounding, in length units.
+template <typename Dyad, typename Report, typename Design, typename Distance, typename Size,
+          typename Floor>
 double Recovery(const std::vector<Dyad>& targets, const std::vector<Report>& found,
-                const Distance& distance, const Size& size, const Floor& floor, bool* rough) {
+                const Design& design, const Distance& distance, const Size& size,
+                const Floor& floor, bool* rough) {
   double best = std::numeric_limits<double>::infinity();
   double nearest = std::numeric_limits<double>::infinity();
   bool nearest_rough = false;
@@ -136,7 +146,7 @@ double Recovery(const std::vector<Dyad>& targets, const std::vector<Report>& fou
     const double scale = size(target);
     for (const Report& report : found) {
       if (!report.error_bound) continue;
-      const double relative = distance(report.dyad, target, scale);
+      const double relative = distance(design(report), target, scale);
       if (!std::isfinite(relative)) continue;
       const double bound = *report.error_bound;
       if (relative < nearest) {
@@ -162,7 +172,7 @@ double RoundedRecovery(const PlanarDyad& expected, const std::vector<DyadReport>
     targets.push_back(simpler);
   }
   return Recovery(
-      targets, found,
+      targets, found, [](const DyadReport& report) -> const PlanarDyad& { return report.dyad; },
       [](const PlanarDyad& dyad, const PlanarDyad& target, double scale) {
         return DyadDistance(dyad, target, scale);
       },
@@ -178,11 +188,44 @@ double RoundedRecovery(const SpatialDyad& expected, const std::vector<SpatialDya
   if (SimplerModel(expected, poses, precision, length, &plane)) targets.push_back(plane);
   return Recovery(
       targets, found,
+      [](const SpatialDyadReport& report) -> const SpatialDyad& { return report.dyad; },
       [](const SpatialDyad& dyad, const SpatialDyad& target, double) {
         return SpatialDyadDistance(dyad, target);
       },
       [](const SpatialDyad& target) { return SpatialDyadSize(target); },
       [length](double) { return 1e-9 * length; }, rough);
+}
+
+double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result,
+                           const std::vector<Eigen::Vector2d>& points,
+                           const std::vector<double>& input_angles, bool* rough) {
+  std::vector<PathFourBar> targets = {expected};
+  if (result.timing == "free") {
+    const std::vector<PathFourBar> cognates = CurveCognates(expected);
+    if (!cognates.empty()) targets = cognates;
+  }
+  const double length = PathLength(points);
+  // Timed: the slider reading of the generating output circle on its coupler poses, when it
+  // fits them within their precision (the path solver's model choice, CouplerPosePrecision).
+  if (expected.output.type == DyadType::kRR && input_angles.size() == points.size()) {
+    const PathFourBarAnalysis analysis = AnalyzePathFourBar(expected, points, input_angles, length);
+    const double link = (expected.coupler_point - expected.input.moving_pivot).norm();
+    PathFourBar simpler = expected;
+    if (analysis.configurations.size() == points.size() &&
+        SimplerModel(expected.output, analysis.configurations,
+                     CouplerPosePrecision(result.precision, expected.input.radius, link), length,
+                     &simpler.output)) {
+      targets.push_back(simpler);
+    }
+  }
+  return Recovery(
+      targets, result.mechanisms,
+      [](const PathMechanismReport& report) -> const PathFourBar& { return report.design; },
+      [](const PathFourBar& four_bar, const PathFourBar& target, double scale) {
+        return PathFourBarDistance(four_bar, target, scale);
+      },
+      [&](const PathFourBar& target) { return PathFourBarSize(target, points, length); },
+      [](double scale) { return 1e-9 * scale; }, rough);
 }
 
 }  // namespace linkfit::testing

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/path_motion.h"
 #include "lib/planar_pose.h"
 #include "lib/result.h"
 #include "lib/spatial_pose.h"
@@ -56,6 +57,18 @@ double RoundedRecovery(const PlanarDyad& expected, const std::vector<DyadReport>
 double RoundedRecovery(const SpatialDyad& expected, const std::vector<SpatialDyadReport>& found,
                        const DataPrecision& precision, const std::vector<DualQuaternion>& poses,
                        double length, bool* rough = nullptr);
+
+// The same for a generating four-bar from rounded points: the distance to the nearest listed
+// four-bar of its type (PathFourBarDistance with the four-bar's size, lib/path_motion.h
+// PathFourBarSize, as the length) in units of twice that four-bar's stated error_bound. Timed
+// (`input_angles` given): a generating output circle whose slider reading fits its coupler
+// poses within their precision may come back as that reading (fitting/model_choice.h). Free
+// timing (`input_angles` empty): a Roberts cognate of a 4R, or the four-bar driven by its
+// other crank, traces the same curve through the same points and counts as the generating one
+// (CurveCognates, random_path.h).
+double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result,
+                           const std::vector<Eigen::Vector2d>& points,
+                           const std::vector<double>& input_angles, bool* rough = nullptr);
 
 }  // namespace linkfit::testing
 

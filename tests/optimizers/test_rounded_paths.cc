@@ -1,0 +1,188 @@
+// Paths from rounded data: timed points printed as tables print them, solved at the precision
+// their digits carry. The generating four-bar must come back within the error bound the result
+// states (tests/support/rounded_task.h RoundedPathRecovery), typed as the data allow.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <random>
+#include <string>
+
+#include "lib/mechanism.h"
+#include "lib/path_motion.h"
+#include "optimizers/task_solver.h"
+#include "tests/support/random_path.h"
+#include "tests/support/rounded_task.h"
+
+namespace linkfit {
+namespace {
+
+bool HasNote(const std::vector<std::string>& notes, const std::string& words) {
+  return std::any_of(notes.begin(), notes.end(), [&](const std::string& note) {
+    return note.find(words) != std::string::npos;
+  });
+}
+
+// Each cognate (testing::CurveCognates), driven by either crank, puts its coupler point on the
+// generating four-bar's points: at point j the generating pins are a_j (the crank turned by
+// psi_j - psi_0) and b_j (the coupler's image of b), and the cognate's crank pin follows from
+// them as the construction says (complex numbers: e_j = a0 + p_j - a_j, f_j = e_j + z (a_j - a0),
+// g_j = b0 + p_j - b_j, h_j = g_j + (1 - z)(b_j - b0)). Assembled at that crank angle, one of
+// the cognate's configurations carries the coupler point to p_j.
+TEST(RoundedPaths, RobertsCognatesPassTheSamePoints) {
+  using Complex = std::complex<double>;
+  const auto complex = [](const Eigen::Vector2d& v) { return Complex(v.x(), v.y()); };
+  std::mt19937_64 rng(71);
+  for (int t = 0; t < 20; ++t) {
+    const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 10);
+    const double length = testing::PathLength(generated.points);
+    const PathFourBar& g = generated.four_bar;
+    const std::vector<PathFourBar> cognates = testing::CurveCognates(g);
+    ASSERT_EQ(cognates.size(), 6u);
+    const Complex a0 = complex(g.input.fixed_pivot), a = complex(g.input.moving_pivot);
+    const Complex b0 = complex(g.output.fixed_pivot), b = complex(g.output.moving_pivot);
+    const Complex p = complex(g.coupler_point), z = (p - a) / (b - a);
+    for (size_t j = 0; j < generated.points.size(); ++j) {
+      const Complex p_j = complex(generated.points[j]);
+      const Complex a_j =
+          a0 + (a - a0) * std::polar(1.0, generated.input_angles[j] - generated.input_angles[0]);
+      const Complex b_j = a_j + (b - a) * (p_j - a_j) / (p - a);
+      const Complex e_j = a0 + p_j - a_j, f_j = e_j + z * (a_j - a0);
+      const Complex g_j = b0 + p_j - b_j, h_j = g_j + (1.0 - z) * (b_j - b0);
+      // The crank pins of the six designs, in CurveCognates' order.
+      const Complex pins[6] = {a_j, b_j, e_j, f_j, g_j, h_j};
+      for (size_t c = 0; c < cognates.size(); ++c) {
+        const PlanarDyad& crank = cognates[c].input;
+        const Complex arm = pins[c] - complex(crank.fixed_pivot);
+        std::vector<PlanarPose> poses;
+        AssembleFourBar(crank, cognates[c].output, std::arg(arm), 1e-9 * length, &poses);
+        double miss = std::numeric_limits<double>::infinity();
+        for (const PlanarPose& pose : poses) {
+          miss = std::min(miss,
+                          (pose.ToFixed(cognates[c].coupler_point) - generated.points[j]).norm());
+        }
+        EXPECT_LE(miss, 1e-9 * length) << "task " << t << ", point " << j << ", design " << c;
+        EXPECT_NEAR(std::abs(arm), crank.radius, 1e-12 * length);
+      }
+    }
+  }
+}
+
+// Five timed points of random 4R and slider-cranks printed to 6 and 4 digits: every four-bar
+// meeting the points states its error bound, and the generating one is back within it, or the
+// result says that the data are too coarse (never a silent wrong answer).
+TEST(RoundedPaths, FiveTimedPointsComeBackWithinTheirBounds) {
+  for (const DyadType output : {DyadType::kRR, DyadType::kPR}) {
+    std::mt19937_64 rng(output == DyadType::kRR ? 72 : 73);
+    for (const int digits : {6, 4}) {
+      int right = 0;
+      for (int t = 0; t < 25; ++t) {
+        const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, output);
+        const Task task = testing::ReadRounded(
+            testing::PathText(generated.points, generated.input_angles, digits));
+        const PathResult result = SolvePathTask(task);
+        for (const PathMechanismReport& mechanism : result.mechanisms) {
+          EXPECT_EQ(mechanism.error_bound.has_value(), mechanism.max_point_error.has_value());
+        }
+        bool rough = false;
+        const double recovery = testing::RoundedPathRecovery(
+            generated.four_bar, result, generated.points, generated.input_angles, &rough);
+        SCOPED_TRACE(std::string(DyadTypeName(output)) + " digits " + std::to_string(digits) +
+                     " task " + std::to_string(t));
+        EXPECT_TRUE(recovery <= 1.0 || rough || testing::SaysTooCoarse(result.notes));
+        if (recovery <= 1.0) ++right;
+      }
+      // Measured: 25 of 25 at 6 digits, 23-25 at 4.
+      EXPECT_GE(right, digits == 6 ? 25 : 22);
+    }
+  }
+}
+
+// Printed to 8 digits, this slider-crank's output is a circle of radius 3e6 L for the exact
+// solver, which misses the points with the rounded crank (and so does its slider reading, by
+// 3e-6 L): crank and slider fitted together pass them within their precision.
+TEST(RoundedPaths, EightDigitSliderCrankComesBackAsASliderCrank) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": 0.83975134, "y": -0.96198131, "input_deg": 32.321529},
+  {"x": -0.33940750, "y": -1.1588152, "input_deg": -1.9274679},
+  {"x": -0.93883066, "y": -1.1810524, "input_deg": -37.318726},
+  {"x": -1.2134901, "y": -1.1563299, "input_deg": -52.949908},
+  {"x": -1.9010889, "y": -1.0664031, "input_deg": -85.897146}]})");
+  PathFourBar expected;
+  const Eigen::Vector2d pivot(-0.55396146722692874, -0.18860330855681517);
+  const Eigen::Vector2d pin(0.71492752541873283, 0.61422249936011353);
+  expected.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  expected.output = PlanarDyad::PR(Eigen::Vector2d(0.49307455879381501, -0.99849974688872112),
+                                   Eigen::Vector2d(0.49307455879381501, -0.99849974688872101),
+                                   Eigen::Vector2d(0.9936673175469789, -0.11236219132337824));
+  expected.coupler_point = Eigen::Vector2d(0.83975134040615163, -0.96198131027070799);
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  for (const TimedPoint& point : task.points) {
+    points.push_back(point.point_in_fixed);
+    angles.push_back(*point.input_angle);
+  }
+  const PathResult result = SolvePathTask(task);
+  EXPECT_LE(testing::RoundedPathRecovery(expected, result, points, angles), 1.0);
+}
+
+// Printed to 6 digits, this 4R is an exact root of the crank equations that the computed root
+// meets only to 2e-7 L (the equations' condition), far below the data's 5e-6: it is kept, not
+// dropped as ill-conditioned, and polished onto the points.
+TEST(RoundedPaths, FourBarMeetingThePointsWithinPrecisionIsKept) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": -0.605596, "y": -0.256498, "input_deg": -141.179},
+  {"x": -0.831466, "y": 0.198295, "input_deg": -157.678},
+  {"x": -0.884142, "y": 1.14738, "input_deg": -188.467},
+  {"x": -0.596965, "y": 1.81033, "input_deg": -211.315},
+  {"x": -0.0811296, "y": 2.30616, "input_deg": -233.467}]})");
+  PathFourBar expected;
+  const Eigen::Vector2d pivot(0.9319133246749467, 0.72722625338261682);
+  const Eigen::Vector2d pin(-0.34662727741267041, -0.30151128499114227);
+  const Eigen::Vector2d output_pivot(0.85775992487504849, 0.98961154186792033);
+  const Eigen::Vector2d output_pin(-0.81182779628433821, 0.43851239603467773);
+  expected.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  expected.output = PlanarDyad::RR(output_pivot, output_pin, (output_pin - output_pivot).norm());
+  expected.coupler_point = Eigen::Vector2d(-0.6055958243858004, -0.25649848572252343);
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  for (const TimedPoint& point : task.points) {
+    points.push_back(point.point_in_fixed);
+    angles.push_back(*point.input_angle);
+  }
+  const PathResult result = SolvePathTask(task);
+  EXPECT_LE(testing::RoundedPathRecovery(expected, result, points, angles), 1.0);
+  for (const PathMechanismReport& mechanism : result.mechanisms) {
+    if (mechanism.defects.empty() && mechanism.max_point_error) {
+      EXPECT_LE(*mechanism.max_point_error, 2.0 * std::sqrt(2.0) * task.precision.length);
+    }
+  }
+}
+
+// A path whose data barely determine its four-bars says so (the error bounds beyond 1 % of the
+// four-bars' size), and one whose bounds exceed the four-bars themselves says that such a
+// four-bar means nothing at this precision.
+TEST(RoundedPaths, LooseFourBarsAreNoted) {
+  std::mt19937_64 rng(74);
+  const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR);
+  const PathResult fine = SolvePathTask(
+      testing::ReadRounded(testing::PathText(generated.points, generated.input_angles, 17)));
+  EXPECT_FALSE(HasNote(fine.notes, "may be off by more than 1 %"));
+  const PathResult coarse = SolvePathTask(
+      testing::ReadRounded(testing::PathText(generated.points, generated.input_angles, 3)));
+  EXPECT_TRUE(HasNote(coarse.notes, "may be off by more than 1 %"));
+  int meaningless = 0;
+  for (const PathMechanismReport& mechanism : coarse.mechanisms) {
+    if (!mechanism.error_bound) continue;
+    if (!(*mechanism.error_bound <=
+          PathFourBarSize(mechanism.design, generated.points, coarse.scale))) {
+      ++meaningless;
+    }
+  }
+  EXPECT_EQ(HasNote(coarse.notes, "means nothing at this precision"), meaningless > 0);
+}
+
+}  // namespace
+}  // namespace linkfit

@@ -341,8 +341,30 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
   const bool coarse = RelativePrecision(options.precision, scaled.length) > 1e-12;
   std::vector<Eigen::Matrix2d> rotations;  // the crank's rotations R(beta_j)
   for (double beta : scaled.betas) rotations.push_back(Rotation2(beta));
+  std::vector<Eigen::Vector4d> near_real_seen;  // real parts of the complex roots taken
   for (const TimedCrank& root : cranks) {
-    if (!root.real) continue;
+    // Data coarser than rounding: a complex root whose imaginary part is small (rounding can
+    // turn two real cranks into a complex pair) is tried by its real part, and its four-bars
+    // are handed on for a joint fit to the points (TimedPathSummary::to_fit).
+    bool near_real = false;
+    if (!root.real) {
+      const double size = std::max(root.fixed_pivot.real().norm(), root.crank.real().norm());
+      const double imaginary =
+          std::max(root.fixed_pivot.imag().norm(), root.crank.imag().norm()) / scaled.length;
+      if (!coarse || !(imaginary <= kNearRealShare * std::max(1.0, size / scaled.length))) {
+        continue;
+      }
+      Eigen::Vector4d key;
+      key << root.fixed_pivot.real(), root.crank.real();
+      if (std::any_of(near_real_seen.begin(), near_real_seen.end(),
+                      [&](const Eigen::Vector4d& seen) {
+                        return (seen - key).norm() <= 1e-9 * scaled.length;
+                      })) {
+        continue;  // the conjugate of a root taken
+      }
+      near_real_seen.push_back(key);
+      near_real = true;
+    }
     const Eigen::Vector2d pivot = (root.fixed_pivot.real() - scaled.centroid) / scaled.length;
     const Eigen::Vector2d crank = root.crank.real() / scaled.length;
     const Eigen::Vector2d pin = pivot + crank;  // A_0, in Sigma and in E
@@ -418,6 +440,10 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
       four_bar.input = TransformDyad(input, unscale, unscale);
       four_bar.output = TransformDyad(dyads[d], unscale, unscale);
       four_bar.coupler_point = points[0];
+      if (near_real) {
+        report.to_fit.push_back(four_bar);
+        continue;
+      }
       // Assembled and driven through the points (lib/path_motion.h).
       PathFourBarAnalysis analysis =
           AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
@@ -462,7 +488,7 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
         if (!(analysis.nearest_max_error <= allowed * scaled.length)) {
           // The circle misses too (far, and sensitive to rounding): the slider reading is
           // handed on for a joint fit of crank and slider to the points.
-          report.slider_readings.push_back(reading);
+          report.to_fit.push_back(reading);
         }
       }
       if (!(analysis.nearest_max_error <= allowed * scaled.length)) {

@@ -138,6 +138,12 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
                                              const std::vector<double>& angles, int subsets,
                                              int keep, const TimedPathOptions& options) {
   std::vector<PathMechanismReport> seeds;
+  // The subsets' four-bars at rounding level (exact circles, as seeds for the refinement that
+  // chooses the model at the data's precision) and, for coarser data, at the data's precision
+  // too (four-bars meeting a subset within precision, which rounding level drops).
+  std::vector<TimedPathOptions> levels = {options};
+  levels.front().precision = DataPrecision();
+  if (RelativePrecision(options.precision, data.length) > 1e-12) levels.push_back(options);
   const int count = static_cast<int>(data.points.size());
   for (const std::vector<int>& subset : SpreadSubsets(count, subsets)) {
     std::vector<Eigen::Vector2d> points;
@@ -146,11 +152,13 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
       points.push_back(data.points[index]);
       subset_angles.push_back(angles[index]);
     }
-    std::vector<PathFourBar> four_bars;
-    SolveTimedPath(points, subset_angles, options, &four_bars);
-    for (const PathFourBar& four_bar : four_bars) {
-      PathMechanismReport report = Report(four_bar, data, angles);
-      if (report.rms_point_error) AddDistinct(report, data.length, &seeds);
+    for (const TimedPathOptions& level : levels) {
+      std::vector<PathFourBar> four_bars;
+      SolveTimedPath(points, subset_angles, level, &four_bars);
+      for (const PathFourBar& four_bar : four_bars) {
+        PathMechanismReport report = Report(four_bar, data, angles);
+        if (report.rms_point_error) AddDistinct(report, data.length, &seeds);
+      }
     }
   }
   Rank(true, &seeds);
@@ -243,14 +251,14 @@ bool Polish(const PathData& data, const PathRefinerOptions& options, PathMechani
   return true;
 }
 
-// A slider reading the five-point solver handed on (TimedPathSummary::slider_readings): crank
-// and slider fitted to the points together (least squares, 9 parameters on 10 coordinates). It
-// is the slider-crank the data describe when it passes every point within kModelUnits point
+// A four-bar the five-point solver handed on (TimedPathSummary::to_fit): crank and output fitted
+// to the points together (least squares: 9 or 10 parameters on 10 coordinates). It is a
+// four-bar the data describe when it then passes every point within kModelUnits point
 // uncertainties: delta, and alpha times the largest distance of a point from the crank's pivot
-// (an input angle's error turns the coupler point about as far).
-bool FitSliderReading(const PathData& data, const PathRefinerOptions& options,
-                      const PathFourBar& reading, PathMechanismReport* slider) {
-  PathFourBar candidate = reading;
+// (an input angle's error turns the coupler point about as far), without defects.
+bool FitToPoints(const PathData& data, const PathRefinerOptions& options, const PathFourBar& seed,
+                 PathMechanismReport* fitted) {
+  PathFourBar candidate = seed;
   std::vector<double> angles = data.angles;
   try {
     RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles,
@@ -268,7 +276,7 @@ bool FitSliderReading(const PathData& data, const PathRefinerOptions& options,
         kModelUnits * PointUncertainty(data.precision, reach, data.length, 2))) {
     return false;
   }
-  *slider = report;
+  *fitted = report;
   return true;
 }
 
@@ -583,14 +591,23 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
         result.mechanisms.push_back(report);
       }
     }
-    // Four-bars the solver dropped (far circles that miss the points) whose slider reading,
-    // fitted with its crank to the points, passes them within their precision.
-    for (const PathFourBar& reading : summary.slider_readings) {
-      PathMechanismReport slider;
-      if (FitSliderReading(data, options.path_refiner, reading, &slider)) {
-        ++simplified;
-        AddDistinct(slider, data.length, &result.mechanisms);
+    // Four-bars the solver handed on (slider readings of far circles that miss the points,
+    // and the four-bars of nearly real complex cranks), fitted to the points: kept when they
+    // then pass them within their precision.
+    int rescued = 0;
+    for (const PathFourBar& candidate : summary.to_fit) {
+      PathMechanismReport fitted;
+      if (FitToPoints(data, options.path_refiner, candidate, &fitted)) {
+        ++(candidate.output.type == DyadType::kRR ? rescued : simplified);
+        AddDistinct(fitted, data.length, &result.mechanisms);
       }
+    }
+    if (rescued > 0) {
+      result.notes.push_back(
+          std::to_string(rescued) +
+          " four-bar(s) from complex crank roots whose real part, fitted to the points, passes "
+          "them within their precision: rounding of the data can turn two real cranks into a "
+          "complex pair");
     }
     if (simplified > 0) {
       result.notes.push_back(std::to_string(simplified) +

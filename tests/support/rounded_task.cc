@@ -196,6 +196,20 @@ double RoundedRecovery(const SpatialDyad& expected, const std::vector<SpatialDya
       [length](double) { return 1e-9 * length; }, rough);
 }
 
+bool MeetsPointsWithinPrecision(const PathMechanismReport& report,
+                                const std::vector<Eigen::Vector2d>& points,
+                                const DataPrecision& precision) {
+  if (!report.max_point_error) return false;
+  const double length = PathLength(points);
+  double reach = 0.0;
+  for (const Eigen::Vector2d& point : points) {
+    reach = std::max(reach, (point - report.design.input.fixed_pivot).norm());
+  }
+  // Not below the exact solver's own check (fitting/timed_path.h verify_tolerance).
+  return *report.max_point_error <=
+         std::max(1e-8 * length, kModelUnits * PointUncertainty(precision, reach, length, 2));
+}
+
 double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result,
                            const std::vector<Eigen::Vector2d>& points,
                            const std::vector<double>& input_angles, bool* rough) {
@@ -218,8 +232,15 @@ double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result
       targets.push_back(simpler);
     }
   }
+  // Only four-bars that meet the points within their precision can be the answer (the
+  // generating one does): a listed four-bar missing them by more is a search miss, whose
+  // rough bound says nothing about the data.
+  std::vector<PathMechanismReport> fitting;
+  for (const PathMechanismReport& report : result.mechanisms) {
+    if (MeetsPointsWithinPrecision(report, points, result.precision)) fitting.push_back(report);
+  }
   return Recovery(
-      targets, result.mechanisms,
+      targets, fitting,
       [](const PathMechanismReport& report) -> const PathFourBar& { return report.design; },
       [](const PathFourBar& four_bar, const PathFourBar& target, double scale) {
         return PathFourBarDistance(four_bar, target, scale);

@@ -58,9 +58,17 @@ double RoundedRecovery(const SpatialDyad& expected, const std::vector<SpatialDya
                        const DataPrecision& precision, const std::vector<DualQuaternion>& poses,
                        double length, bool* rough = nullptr);
 
+// Whether a listed four-bar meets the points within their precision: every point within
+// kModelUnits point uncertainties (delta, and alpha times the point's reach from the crank
+// pivot), never less than the exact solver's check (1e-8 L).
+bool MeetsPointsWithinPrecision(const PathMechanismReport& report,
+                                const std::vector<Eigen::Vector2d>& points,
+                                const DataPrecision& precision);
+
 // The same for a generating four-bar from rounded points: the distance to the nearest listed
-// four-bar of its type (PathFourBarDistance with the four-bar's size, lib/path_motion.h
-// PathFourBarSize, as the length) in units of twice that four-bar's stated error_bound. Timed
+// four-bar of its type that meets the points within their precision (PathFourBarDistance with the
+// four-bar's size, lib/path_motion.h PathFourBarSize, as the length) in units of twice that
+// four-bar's stated error_bound. Timed
 // (`input_angles` given): a generating output circle whose slider reading fits its coupler
 // poses within their precision may come back as that reading (fitting/model_choice.h). Free
 // timing (`input_angles` empty): a Roberts cognate of a 4R, or the four-bar driven by its

@@ -94,6 +94,42 @@ bool MechanismBefore(const MechanismReport& a, const MechanismReport& b) {
 
 }  // namespace
 
+namespace {
+
+// Two distinct PR dyads (or two distinct RP dyads) among five poses' roots, a circle counting
+// as its slider reading when that fits the poses within their precision (SimplerModel): two
+// points of E run on lines of Sigma (RP: two points of Sigma on lines of E), which only an
+// elliptic trammel's motion allows, and that motion has a whole circle of such points.
+// Distinct: at least 0.1 L apart (their error bounds are no guide: near such a family the poses
+// barely determine the isolated roots rounding leaves).
+bool CardanWithinPrecision(const std::vector<DyadReport>& dyads,
+                           const std::vector<PlanarPose>& poses, const DataPrecision& precision,
+                           double length) {
+  std::vector<PlanarDyad> sliders;
+  for (const DyadReport& report : dyads) {
+    PlanarDyad slider = report.dyad;
+    if (slider.type == DyadType::kRR &&
+        !SimplerModel(report.dyad, poses, precision, length, &slider)) {
+      continue;
+    }
+    sliders.push_back(slider);
+  }
+  for (size_t a = 0; a < sliders.size(); ++a) {
+    for (size_t b = a + 1; b < sliders.size(); ++b) {
+      const PlanarDyad& first = sliders[a];
+      const PlanarDyad& second = sliders[b];
+      if (first.type != second.type) continue;
+      const double apart = first.type == DyadType::kPR
+                               ? (first.moving_pivot - second.moving_pivot).norm()
+                               : (first.fixed_pivot - second.fixed_pivot).norm();
+      if (apart >= 0.1 * length) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 // Five poses (exact) or more (the algebraic least-squares seed).
 void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
                           PlanarMotionResult* result) {
@@ -127,6 +163,20 @@ void SolveFivePosesOrMore(const Task& task, const PlanarMotionOptions& options,
     DyadReport report(dyad, dyad.MaxResidual(poses));
     report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
     result->dyads.push_back(report);
+  }
+  if (poses.size() == 5 && !summary.degenerate && relative > 1e-12 &&
+      CardanWithinPrecision(result->dyads, poses, task.precision, length)) {
+    // Two points of E run on lines within the data's precision: the poses are an elliptic
+    // trammel's (the Cardan motion, or its inversion for RP), whose slider dyads form a
+    // family. The rounded data only break that family into a few isolated roots.
+    result->dyads.clear();
+    result->notes.push_back(
+        "the pose constraints are dependent within the data's precision (relative " +
+        Format("%.2g", relative) +
+        "): two points run on straight lines within it, so the poses are the Cardan motion of "
+        "an elliptic trammel, where every point of a circle runs on a line: a family of slider "
+        "dyads, not isolated ones");
+    return;
   }
   std::sort(result->dyads.begin(), result->dyads.end(), DyadBefore);
   if (poses.size() > 5 && !summary.degenerate) {

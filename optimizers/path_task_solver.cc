@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "fitting/model_choice.h"
@@ -185,6 +186,21 @@ StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point
   return stage;
 }
 
+// `design` refined on the points under the prescribed timing, and its report; nothing when the
+// refiner cannot take it.
+std::optional<PathMechanismReport> RefinedReport(const PathData& data,
+                                                 const PathRefinerOptions& options,
+                                                 PathFourBar design) {
+  std::vector<double> angles = data.angles;
+  try {
+    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
+                      options);
+  } catch (const std::invalid_argument&) {
+    return std::nullopt;
+  }
+  return Report(design, data, data.angles);
+}
+
 // The model choice at the data's precision (fitting/model_choice.h) for a refined four-bar with
 // an RR output: the slider reading of the output circle on the coupler's poses at the points,
 // when it fits them within the poses' precision (TimedPathOptions::precision says how the
@@ -210,14 +226,9 @@ bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
   }
   PathFourBar candidate = design;
   candidate.output = simpler;
-  std::vector<double> angles = data.angles;
-  try {
-    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles,
-                      &candidate, options);
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
-  PathMechanismReport report = Report(candidate, data, data.angles);
+  const std::optional<PathMechanismReport> refined = RefinedReport(data, options, candidate);
+  if (!refined) return false;
+  PathMechanismReport report = *refined;
   if (!report.rms_point_error || report.defects.size() > circle.defects.size() ||
       !(*report.rms_point_error <=
         *circle.rms_point_error +
@@ -232,15 +243,9 @@ bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
 // Refines a report's four-bar on the points under the prescribed timing; the refined one
 // replaces it when it meets the points better. Returns whether it did.
 bool Polish(const PathData& data, const PathRefinerOptions& options, PathMechanismReport* report) {
-  PathFourBar design = report->design;
-  std::vector<double> angles = data.angles;
-  try {
-    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
-                      options);
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
-  PathMechanismReport refined = Report(design, data, data.angles);
+  const std::optional<PathMechanismReport> polished = RefinedReport(data, options, report->design);
+  if (!polished) return false;
+  PathMechanismReport refined = *polished;
   if (!refined.max_point_error || refined.defects.size() > report->defects.size() ||
       !(*refined.max_point_error <
         report->max_point_error.value_or(std::numeric_limits<double>::infinity()))) {
@@ -258,19 +263,13 @@ bool Polish(const PathData& data, const PathRefinerOptions& options, PathMechani
 // (an input angle's error turns the coupler point about as far), without defects.
 bool FitToPoints(const PathData& data, const PathRefinerOptions& options, const PathFourBar& seed,
                  PathMechanismReport* fitted) {
-  PathFourBar candidate = seed;
-  std::vector<double> angles = data.angles;
-  try {
-    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles,
-                      &candidate, options);
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
+  const std::optional<PathMechanismReport> refined = RefinedReport(data, options, seed);
+  if (!refined) return false;
+  const PathMechanismReport& report = *refined;
   double reach = 0.0;
   for (const Eigen::Vector2d& point : data.points) {
-    reach = std::max(reach, (point - candidate.input.fixed_pivot).norm());
+    reach = std::max(reach, (point - report.design.input.fixed_pivot).norm());
   }
-  PathMechanismReport report = Report(candidate, data, data.angles);
   if (!report.max_point_error || !report.defects.empty() ||
       !(*report.max_point_error <=
         kModelUnits * PointUncertainty(data.precision, reach, data.length, 2))) {

@@ -90,10 +90,7 @@ int RoundedFourBarsBack(DyadType output, int digits, int tasks, uint64_t seed) {
         testing::ReadRounded(testing::PathText(generated.points, generated.input_angles, digits));
     std::vector<Eigen::Vector2d> points;
     std::vector<double> angles;
-    for (const TimedPoint& point : task.points) {
-      points.push_back(point.point_in_fixed);
-      angles.push_back(*point.input_angle);
-    }
+    testing::TimedPoints(task, &points, &angles);
     const double length = PathLength(points);
     TimedPathOptions options;
     options.precision = task.precision;

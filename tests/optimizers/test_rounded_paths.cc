@@ -31,6 +31,26 @@ bool HasNote(const std::vector<std::string>& notes, const std::string& words) {
 // them as the construction says (complex numbers: e_j = a0 + p_j - a_j, f_j = e_j + z (a_j - a0),
 // g_j = b0 + p_j - b_j, h_j = g_j + (1 - z)(b_j - b0)). Assembled at that crank angle, one of
 // the cognate's configurations carries the coupler point to p_j.
+// A 4R path four-bar in its first configuration: crank pivot and pin, output pivot and pin,
+// coupler point.
+PathFourBar FourBarRR(const Eigen::Vector2d& pivot, const Eigen::Vector2d& pin,
+                      const Eigen::Vector2d& output_pivot, const Eigen::Vector2d& output_pin,
+                      const Eigen::Vector2d& coupler_point) {
+  PathFourBar four_bar;
+  four_bar.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  four_bar.output = PlanarDyad::RR(output_pivot, output_pin, (output_pin - output_pivot).norm());
+  four_bar.coupler_point = coupler_point;
+  return four_bar;
+}
+
+// RoundedPathRecovery of `expected` from the result of a task read from rounded text.
+double Recovery(const Task& task, const PathFourBar& expected, const PathResult& result) {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  return testing::RoundedPathRecovery(expected, result, points, angles);
+}
+
 TEST(RoundedPaths, RobertsCognatesPassTheSamePoints) {
   using Complex = std::complex<double>;
   const auto complex = [](const Eigen::Vector2d& v) { return Complex(v.x(), v.y()); };
@@ -119,14 +139,8 @@ TEST(RoundedPaths, EightDigitSliderCrankComesBackAsASliderCrank) {
                                    Eigen::Vector2d(0.49307455879381501, -0.99849974688872101),
                                    Eigen::Vector2d(0.9936673175469789, -0.11236219132337824));
   expected.coupler_point = Eigen::Vector2d(0.83975134040615163, -0.96198131027070799);
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  for (const TimedPoint& point : task.points) {
-    points.push_back(point.point_in_fixed);
-    angles.push_back(*point.input_angle);
-  }
   const PathResult result = SolvePathTask(task);
-  EXPECT_LE(testing::RoundedPathRecovery(expected, result, points, angles), 1.0);
+  EXPECT_LE(Recovery(task, expected, result), 1.0);
 }
 
 // Printed to 6 digits, this 4R is an exact root of the crank equations that the computed root
@@ -139,22 +153,12 @@ TEST(RoundedPaths, FourBarMeetingThePointsWithinPrecisionIsKept) {
   {"x": -0.884142, "y": 1.14738, "input_deg": -188.467},
   {"x": -0.596965, "y": 1.81033, "input_deg": -211.315},
   {"x": -0.0811296, "y": 2.30616, "input_deg": -233.467}]})");
-  PathFourBar expected;
-  const Eigen::Vector2d pivot(0.9319133246749467, 0.72722625338261682);
-  const Eigen::Vector2d pin(-0.34662727741267041, -0.30151128499114227);
-  const Eigen::Vector2d output_pivot(0.85775992487504849, 0.98961154186792033);
-  const Eigen::Vector2d output_pin(-0.81182779628433821, 0.43851239603467773);
-  expected.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
-  expected.output = PlanarDyad::RR(output_pivot, output_pin, (output_pin - output_pivot).norm());
-  expected.coupler_point = Eigen::Vector2d(-0.6055958243858004, -0.25649848572252343);
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  for (const TimedPoint& point : task.points) {
-    points.push_back(point.point_in_fixed);
-    angles.push_back(*point.input_angle);
-  }
+  const PathFourBar expected = FourBarRR(
+      {0.9319133246749467, 0.72722625338261682}, {-0.34662727741267041, -0.30151128499114227},
+      {0.85775992487504849, 0.98961154186792033}, {-0.81182779628433821, 0.43851239603467773},
+      {-0.6055958243858004, -0.25649848572252343});
   const PathResult result = SolvePathTask(task);
-  EXPECT_LE(testing::RoundedPathRecovery(expected, result, points, angles), 1.0);
+  EXPECT_LE(Recovery(task, expected, result), 1.0);
   for (const PathMechanismReport& mechanism : result.mechanisms) {
     if (mechanism.defects.empty() && mechanism.max_point_error) {
       EXPECT_LE(*mechanism.max_point_error, 2.0 * std::sqrt(2.0) * task.precision.length);
@@ -172,23 +176,13 @@ TEST(RoundedPaths, CrankTurnedComplexByRoundingIsRecovered) {
   {"x": -0.9285, "y": -0.2938, "input_deg": 140.0},
   {"x": -1.039, "y": -0.5592, "input_deg": 156.2},
   {"x": -1.033, "y": -1.116, "input_deg": 186.2}]})");
-  PathFourBar expected;
-  const Eigen::Vector2d pivot(-0.094028079908392237, -0.70972067966658225);
-  const Eigen::Vector2d pin(-0.2439947679907305, 0.5324779178554504);
-  const Eigen::Vector2d output_pivot(0.59661700532346917, -0.84831952585516002);
-  const Eigen::Vector2d output_pin(-0.82692465973922635, -0.75854612711903446);
-  expected.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
-  expected.output = PlanarDyad::RR(output_pivot, output_pin, (output_pin - output_pivot).norm());
-  expected.coupler_point = Eigen::Vector2d(-0.37338773128259561, 0.14606190294526966);
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  for (const TimedPoint& point : task.points) {
-    points.push_back(point.point_in_fixed);
-    angles.push_back(*point.input_angle);
-  }
+  const PathFourBar expected = FourBarRR(
+      {-0.094028079908392237, -0.70972067966658225}, {-0.2439947679907305, 0.5324779178554504},
+      {0.59661700532346917, -0.84831952585516002}, {-0.82692465973922635, -0.75854612711903446},
+      {-0.37338773128259561, 0.14606190294526966});
   const PathResult result = SolvePathTask(task);
   EXPECT_TRUE(HasNote(result.notes, "from complex crank roots"));
-  EXPECT_LE(testing::RoundedPathRecovery(expected, result, points, angles), 1.0);
+  EXPECT_LE(Recovery(task, expected, result), 1.0);
 }
 
 // A path whose data barely determine its four-bars says so (the error bounds beyond 1 % of the

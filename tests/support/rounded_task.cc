@@ -119,6 +119,16 @@ Task ReadRounded(const std::string& text, Effort effort) {
   return task;
 }
 
+void TimedPoints(const Task& task, std::vector<Eigen::Vector2d>* points,
+                 std::vector<double>* input_angles) {
+  points->clear();
+  input_angles->clear();
+  for (const TimedPoint& point : task.points) {
+    points->push_back(point.point_in_fixed);
+    if (point.input_angle) input_angles->push_back(*point.input_angle);
+  }
+}
+
 bool SaysTooCoarse(const std::vector<std::string>& notes) {
   return std::any_of(notes.begin(), notes.end(), [](const std::string& note) {
     return note.find("means nothing") != std::string::npos ||

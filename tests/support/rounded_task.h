@@ -34,6 +34,10 @@ std::string PathText(const std::vector<Eigen::Vector2d>& points,
 // The text parsed as a user's file (source "rounded"); `effort` replaces the default.
 Task ReadRounded(const std::string& text, Effort effort = Effort::kBalanced);
 
+// A path task's points and their input angles (radians; only those given).
+void TimedPoints(const Task& task, std::vector<Eigen::Vector2d>* points,
+                 std::vector<double>* input_angles);
+
 // What counts as recovered from rounded data (the tests and `linkfit bench`'s rounded-data
 // family judge alike).
 

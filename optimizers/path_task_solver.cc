@@ -259,20 +259,17 @@ bool Polish(const PathData& data, const PathRefinerOptions& options, PathMechani
 // A four-bar the five-point solver handed on (TimedPathSummary::to_fit): crank and output fitted
 // to the points together (least squares: 9 or 10 parameters on 10 coordinates). It is a
 // four-bar the data describe when it then passes every point within kModelUnits point
-// uncertainties: delta, and alpha times the largest distance of a point from the crank's pivot
-// (an input angle's error turns the coupler point about as far), without defects.
+// uncertainties: delta, and alpha times the crank's length (an input angle's error moves the
+// crank pin that far), without defects.
 bool FitToPoints(const PathData& data, const PathRefinerOptions& options, const PathFourBar& seed,
                  PathMechanismReport* fitted) {
   const std::optional<PathMechanismReport> refined = RefinedReport(data, options, seed);
   if (!refined) return false;
   const PathMechanismReport& report = *refined;
-  double reach = 0.0;
-  for (const Eigen::Vector2d& point : data.points) {
-    reach = std::max(reach, (point - report.design.input.fixed_pivot).norm());
-  }
   if (!report.max_point_error || !report.defects.empty() ||
       !(*report.max_point_error <=
-        kModelUnits * PointUncertainty(data.precision, reach, data.length, 2))) {
+        kModelUnits *
+            PointUncertainty(data.precision, report.design.input.radius, data.length, 2))) {
     return false;
   }
   *fitted = report;

@@ -46,6 +46,48 @@ Eigen::VectorXd ParameterMoves(const Eigen::MatrixXd& jacobian,
   return pseudo_inverse.cwiseAbs() * uncertainty;
 }
 
+// The step of the central differences below, in units of the task's scale L.
+constexpr double kCurvatureStep = 1e-4;
+
+// ParameterMoves near a double root (a fold: J nearly singular, as for the real part of a
+// complex pair that rounding made of two nearby dyads), where first order overstates the move
+// along J's weakest direction v without bound and the residuals' curvature limits it. With
+// sigma, w the smallest singular value and its left vector, kappa = |w . d^2r/dt^2| along v
+// (`residuals_at(t v)`, by central differences) and U = sum_j |w_j| uncertainty[j] + |w . r|,
+// the component t along v keeps sigma t + kappa t^2 / 2 within U of its value: |t| <= (sigma -
+// sqrt(sigma^2 - 2 kappa U)) / kappa on the dyad's side of the fold, (sigma + sqrt(sigma^2 + 2
+// kappa U)) / kappa across it. Each parameter gets the smaller of its first-order move and its
+// moves along the other directions plus |v_p| |t|.
+template <typename ResidualsAt>
+Eigen::VectorXd ParameterMovesNearFold(const Eigen::MatrixXd& jacobian,
+                                       const Eigen::VectorXd& residual,
+                                       const Eigen::VectorXd& uncertainty, double step,
+                                       const ResidualsAt& residuals_at) {
+  const Eigen::VectorXd first_order = ParameterMoves(jacobian, uncertainty);
+  if (first_order.size() == 0) return first_order;
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  const Eigen::Index weakest = sigma.size() - 1;
+  Eigen::VectorXd inverse = sigma.cwiseInverse();
+  inverse[weakest] = 0.0;
+  const Eigen::VectorXd others =
+      (svd.matrixV() * inverse.asDiagonal() * svd.matrixU().transpose()).cwiseAbs() * uncertainty;
+  const Eigen::VectorXd direction = svd.matrixV().col(weakest);
+  const Eigen::VectorXd left = svd.matrixU().col(weakest);
+  const Eigen::VectorXd curvature =
+      (residuals_at(step * direction) + residuals_at(-step * direction) - 2.0 * residual) /
+      (step * step);
+  const double kappa = std::abs(left.dot(curvature));
+  const double allowed = left.cwiseAbs().dot(uncertainty) + std::abs(left.dot(residual));
+  const double s = sigma[weakest];
+  if (!(kappa > 0.0)) return first_order;
+  const double discriminant = s * s - 2.0 * kappa * allowed;
+  const double along = discriminant > 0.0 ? 2.0 * allowed / (s + std::sqrt(discriminant))
+                                          : (s + std::sqrt(s * s + 2.0 * kappa * allowed)) / kappa;
+  const Eigen::VectorXd second_order = others + direction.cwiseAbs() * along;
+  return second_order.allFinite() ? first_order.cwiseMin(second_order) : first_order;
+}
+
 }  // namespace
 
 double PrecisionRatio(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
@@ -173,11 +215,12 @@ PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<Planar
   return dyad.AllFinite() ? dyad : start;
 }
 
-double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
-                      const DataPrecision& precision, double scale) {
+PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                                 const DataPrecision& precision, double scale) {
   const bool rr = dyad.type == DyadType::kRR, pr = dyad.type == DyadType::kPR;
   const int n = static_cast<int>(poses.size());
-  if (n < (rr ? 5 : 4)) return std::numeric_limits<double>::infinity();
+  PlanarDyadBounds bounds;
+  if (n < (rr ? 5 : 4)) return bounds;
   Eigen::VectorXd residual, uncertainty(n);
   Eigen::MatrixXd jacobian;
   DyadResiduals(dyad, poses, &residual, &jacobian);
@@ -194,56 +237,177 @@ double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& pos
     uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
   }
   const Eigen::VectorXd moves = ParameterMoves(jacobian, uncertainty);
-  if (moves.size() == 0) return std::numeric_limits<double>::infinity();
-  double bound = std::max(moves[0], moves[1]) * std::sqrt(2.0);
+  if (moves.size() == 0) return bounds;
+  const auto finite = [](double value) {
+    return std::isfinite(value) ? value : std::numeric_limits<double>::infinity();
+  };
+  // The first pivot's (RR and RP: the fixed one; PR: the moving one) two coordinates.
+  const double first = finite(std::max(moves[0], moves[1]) * std::sqrt(2.0));
   if (rr) {
-    bound = std::max({bound, std::sqrt(2.0) * std::max(moves[2], moves[3]), moves[4]});
+    bounds.fixed_pivot = first;
+    bounds.moving_pivot = finite(std::sqrt(2.0) * std::max(moves[2], moves[3]));
+    bounds.radius = finite(moves[4]);
   } else {
-    bound = std::max(bound, moves[3] + moves[2] * extent);
+    (pr ? bounds.moving_pivot : bounds.fixed_pivot) = first;
+    bounds.line = finite(moves[3] + moves[2] * extent);
   }
-  return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
+  return bounds;
 }
 
-double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
+double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                       const DataPrecision& precision, double scale) {
-  const bool ss = dyad.type == SpatialDyadType::kSS, sp = dyad.type == SpatialDyadType::kSP;
-  const int parameters = ss ? 7 : 6;
-  const int n = static_cast<int>(poses.size());
-  if (n < parameters) return std::numeric_limits<double>::infinity();
-  Eigen::MatrixXd jacobian(n, parameters);
-  Eigen::VectorXd uncertainty(n);
-  // Two directions tangent to the normal: its turns.
-  const Eigen::Vector3d& normal = dyad.plane_normal;
+  const PlanarDyadBounds bounds = DyadErrorBounds(dyad, poses, precision, scale);
+  switch (dyad.type) {
+    case DyadType::kRR:
+      return std::max({bounds.fixed_pivot, bounds.moving_pivot, bounds.radius});
+    case DyadType::kPR:
+      return std::max(bounds.moving_pivot, bounds.line);
+    case DyadType::kRP:
+      return std::max(bounds.fixed_pivot, bounds.line);
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+namespace {
+
+// Two unit vectors tangent to a plane normal: the directions it turns in.
+void NormalTurns(const Eigen::Vector3d& normal, Eigen::Vector3d* turn1, Eigen::Vector3d* turn2) {
   int k = 0;
   normal.cwiseAbs().minCoeff(&k);
-  const Eigen::Vector3d tangent1 = normal.cross(Eigen::Vector3d::Unit(k)).normalized();
-  const Eigen::Vector3d tangent2 = normal.cross(tangent1);
-  double extent = 0.0;
+  *turn1 = normal.cross(Eigen::Vector3d::Unit(k)).normalized();
+  *turn2 = normal.cross(*turn1);
+}
+
+// A pose's rotation and translation, evaluated once (the fits evaluate residuals many times).
+struct SpatialFrame {
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+};
+
+std::vector<SpatialFrame> SpatialFrames(const std::vector<DualQuaternion>& poses) {
+  std::vector<SpatialFrame> frames;
+  frames.reserve(poses.size());
+  for (const DualQuaternion& pose : poses) frames.push_back({pose.Rotation(), pose.Translation()});
+  return frames;
+}
+
+// The residuals of a spatial dyad at the poses and their Jacobian in its parameters: SS (A, c,
+// r); PS (c, the normal's two turns, offset); SP (A, the turns, offset). *extent (PS, SP) gets
+// how far the constrained point runs from the plane's foot. Returns the sum of squares.
+double SpatialDyadResiduals(const SpatialDyad& dyad, const std::vector<SpatialFrame>& frames,
+                            Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian,
+                            double* extent = nullptr) {
+  const bool ss = dyad.type == SpatialDyadType::kSS, sp = dyad.type == SpatialDyadType::kSP;
+  const int n = static_cast<int>(frames.size());
+  residual->resize(n);
+  if (jacobian != nullptr) jacobian->resize(n, ss ? 7 : 6);
+  Eigen::Vector3d turn1, turn2;
+  NormalTurns(dyad.plane_normal, &turn1, &turn2);
+  const Eigen::Vector3d& normal = dyad.plane_normal;
   for (int j = 0; j < n; ++j) {
-    const Eigen::Matrix3d rotation = poses[j].Rotation();
-    const Eigen::Vector3d translation = poses[j].Translation();
+    const Eigen::Matrix3d& rotation = frames[j].rotation;
+    const Eigen::Vector3d& translation = frames[j].translation;
+    (*residual)[j] = dyad.Residual(rotation, translation);
     if (ss) {
+      if (jacobian == nullptr) continue;
       const Eigen::Vector3d u =
           (rotation * dyad.moving_pivot + translation - dyad.fixed_pivot).normalized();
-      jacobian.block<1, 3>(j, 0) = -u.transpose();
-      jacobian.block<1, 3>(j, 3) = u.transpose() * rotation;
-      jacobian(j, 6) = -1.0;
+      jacobian->block<1, 3>(j, 0) = -u.transpose();
+      jacobian->block<1, 3>(j, 3) = u.transpose() * rotation;
+      (*jacobian)(j, 6) = -1.0;
     } else {
       // PS: the moving point in Sigma on n . X = h; SP: the fixed point in E on n . x = h.
       const Eigen::Vector3d point =
           sp ? Eigen::Vector3d(rotation.transpose() * (dyad.fixed_pivot - translation))
              : Eigen::Vector3d(rotation * dyad.moving_pivot + translation);
-      jacobian.block<1, 3>(j, 0) = sp ? Eigen::RowVector3d((rotation * normal).transpose())
-                                      : Eigen::RowVector3d(normal.transpose() * rotation);
-      jacobian(j, 3) = tangent1.dot(point);
-      jacobian(j, 4) = tangent2.dot(point);
-      jacobian(j, 5) = -1.0;
-      extent = std::max(extent, (point - dyad.plane_offset * normal).norm());
+      if (extent != nullptr) {
+        *extent = std::max(*extent, (point - dyad.plane_offset * normal).norm());
+      }
+      if (jacobian == nullptr) continue;
+      jacobian->block<1, 3>(j, 0) = sp ? Eigen::RowVector3d((rotation * normal).transpose())
+                                       : Eigen::RowVector3d(normal.transpose() * rotation);
+      (*jacobian)(j, 3) = turn1.dot(point);
+      (*jacobian)(j, 4) = turn2.dot(point);
+      (*jacobian)(j, 5) = -1.0;
     }
-    const double distance = sp ? (dyad.fixed_pivot - translation).norm() : dyad.moving_pivot.norm();
+  }
+  return residual->squaredNorm();
+}
+
+// The dyad moved by -step in the parameters of SpatialDyadResiduals (the normal turned about
+// its current turns and normalized).
+SpatialDyad SpatialDyadStep(const SpatialDyad& dyad, const Eigen::VectorXd& step) {
+  SpatialDyad next = dyad;
+  if (dyad.type == SpatialDyadType::kSS) {
+    next.fixed_pivot -= step.head<3>();
+    next.moving_pivot -= step.segment<3>(3);
+    next.radius -= step[6];
+    return next;
+  }
+  Eigen::Vector3d turn1, turn2;
+  NormalTurns(dyad.plane_normal, &turn1, &turn2);
+  (dyad.type == SpatialDyadType::kPS ? next.moving_pivot : next.fixed_pivot) -= step.head<3>();
+  next.plane_normal = (dyad.plane_normal - step[3] * turn1 - step[4] * turn2).normalized();
+  next.plane_offset -= step[5];
+  return next;
+}
+
+}  // namespace
+
+SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<DualQuaternion>& poses,
+                                int iterations) {
+  // A step that changes the cost by less than this fraction ends the fit: converged.
+  constexpr double kConverged = 1e-12;
+  const std::vector<SpatialFrame> frames = SpatialFrames(poses);
+  SpatialDyad dyad = start;
+  Eigen::VectorXd residual, trial_residual;
+  Eigen::MatrixXd jacobian;
+  double cost = SpatialDyadResiduals(dyad, frames, &residual, &jacobian);
+  double damping = 1e-3;
+  for (int iteration = 0; iteration < iterations && std::isfinite(cost) && cost > 0.0;
+       ++iteration) {
+    Eigen::MatrixXd damped = jacobian.transpose() * jacobian;
+    damped.diagonal() *= 1.0 + damping;
+    const Eigen::VectorXd step = damped.ldlt().solve(jacobian.transpose() * residual);
+    if (!step.allFinite()) break;
+    const SpatialDyad trial = SpatialDyadStep(dyad, step);
+    const double trial_cost = SpatialDyadResiduals(trial, frames, &trial_residual, nullptr);
+    if (trial_cost < cost) {
+      dyad = trial;
+      const double previous = cost;
+      cost = SpatialDyadResiduals(dyad, frames, &residual, &jacobian);
+      if (previous - cost <= kConverged * previous) break;
+      damping = std::max(damping / 10.0, 1e-12);
+    } else {
+      if (trial_cost - cost <= kConverged * cost) break;  // at the minimum, to rounding
+      damping *= 10.0;
+      if (damping > 1e12) break;
+    }
+  }
+  return dyad.AllFinite() ? dyad : start;
+}
+
+double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
+                      const DataPrecision& precision, double scale) {
+  const bool ss = dyad.type == SpatialDyadType::kSS, sp = dyad.type == SpatialDyadType::kSP;
+  const int n = static_cast<int>(poses.size());
+  if (n < (ss ? 7 : 6)) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd residual, uncertainty(n);
+  Eigen::MatrixXd jacobian;
+  double extent = 0.0;
+  const std::vector<SpatialFrame> frames = SpatialFrames(poses);
+  SpatialDyadResiduals(dyad, frames, &residual, &jacobian, &extent);
+  for (int j = 0; j < n; ++j) {
+    const double distance =
+        sp ? (dyad.fixed_pivot - frames[j].translation).norm() : dyad.moving_pivot.norm();
     uncertainty[j] = PointUncertainty(precision, distance, scale, 3);
   }
-  const Eigen::VectorXd moves = ParameterMoves(jacobian, uncertainty);
+  const Eigen::VectorXd moves = ParameterMovesNearFold(
+      jacobian, residual, uncertainty, kCurvatureStep * scale, [&](const Eigen::VectorXd& step) {
+        Eigen::VectorXd moved;
+        SpatialDyadResiduals(SpatialDyadStep(dyad, -step), frames, &moved, nullptr);
+        return moved;
+      });
   if (moves.size() == 0) return std::numeric_limits<double>::infinity();
   const double point_move = std::sqrt(3.0) * moves.head<3>().maxCoeff();
   double bound = point_move;

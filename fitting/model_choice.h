@@ -14,6 +14,7 @@
 #ifndef LINKFIT_FITTING_MODEL_CHOICE_H_
 #define LINKFIT_FITTING_MODEL_CHOICE_H_
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -47,8 +48,24 @@ double PrecisionRatio(const SpatialDyad& dyad, const std::vector<DualQuaternion>
 double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                       const DataPrecision& precision, double scale);
 
+// The parts of the planar DyadErrorBound (its largest): how far the data's precision can move
+// each pivot, the radius and the line (the normal's angle error times the extent of the line
+// the pivot sweeps, plus the offset's), in length units; infinity for a part the dyad does not
+// have or the poses do not determine.
+struct PlanarDyadBounds {
+  double fixed_pivot = std::numeric_limits<double>::infinity();   // RR, RP
+  double moving_pivot = std::numeric_limits<double>::infinity();  // RR, PR
+  double radius = std::numeric_limits<double>::infinity();        // RR
+  double line = std::numeric_limits<double>::infinity();          // PR, RP
+};
+PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                                 const DataPrecision& precision, double scale);
+
 // The same in space: SS (A, c, r), PS (c, the normal's two tangent turns, offset), SP (A, normal,
-// offset).
+// offset). Near a double root of the seven-pose problem (J nearly singular: the real part of a
+// complex pair that rounding made of two nearby dyads) the move along J's weakest direction is
+// bounded to second order, by the residuals' curvature along it, where first order grows
+// without bound.
 double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
                       const DataPrecision& precision, double scale);
 
@@ -58,6 +75,10 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
 // by rounding (its slider reading), the real part of a complex root pair.
 PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
                                int iterations);
+// The same in space, in the parameters of the spatial DyadErrorBound (the plane normal turned
+// about itself): the real part of a complex root pair of the seven-pose problem.
+SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<DualQuaternion>& poses,
+                                int iterations);
 
 // The note of a condition-based error bound: "condition estimate K with data precise to p
 // (relative): the dyads may be off by up to about B of their size", and, when B >= 1, that the

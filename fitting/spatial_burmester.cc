@@ -408,6 +408,9 @@ SpatialDyad PolishGeometric(SpatialDyad dyad, const std::vector<Frame>& frames, 
   return dyad;
 }
 
+// Levenberg-Marquardt steps for the real part of a complex root.
+constexpr int kComplexFitIterations = 50;
+
 struct Reading {
   SpatialDyad dyad;
   double max_residual = 0.0;
@@ -500,9 +503,18 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
   precision.length /= length;
   const bool coarse = RelativePrecision(precision, 1.0) > 1e-12;
   std::vector<Reading> found;
+  std::vector<std::pair<Eigen::Vector4d, Eigen::Vector4d>> real_parts;  // of complex roots
   for (const BilinearRoot& root : roots) {
     if (!root.real && !coarse) continue;
     const Eigen::Vector4d a = root.a.real(), c = root.c.real();
+    if (!root.real) {
+      // A complex-conjugate pair has one real part: fitted once.
+      const bool pair = std::any_of(real_parts.begin(), real_parts.end(), [&](const auto& seen) {
+        return (seen.first - a).norm() < 1e-9 && (seen.second - c).norm() < 1e-9;
+      });
+      if (pair) continue;
+      real_parts.emplace_back(a, c);
+    }
     Reading readings[3];
     int readings_count = 0;
     // Sphere: center A = a/a4, point c/c4; r^2 = P0 + |c|^2 + |A|^2 (from P0 = A0 c4 -
@@ -560,7 +572,23 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
       return chosen;
     };
     int chosen = choose();
-    if (n == 7) {
+    if (!root.real) {
+      // The real part of a complex root: the chosen reading fitted to the poses by least squares
+      // (Levenberg-Marquardt: near the double root that rounding split there is no exact real
+      // dyad, and Gauss-Newton's square steps overshoot the fold); when that does not fit
+      // within precision, the other readings too, typed again.
+      const auto fit = [&](Reading* reading) {
+        reading->dyad = FitDyadLeastSquares(reading->dyad, normalized, kComplexFitIterations);
+        reading->max_residual = MaxResidual(reading->dyad, frames);
+      };
+      fit(&readings[chosen]);
+      if (!(PrecisionRatio(readings[chosen].dyad, normalized, precision, 1.0) <= kModelUnits)) {
+        for (int i = 0; i < readings_count; ++i) {
+          if (i != chosen) fit(&readings[i]);
+        }
+        chosen = choose();
+      }
+    } else if (n == 7) {
       Reading& first = readings[chosen];
       first.dyad = PolishGeometric(first.dyad, frames, options.newton_iterations);
       first.max_residual = MaxResidual(first.dyad, frames);
@@ -575,11 +603,9 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
     }
     if (!std::isfinite(readings[chosen].max_residual)) continue;
     if (!root.real) {
-      // The real part of a complex root: kept when its dyad, fitted to the poses, fits them
-      // within precision, and once for a conjugate pair.
-      Reading& reading = readings[chosen];
-      reading.dyad = PolishGeometric(reading.dyad, frames, 20);
-      reading.max_residual = MaxResidual(reading.dyad, frames);
+      // The real part of a complex root: kept when its fitted dyad fits the poses within
+      // precision, and once for a conjugate pair.
+      const Reading& reading = readings[chosen];
       if (!(PrecisionRatio(reading.dyad, normalized, precision, 1.0) <= kModelUnits)) continue;
       const bool repeat = std::any_of(found.begin(), found.end(), [&](const Reading& other) {
         return other.dyad.type == reading.dyad.type &&

@@ -5,6 +5,7 @@
 #include <random>
 #include <tuple>
 
+#include "fitting/model_choice.h"
 #include "fitting/spatial_burmester.h"
 #include "tests/support/bilinear_homotopy.h"
 #include "tests/support/random_spatial.h"
@@ -54,6 +55,28 @@ TEST(SpatialBurmester, RandomSevenPosesGiveTwentyVerifiedRoots) {
     EXPECT_EQ(summary.roots_verified, 20);
     EXPECT_EQ(static_cast<int>(dyads.size()) + summary.imaginary_spheres, summary.roots_real);
     for (const SpatialDyad& dyad : dyads) EXPECT_LT(dyad.MaxResidual(poses), kResidualTolerance);
+  }
+}
+
+TEST(SpatialBurmester, LeastSquaresFitOfADyadReturnsTheExactOneFromNearby) {
+  // The fit the real part of a complex root gets (fitting/model_choice.h): from an SS, PS or SP
+  // dyad moved by 1e-3, Levenberg-Marquardt on seven exact poses of the dyad returns it.
+  std::mt19937_64 rng(31);
+  for (const SpatialDyadType type :
+       {SpatialDyadType::kSS, SpatialDyadType::kPS, SpatialDyadType::kSP}) {
+    SCOPED_TRACE(SpatialDyadTypeName(type));
+    const DualQuaternion start = testing::RandomSpatialPose(rng);
+    const SpatialDyad dyad = testing::DyadsThroughPose(rng, start, {type})[0];
+    const std::vector<DualQuaternion> poses = testing::PosesOnDyads(rng, {dyad}, start, 7);
+    SpatialDyad moved = dyad;
+    moved.fixed_pivot += Eigen::Vector3d(1e-3, -1e-3, 1e-3);
+    moved.moving_pivot += Eigen::Vector3d(-1e-3, 1e-3, 1e-3);
+    moved.radius += 1e-3;
+    moved.plane_normal = (moved.plane_normal + Eigen::Vector3d(1e-3, 0.0, -1e-3)).normalized();
+    moved.plane_offset += 1e-3;
+    const SpatialDyad fitted = FitDyadLeastSquares(moved, poses, 50);
+    EXPECT_LT(fitted.MaxResidual(poses), kResidualTolerance);
+    EXPECT_LT(testing::SpatialDyadDistance(fitted, dyad), kRecoveryTolerance);
   }
 }
 

@@ -334,16 +334,24 @@ Verdict SolveRoundedPlanar(const testing::GeneratedTask& generated, int digits) 
   return verdict;
 }
 
+// A rounded spatial task text read and solved: the verdict's task file, finiteness and model.
+Verdict SolveRoundedText(const std::string& text, Task* task, SpatialMotionResult* result) {
+  *task = testing::ReadRounded(text);
+  *result = SolveSpatialTask(*task);
+  Verdict verdict;
+  verdict.task_text = text;
+  verdict.finite = AllFinite(*result);
+  verdict.kind = result->model;
+  return verdict;
+}
+
 // Seven spatial poses from rounded data: the five generating SS dyads within their bounds.
 Verdict SolveRoundedSpatial(const PlantedSpatialTask& generated, int digits,
                             testing::SpatialForm form) {
-  const std::string text = testing::SpatialMotionText(generated.poses, digits, form);
-  const Task task = testing::ReadRounded(text);
-  const SpatialMotionResult result = SolveSpatialTask(task);
-  Verdict verdict;
-  verdict.task_text = text;
-  verdict.finite = AllFinite(result);
-  verdict.kind = result.model;
+  Task task;
+  SpatialMotionResult result;
+  Verdict verdict =
+      SolveRoundedText(testing::SpatialMotionText(generated.poses, digits, form), &task, &result);
   const double length = SpatialTaskLength(task);
   bool undetermined = false;
   verdict.error = 0.0;
@@ -368,13 +376,10 @@ Verdict SolveRoundedPlanarAsSpatial(const testing::GeneratedTask& generated, int
         Eigen::Vector3d::UnitZ(), pose.theta,
         Eigen::Vector3d(pose.origin_in_fixed.x(), pose.origin_in_fixed.y(), 0.0)));
   }
-  const std::string text = testing::SpatialMotionText(poses, digits, form);
-  const Task task = testing::ReadRounded(text);
-  const SpatialMotionResult result = SolveSpatialTask(task);
-  Verdict verdict;
-  verdict.task_text = text;
-  verdict.finite = AllFinite(result);
-  verdict.kind = result.model;
+  Task task;
+  SpatialMotionResult result;
+  Verdict verdict =
+      SolveRoundedText(testing::SpatialMotionText(poses, digits, form), &task, &result);
   verdict.tolerance = 1.0;
   if (result.model != "planar" || !result.planar || !result.plane) return verdict;
   // The planar dyads mapped to z = 0 coordinates (the plane's normal may point down).

@@ -184,34 +184,54 @@ double DyadResiduals(const PlanarDyad& dyad, const std::vector<PlanarPose>& pose
   return residual->squaredNorm();
 }
 
-}  // namespace
-
-PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
-                               int iterations) {
-  Eigen::VectorXd x = DyadParameters(start);
-  PlanarDyad dyad = DyadOf(start.type, x);
+// Levenberg-Marquardt for both dyad fits: `residuals(state, &r, &J or nullptr)` returns the sum
+// of squares, `step(state, delta)` the state moved by -delta. `converged` > 0: a relative cost
+// change below it (accepted or rejected step) ends the fit; 0 runs to the iteration limit.
+template <typename State, typename Residuals, typename Step>
+State LevenbergMarquardt(State state, int iterations, double converged, const Residuals& residuals,
+                         const Step& step) {
   Eigen::VectorXd residual, trial_residual;
   Eigen::MatrixXd jacobian;
-  double cost = DyadResiduals(dyad, poses, &residual, &jacobian);
+  double cost = residuals(state, &residual, &jacobian);
   double damping = 1e-3;
   for (int iteration = 0; iteration < iterations && std::isfinite(cost) && cost > 0.0;
        ++iteration) {
     Eigen::MatrixXd damped = jacobian.transpose() * jacobian;
     damped.diagonal() *= 1.0 + damping;
-    const Eigen::VectorXd step = damped.ldlt().solve(jacobian.transpose() * residual);
-    if (!step.allFinite()) break;
-    const PlanarDyad trial = DyadOf(start.type, x - step);
-    const double trial_cost = DyadResiduals(trial, poses, &trial_residual, nullptr);
+    const Eigen::VectorXd delta = damped.ldlt().solve(jacobian.transpose() * residual);
+    if (!delta.allFinite()) break;
+    const State trial = step(state, delta);
+    const double trial_cost = residuals(trial, &trial_residual, nullptr);
     if (trial_cost < cost) {
-      x -= step;
-      dyad = trial;
-      cost = DyadResiduals(dyad, poses, &residual, &jacobian);
+      state = trial;
+      const double previous = cost;
+      cost = residuals(state, &residual, &jacobian);
+      if (converged > 0.0 && previous - cost <= converged * previous) break;
       damping = std::max(damping / 10.0, 1e-12);
     } else {
+      // At the minimum, to rounding.
+      if (converged > 0.0 && trial_cost - cost <= converged * cost) break;
       damping *= 10.0;
       if (damping > 1e12) break;
     }
   }
+  return state;
+}
+
+}  // namespace
+
+PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
+                               int iterations) {
+  // In the dyad's parameters (DyadParameters), run to the iteration limit.
+  const auto residuals = [&](const Eigen::VectorXd& x, Eigen::VectorXd* residual,
+                             Eigen::MatrixXd* jacobian) {
+    return DyadResiduals(DyadOf(start.type, x), poses, residual, jacobian);
+  };
+  const auto step = [](const Eigen::VectorXd& x, const Eigen::VectorXd& delta) {
+    return Eigen::VectorXd(x - delta);
+  };
+  const PlanarDyad dyad = DyadOf(
+      start.type, LevenbergMarquardt(DyadParameters(start), iterations, 0.0, residuals, step));
   return dyad.AllFinite() ? dyad : start;
 }
 
@@ -359,31 +379,12 @@ SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<Dual
   // A step that changes the cost by less than this fraction ends the fit: converged.
   constexpr double kConverged = 1e-12;
   const std::vector<SpatialFrame> frames = SpatialFrames(poses);
-  SpatialDyad dyad = start;
-  Eigen::VectorXd residual, trial_residual;
-  Eigen::MatrixXd jacobian;
-  double cost = SpatialDyadResiduals(dyad, frames, &residual, &jacobian);
-  double damping = 1e-3;
-  for (int iteration = 0; iteration < iterations && std::isfinite(cost) && cost > 0.0;
-       ++iteration) {
-    Eigen::MatrixXd damped = jacobian.transpose() * jacobian;
-    damped.diagonal() *= 1.0 + damping;
-    const Eigen::VectorXd step = damped.ldlt().solve(jacobian.transpose() * residual);
-    if (!step.allFinite()) break;
-    const SpatialDyad trial = SpatialDyadStep(dyad, step);
-    const double trial_cost = SpatialDyadResiduals(trial, frames, &trial_residual, nullptr);
-    if (trial_cost < cost) {
-      dyad = trial;
-      const double previous = cost;
-      cost = SpatialDyadResiduals(dyad, frames, &residual, &jacobian);
-      if (previous - cost <= kConverged * previous) break;
-      damping = std::max(damping / 10.0, 1e-12);
-    } else {
-      if (trial_cost - cost <= kConverged * cost) break;  // at the minimum, to rounding
-      damping *= 10.0;
-      if (damping > 1e12) break;
-    }
-  }
+  const auto residuals = [&](const SpatialDyad& dyad, Eigen::VectorXd* residual,
+                             Eigen::MatrixXd* jacobian) {
+    return SpatialDyadResiduals(dyad, frames, residual, jacobian);
+  };
+  const SpatialDyad dyad =
+      LevenbergMarquardt(start, iterations, kConverged, residuals, SpatialDyadStep);
   return dyad.AllFinite() ? dyad : start;
 }
 
@@ -431,20 +432,29 @@ std::string ConditionNote(double condition, double relative_precision, double bo
   return text;
 }
 
+namespace {
+
+// The total-least-squares line through `points`: its foot from the origin and its direction.
+std::pair<Eigen::Vector2d, Eigen::Vector2d> LineThrough(
+    const std::vector<Eigen::Vector2d>& points) {
+  const FittedHyperplane<2> line = FitHyperplane<2>(points);
+  return {line.offset * line.normal, Eigen::Vector2d(-line.normal.y(), line.normal.x())};
+}
+
+}  // namespace
+
 PlanarDyad FitSliderPR(const PlanarDyad& circle, const std::vector<PlanarPose>& poses) {
   std::vector<Eigen::Vector2d> points;
   for (const PlanarPose& pose : poses) points.push_back(pose.ToFixed(circle.moving_pivot));
-  const FittedHyperplane<2> line = FitHyperplane<2>(points);
-  return PlanarDyad::PR(circle.moving_pivot, line.offset * line.normal,
-                        Eigen::Vector2d(-line.normal.y(), line.normal.x()));
+  const auto [foot, direction] = LineThrough(points);
+  return PlanarDyad::PR(circle.moving_pivot, foot, direction);
 }
 
 PlanarDyad FitSliderRP(const PlanarDyad& circle, const std::vector<PlanarPose>& poses) {
   std::vector<Eigen::Vector2d> points;
   for (const PlanarPose& pose : poses) points.push_back(pose.ToMoving(circle.fixed_pivot));
-  const FittedHyperplane<2> line = FitHyperplane<2>(points);
-  return PlanarDyad::RP(circle.fixed_pivot, line.offset * line.normal,
-                        Eigen::Vector2d(-line.normal.y(), line.normal.x()));
+  const auto [foot, direction] = LineThrough(points);
+  return PlanarDyad::RP(circle.fixed_pivot, foot, direction);
 }
 
 SpatialDyad FitPlanePS(const SpatialDyad& sphere, const std::vector<DualQuaternion>& poses) {

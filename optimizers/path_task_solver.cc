@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "fitting/model_choice.h"
+#include "fitting/nine_point_path.h"
 #include "fitting/planar_motion.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
@@ -34,6 +35,9 @@ constexpr int kAlternations = 3;
 // Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
+// Free timing from nine points or more (balanced and thorough): the four-bars through nine of
+// the points (fitting/nine_point_path.h) with the smallest error on all of them, refined.
+constexpr int kNinePointRefined = 8;
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -449,6 +453,39 @@ void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
   *report = refined;
 }
 
+// Free timing, nine points or more: every four-bar whose coupler curve passes nine of them,
+// spread along the path (fitting/nine_point_path.h), each given the timing it gives all the
+// points (ProjectTiming, the direction with the points in order and the smaller error); the
+// kNinePointRefined of smallest error are returned.
+std::vector<PathMechanismReport> NinePointSeeds(const PathData& data) {
+  const int count = static_cast<int>(data.points.size());
+  std::vector<Eigen::Vector2d> nine;
+  for (int k = 0; k < 9; ++k) {
+    nine.push_back(data.points[static_cast<size_t>(std::lround(k * (count - 1) / 8.0))]);
+  }
+  std::vector<PathFourBar> four_bars;
+  SolveNinePointPath(nine, NinePointOptions(), &four_bars);
+  std::vector<PathMechanismReport> seeds;
+  for (const PathFourBar& four_bar : four_bars) {
+    std::optional<PathMechanismReport> best;
+    for (const double direction : {1.0, -1.0}) {
+      const std::optional<std::vector<double>> angles = ProjectTiming(four_bar, data, direction);
+      if (!angles || !Monotonic(*angles)) continue;
+      PathMechanismReport report = Report(four_bar, data, *angles);
+      report.input_angles = *angles;
+      if (!report.max_point_error) continue;
+      if (!best || *report.max_point_error < *best->max_point_error) best = report;
+    }
+    if (best) seeds.push_back(*best);
+  }
+  std::sort(seeds.begin(), seeds.end(),
+            [](const PathMechanismReport& a, const PathMechanismReport& b) {
+              return *a.max_point_error < *b.max_point_error;
+            });
+  if (static_cast<int>(seeds.size()) > kNinePointRefined) seeds.resize(kNinePointRefined);
+  return seeds;
+}
+
 // Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
 // four-bars of each guess, refined with the angles free (RefineFreeTiming).
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
@@ -493,10 +530,30 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     }
   }
   result->stages.push_back(Stage("seed", stage_start, candidates));
+  std::vector<PathMechanismReport> homotopy_seeds;
+  if (task.effort != Effort::kFast && count >= 9) {
+    const auto homotopy_start = std::chrono::steady_clock::now();
+    homotopy_seeds = NinePointSeeds(data);
+    result->stages.push_back(Stage("nine-point homotopy", homotopy_start, homotopy_seeds));
+  }
   if (task.effort != Effort::kFast) {
     const auto refine_start = std::chrono::steady_clock::now();
-    for (PathMechanismReport& candidate : candidates) {
+    for (PathMechanismReport& candidate : homotopy_seeds) {
       RefineFreeTiming(data, options.path_refiner, &candidate);
+    }
+    // A four-bar through every point within the data's precision: the guessed timings' seeds
+    // can only come to the same curve or to a worse fit; they are not refined.
+    const std::optional<double> best = BestMaxError(homotopy_seeds);
+    const bool exact = best && *best <= std::max(1e-8 * data.length,
+                                                 kModelUnits * PointUncertainty(data.precision, 0.0,
+                                                                                data.length, 2));
+    if (exact) {
+      candidates = homotopy_seeds;
+    } else {
+      for (PathMechanismReport& candidate : candidates) {
+        RefineFreeTiming(data, options.path_refiner, &candidate);
+      }
+      candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
     }
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }

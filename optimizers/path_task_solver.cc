@@ -96,6 +96,13 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   return report;
 }
 
+// How far a four-bar may miss a point and still pass it within the data's precision:
+// kModelUnits point uncertainties (PointUncertainty) of a point `reach` from the moving body's
+// reference (an input angle's error moves the crank pin by alpha times the crank).
+double PointTolerance(const PathData& data, double reach) {
+  return kModelUnits * PointUncertainty(data.precision, reach, data.length, 2);
+}
+
 // Defect-free first, then those that meet every point, then by error (RMS for least squares,
 // largest for exact synthesis).
 void Rank(bool least_squares, std::vector<PathMechanismReport>* mechanisms) {
@@ -234,9 +241,7 @@ bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
   if (!refined) return false;
   PathMechanismReport report = *refined;
   if (!report.rms_point_error || report.defects.size() > circle.defects.size() ||
-      !(*report.rms_point_error <=
-        *circle.rms_point_error +
-            kModelUnits * PointUncertainty(data.precision, 0.0, data.length, 2))) {
+      !(*report.rms_point_error <= *circle.rms_point_error + PointTolerance(data, 0.0))) {
     return false;
   }
   report.seed_max_point_error = circle.seed_max_point_error;
@@ -271,9 +276,7 @@ bool FitToPoints(const PathData& data, const PathRefinerOptions& options, const 
   if (!refined) return false;
   const PathMechanismReport& report = *refined;
   if (!report.max_point_error || !report.defects.empty() ||
-      !(*report.max_point_error <=
-        kModelUnits *
-            PointUncertainty(data.precision, report.design.input.radius, data.length, 2))) {
+      !(*report.max_point_error <= PointTolerance(data, report.design.input.radius))) {
     return false;
   }
   *fitted = report;
@@ -544,9 +547,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     // A four-bar through every point within the data's precision: the guessed timings' seeds
     // can only come to the same curve or to a worse fit; they are not refined.
     const std::optional<double> best = BestMaxError(homotopy_seeds);
-    const bool exact = best && *best <= std::max(1e-8 * data.length,
-                                                 kModelUnits * PointUncertainty(data.precision, 0.0,
-                                                                                data.length, 2));
+    const bool exact = best && *best <= std::max(1e-8 * data.length, PointTolerance(data, 0.0));
     if (exact) {
       candidates = homotopy_seeds;
     } else {

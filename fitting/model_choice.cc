@@ -34,11 +34,17 @@ FittedHyperplane<N> FitHyperplane(const std::vector<Eigen::Matrix<double, N, 1>>
   return plane;
 }
 
+using JacobianSvd = Eigen::JacobiSVD<Eigen::MatrixXd>;
+
+JacobianSvd SvdOf(const Eigen::MatrixXd& jacobian) {
+  return JacobianSvd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
+}
+
 // Each parameter's first-order move when residual j may move by uncertainty[j]:
-// |J^+| uncertainty; empty when J is rank-deficient (the poses do not determine the dyad).
-Eigen::VectorXd ParameterMoves(const Eigen::MatrixXd& jacobian,
-                               const Eigen::VectorXd& uncertainty) {
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
+// |J^+| uncertainty (J given by its SVD); empty when J is rank-deficient (the poses do not
+// determine the dyad).
+
+Eigen::VectorXd ParameterMoves(const JacobianSvd& svd, const Eigen::VectorXd& uncertainty) {
   const Eigen::VectorXd& sigma = svd.singularValues();
   if (!(sigma[sigma.size() - 1] > 1e-12 * sigma[0])) return Eigen::VectorXd();
   const Eigen::MatrixXd pseudo_inverse =
@@ -63,9 +69,9 @@ Eigen::VectorXd ParameterMovesNearFold(const Eigen::MatrixXd& jacobian,
                                        const Eigen::VectorXd& residual,
                                        const Eigen::VectorXd& uncertainty, double step,
                                        const ResidualsAt& residuals_at) {
-  const Eigen::VectorXd first_order = ParameterMoves(jacobian, uncertainty);
+  const JacobianSvd svd = SvdOf(jacobian);
+  const Eigen::VectorXd first_order = ParameterMoves(svd, uncertainty);
   if (first_order.size() == 0) return first_order;
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd& sigma = svd.singularValues();
   const Eigen::Index weakest = sigma.size() - 1;
   Eigen::VectorXd inverse = sigma.cwiseInverse();
@@ -256,7 +262,7 @@ PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<Plana
         pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
     uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
   }
-  const Eigen::VectorXd moves = ParameterMoves(jacobian, uncertainty);
+  const Eigen::VectorXd moves = ParameterMoves(SvdOf(jacobian), uncertainty);
   if (moves.size() == 0) return bounds;
   const auto finite = [](double value) {
     return std::isfinite(value) ? value : std::numeric_limits<double>::infinity();
@@ -298,11 +304,7 @@ void NormalTurns(const Eigen::Vector3d& normal, Eigen::Vector3d* turn1, Eigen::V
   *turn2 = normal.cross(*turn1);
 }
 
-// A pose's rotation and translation, evaluated once (the fits evaluate residuals many times).
-struct SpatialFrame {
-  Eigen::Matrix3d rotation;
-  Eigen::Vector3d translation;
-};
+}  // namespace
 
 std::vector<SpatialFrame> SpatialFrames(const std::vector<DualQuaternion>& poses) {
   std::vector<SpatialFrame> frames;
@@ -311,12 +313,8 @@ std::vector<SpatialFrame> SpatialFrames(const std::vector<DualQuaternion>& poses
   return frames;
 }
 
-// The residuals of a spatial dyad at the poses and their Jacobian in its parameters: SS (A, c,
-// r); PS (c, the normal's two turns, offset); SP (A, the turns, offset). *extent (PS, SP) gets
-// how far the constrained point runs from the plane's foot. Returns the sum of squares.
 double SpatialDyadResiduals(const SpatialDyad& dyad, const std::vector<SpatialFrame>& frames,
-                            Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian,
-                            double* extent = nullptr) {
+                            Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian, double* extent) {
   const bool ss = dyad.type == SpatialDyadType::kSS, sp = dyad.type == SpatialDyadType::kSP;
   const int n = static_cast<int>(frames.size());
   residual->resize(n);
@@ -354,8 +352,6 @@ double SpatialDyadResiduals(const SpatialDyad& dyad, const std::vector<SpatialFr
   return residual->squaredNorm();
 }
 
-// The dyad moved by -step in the parameters of SpatialDyadResiduals (the normal turned about
-// its current turns and normalized).
 SpatialDyad SpatialDyadStep(const SpatialDyad& dyad, const Eigen::VectorXd& step) {
   SpatialDyad next = dyad;
   if (dyad.type == SpatialDyadType::kSS) {
@@ -372,13 +368,15 @@ SpatialDyad SpatialDyadStep(const SpatialDyad& dyad, const Eigen::VectorXd& step
   return next;
 }
 
-}  // namespace
-
 SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<DualQuaternion>& poses,
+                                int iterations) {
+  return FitDyadLeastSquares(start, SpatialFrames(poses), iterations);
+}
+
+SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<SpatialFrame>& frames,
                                 int iterations) {
   // A step that changes the cost by less than this fraction ends the fit: converged.
   constexpr double kConverged = 1e-12;
-  const std::vector<SpatialFrame> frames = SpatialFrames(poses);
   const auto residuals = [&](const SpatialDyad& dyad, Eigen::VectorXd* residual,
                              Eigen::MatrixXd* jacobian) {
     return SpatialDyadResiduals(dyad, frames, residual, jacobian);

@@ -75,9 +75,31 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
 // by rounding (its slider reading), the real part of a complex root pair.
 PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
                                int iterations);
-// The same in space, in the parameters of the spatial DyadErrorBound (the plane normal turned
-// about itself): the real part of a complex root pair of the seven-pose problem.
+// A pose's rotation and translation, evaluated once (the fits evaluate residuals many times),
+// and its weight in a least-squares problem.
+struct SpatialFrame {
+  Eigen::Matrix3d rotation;
+  Eigen::Vector3d translation;
+  double weight = 1.0;
+};
+std::vector<SpatialFrame> SpatialFrames(const std::vector<DualQuaternion>& poses);
+
+// The residuals of a spatial dyad at the poses and their Jacobian (when `jacobian` is given) in
+// its parameters: SS (A, c, r); PS (c, the normal's two turns, offset); SP (A, the turns,
+// offset). *extent (PS, SP) gets how far the constrained point runs from the plane's foot.
+// Returns the sum of squares (weights ignored).
+double SpatialDyadResiduals(const SpatialDyad& dyad, const std::vector<SpatialFrame>& frames,
+                            Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian,
+                            double* extent = nullptr);
+// The dyad moved by -step in the parameters of SpatialDyadResiduals (the normal turned about
+// its current turns and normalized).
+SpatialDyad SpatialDyadStep(const SpatialDyad& dyad, const Eigen::VectorXd& step);
+
+// The same in space, in the parameters of SpatialDyadResiduals (those of the spatial
+// DyadErrorBound): the real part of a complex root pair of the seven-pose problem.
 SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<DualQuaternion>& poses,
+                                int iterations);
+SpatialDyad FitDyadLeastSquares(const SpatialDyad& start, const std::vector<SpatialFrame>& frames,
                                 int iterations);
 
 // The note of a condition-based error bound: "condition estimate K with data precise to p

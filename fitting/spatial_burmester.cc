@@ -328,11 +328,7 @@ BilinearMatrices SpatialBilinearMatrices(const std::vector<DualQuaternion>& pose
 
 namespace {
 
-struct Frame {
-  Eigen::Matrix3d rotation;
-  Eigen::Vector3d translation;
-  double weight = 1.0;
-};
+using Frame = SpatialFrame;
 
 double MaxResidual(const SpatialDyad& dyad, const std::vector<Frame>& frames) {
   double worst = 0.0;
@@ -342,65 +338,18 @@ double MaxResidual(const SpatialDyad& dyad, const std::vector<Frame>& frames) {
   return worst;
 }
 
-// Two unit vectors spanning the plane orthogonal to n.
-void TangentBasis(const Eigen::Vector3d& n, Eigen::Vector3d* t1, Eigen::Vector3d* t2) {
-  int k = 0;
-  n.cwiseAbs().minCoeff(&k);
-  *t1 = n.cross(Eigen::Vector3d::Unit(k)).normalized();
-  *t2 = n.cross(*t1);
-}
-
-// Gauss-Newton on the dyad's own geometric residuals (SS: 7 parameters A, c, r; PS and SP:
-// the point, the normal on its sphere, the offset).
+// Gauss-Newton on the dyad's own geometric residuals (SpatialDyadResiduals: SS 7 parameters A,
+// c, r; PS and SP the point, the normal's two turns, the offset), each step kept while it
+// lowers the largest residual.
 SpatialDyad PolishGeometric(SpatialDyad dyad, const std::vector<Frame>& frames, int iterations) {
-  const int n = static_cast<int>(frames.size());
   for (int iteration = 0; iteration < iterations; ++iteration) {
-    Eigen::MatrixXd jacobian(n, 7);
-    Eigen::VectorXd residual(n);
-    Eigen::Vector3d t1, t2;
-    TangentBasis(dyad.plane_normal, &t1, &t2);
-    for (int j = 0; j < n; ++j) {
-      const Frame& f = frames[j];
-      residual[j] = dyad.Residual(f.rotation, f.translation);
-      if (dyad.type == SpatialDyadType::kSS) {
-        const Eigen::Vector3d arm =
-            f.rotation * dyad.moving_pivot + f.translation - dyad.fixed_pivot;
-        const Eigen::Vector3d u = arm / arm.norm();
-        jacobian.block<1, 3>(j, 0) = -u.transpose();
-        jacobian.block<1, 3>(j, 3) = u.transpose() * f.rotation;
-        jacobian(j, 6) = -1.0;
-      } else if (dyad.type == SpatialDyadType::kPS) {
-        const Eigen::Vector3d point = f.rotation * dyad.moving_pivot + f.translation;
-        jacobian.block<1, 3>(j, 0) = dyad.plane_normal.transpose() * f.rotation;
-        jacobian(j, 3) = t1.dot(point);
-        jacobian(j, 4) = t2.dot(point);
-        jacobian(j, 5) = -1.0;
-        jacobian(j, 6) = 0.0;
-      } else {
-        const Eigen::Vector3d point = f.rotation.transpose() * (dyad.fixed_pivot - f.translation);
-        jacobian.block<1, 3>(j, 0) = (f.rotation * dyad.plane_normal).transpose();
-        jacobian(j, 3) = t1.dot(point);
-        jacobian(j, 4) = t2.dot(point);
-        jacobian(j, 5) = -1.0;
-        jacobian(j, 6) = 0.0;
-      }
-    }
+    Eigen::VectorXd residual;
+    Eigen::MatrixXd jacobian;
+    SpatialDyadResiduals(dyad, frames, &residual, &jacobian);
     if (!residual.allFinite() || !jacobian.allFinite()) break;
-    const int size = dyad.type == SpatialDyadType::kSS ? 7 : 6;
-    const Eigen::VectorXd step = jacobian.leftCols(size).colPivHouseholderQr().solve(residual);
+    const Eigen::VectorXd step = jacobian.colPivHouseholderQr().solve(residual);
     if (!step.allFinite()) break;
-    SpatialDyad next = dyad;
-    if (dyad.type == SpatialDyadType::kSS) {
-      next.fixed_pivot -= step.head<3>();
-      next.moving_pivot -= step.segment<3>(3);
-      next.radius -= step[6];
-    } else {
-      Eigen::Vector3d& point =
-          dyad.type == SpatialDyadType::kPS ? next.moving_pivot : next.fixed_pivot;
-      point -= step.head<3>();
-      next.plane_normal = (dyad.plane_normal - step[3] * t1 - step[4] * t2).normalized();
-      next.plane_offset -= step[5];
-    }
+    const SpatialDyad next = SpatialDyadStep(dyad, step);
     if (!(MaxResidual(next, frames) <= MaxResidual(dyad, frames))) break;
     dyad = next;
     if (step.norm() < 1e-15) break;
@@ -572,39 +521,44 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
       return chosen;
     };
     int chosen = choose();
-    if (!root.real) {
-      // The real part of a complex root: the chosen reading fitted to the poses by least squares
-      // (Levenberg-Marquardt: near the double root that rounding split there is no exact real
-      // dyad, and Gauss-Newton's square steps overshoot the fold); when that does not fit
-      // within precision, the other readings too, typed again.
-      const auto fit = [&](Reading* reading) {
-        reading->dyad = FitDyadLeastSquares(reading->dyad, normalized, kComplexFitIterations);
+    // The chosen reading refitted by `polish`; when it then misses (`fits` false), the other
+    // readings too, typed again.
+    const auto refit = [&](const auto& polish, const auto& fits) {
+      const auto apply = [&](Reading* reading) {
+        reading->dyad = polish(reading->dyad);
         reading->max_residual = MaxResidual(reading->dyad, frames);
       };
-      fit(&readings[chosen]);
-      if (!(PrecisionRatio(readings[chosen].dyad, normalized, precision, 1.0) <= kModelUnits)) {
-        for (int i = 0; i < readings_count; ++i) {
-          if (i != chosen) fit(&readings[i]);
-        }
-        chosen = choose();
+      apply(&readings[chosen]);
+      if (fits(readings[chosen])) return;
+      for (int i = 0; i < readings_count; ++i) {
+        if (i != chosen) apply(&readings[i]);
       }
+      chosen = choose();
+    };
+    if (!root.real) {
+      // The real part of a complex root: fitted to the poses by least squares
+      // (Levenberg-Marquardt: near the double root that rounding split there is no exact real
+      // dyad, and Gauss-Newton's square steps overshoot the fold), within precision or not.
+      refit(
+          [&](const SpatialDyad& dyad) {
+            return FitDyadLeastSquares(dyad, frames, kComplexFitIterations);
+          },
+          [&](const Reading& reading) {
+            return PrecisionRatio(reading.dyad, normalized, precision, 1.0) <= kModelUnits;
+          });
     } else if (n == 7) {
-      Reading& first = readings[chosen];
-      first.dyad = PolishGeometric(first.dyad, frames, options.newton_iterations);
-      first.max_residual = MaxResidual(first.dyad, frames);
-      if (first.max_residual > options.plane_tolerance) {
-        for (int i = 0; i < readings_count; ++i) {
-          if (i == chosen) continue;
-          readings[i].dyad = PolishGeometric(readings[i].dyad, frames, options.newton_iterations);
-          readings[i].max_residual = MaxResidual(readings[i].dyad, frames);
-        }
-        chosen = choose();
-      }
+      refit(
+          [&](const SpatialDyad& dyad) {
+            return PolishGeometric(dyad, frames, options.newton_iterations);
+          },
+          [&](const Reading& reading) {
+            return !(reading.max_residual > options.plane_tolerance);
+          });
     }
     if (!std::isfinite(readings[chosen].max_residual)) continue;
     if (!root.real) {
       // The real part of a complex root: kept when its fitted dyad fits the poses within
-      // precision, and once for a conjugate pair.
+      // precision, and once when two roots' fits come to the same dyad.
       const Reading& reading = readings[chosen];
       if (!(PrecisionRatio(reading.dyad, normalized, precision, 1.0) <= kModelUnits)) continue;
       const bool repeat = std::any_of(found.begin(), found.end(), [&](const Reading& other) {

@@ -328,10 +328,20 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
                    std::vector<PathFourBarAnalysis>* analyses) {
   four_bars->clear();
   if (analyses != nullptr) analyses->clear();
+  std::vector<TimedCrank> cranks;
+  if (SolveTimedCranks(points, input_angles, options, &cranks, summary) <= 0) return 0;
+  return TimedPathFourBars(points, input_angles, cranks, options, four_bars, summary, analyses);
+}
+
+int TimedPathFourBars(const std::vector<Eigen::Vector2d>& points,
+                      const std::vector<double>& input_angles,
+                      const std::vector<TimedCrank>& cranks, const TimedPathOptions& options,
+                      std::vector<PathFourBar>* four_bars, TimedPathSummary* summary,
+                      std::vector<PathFourBarAnalysis>* analyses) {
+  four_bars->clear();
+  if (analyses != nullptr) analyses->clear();
   TimedPathSummary local;
   TimedPathSummary& report = summary != nullptr ? *summary : local;
-  std::vector<TimedCrank> cranks;
-  if (SolveTimedCranks(points, input_angles, options, &cranks, &report) <= 0) return 0;
   const ScaledPoints scaled = Scale(points, input_angles);
   Similarity2 unscale;  // scaled frame -> task frame (Sigma and E alike)
   unscale.scale = scaled.length;
@@ -348,6 +358,7 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
     // are handed on for a joint fit to the points (TimedPathSummary::to_fit).
     bool near_real = false;
     if (!root.real) {
+      if (summary == nullptr) continue;  // its four-bars would only go to summary->to_fit
       const double size = std::max(root.fixed_pivot.real().norm(), root.crank.real().norm());
       const double imaginary =
           std::max(root.fixed_pivot.imag().norm(), root.crank.imag().norm()) / scaled.length;

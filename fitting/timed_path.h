@@ -126,6 +126,15 @@ int SolveTimedPath(const std::vector<Eigen::Vector2d>& points,
                    std::vector<PathFourBar>* four_bars, TimedPathSummary* summary = nullptr,
                    std::vector<PathFourBarAnalysis>* analyses = nullptr);
 
+// The second half of SolveTimedPath: the four-bars of given crank roots (SolveTimedCranks, whose
+// roots do not depend on options.precision), so that one set of roots serves several
+// precisions. The summary's crank counts are left as they are.
+int TimedPathFourBars(const std::vector<Eigen::Vector2d>& points,
+                      const std::vector<double>& input_angles,
+                      const std::vector<TimedCrank>& cranks, const TimedPathOptions& options,
+                      std::vector<PathFourBar>* four_bars, TimedPathSummary* summary = nullptr,
+                      std::vector<PathFourBarAnalysis>* analyses = nullptr);
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_FITTING_TIMED_PATH_H_

@@ -164,9 +164,12 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
       points.push_back(data.points[index]);
       subset_angles.push_back(angles[index]);
     }
+    // One set of crank roots for both levels (they do not depend on the precision).
+    std::vector<TimedCrank> cranks;
+    if (SolveTimedCranks(points, subset_angles, options, &cranks) <= 0) continue;
     for (const TimedPathOptions& level : levels) {
       std::vector<PathFourBar> four_bars;
-      SolveTimedPath(points, subset_angles, level, &four_bars);
+      TimedPathFourBars(points, subset_angles, cranks, level, &four_bars);
       for (const PathFourBar& four_bar : four_bars) {
         PathMechanismReport report = Report(four_bar, data, angles);
         if (report.rms_point_error) AddDistinct(report, data.length, &seeds);
@@ -290,17 +293,10 @@ int RefineAll(const PathData& data, const PathRefinerOptions& options,
               std::vector<PathMechanismReport>* reports) {
   int simplified = 0;
   for (PathMechanismReport& report : *reports) {
-    std::vector<double> angles = data.angles;
-    PathFourBar design = report.design;
-    try {
-      RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
-                        options);
-    } catch (const std::invalid_argument&) {
-      continue;  // a seed the refiner cannot take stays as it is
-    }
-    const std::optional<double> seed_max = report.max_point_error;
-    report = Report(design, data, angles);
-    report.seed_max_point_error = seed_max;
+    std::optional<PathMechanismReport> refined = RefinedReport(data, options, report.design);
+    if (!refined) continue;  // a seed the refiner cannot take stays as it is
+    refined->seed_max_point_error = report.max_point_error;
+    report = *refined;
     PathMechanismReport slider;
     if (SliderAtPrecision(data, options, report, &slider)) {
       report = slider;

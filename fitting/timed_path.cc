@@ -359,7 +359,8 @@ int TimedPathFourBars(const std::vector<Eigen::Vector2d>& points,
     bool near_real = false;
     if (!root.real) {
       if (summary == nullptr) continue;  // its four-bars would only go to summary->to_fit
-      const double size = std::max(root.fixed_pivot.real().norm(), root.crank.real().norm());
+      const double size =
+          std::max((root.fixed_pivot.real() - scaled.centroid).norm(), root.crank.real().norm());
       const double imaginary =
           std::max(root.fixed_pivot.imag().norm(), root.crank.imag().norm()) / scaled.length;
       if (!coarse || !(imaginary <= kNearRealShare * std::max(1.0, size / scaled.length))) {

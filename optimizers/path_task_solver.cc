@@ -169,7 +169,12 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
     if (SolveTimedCranks(points, subset_angles, options, &cranks) <= 0) continue;
     for (const TimedPathOptions& level : levels) {
       std::vector<PathFourBar> four_bars;
-      TimedPathFourBars(points, subset_angles, cranks, level, &four_bars);
+      TimedPathSummary summary;
+      TimedPathFourBars(points, subset_angles, cranks, level, &four_bars, &summary);
+      // At the data's precision also the four-bars of nearly real complex cranks (rounding can
+      // turn the generating crank of a subset into a complex pair) and the slider readings
+      // handed on for a joint fit: seeds like the others.
+      four_bars.insert(four_bars.end(), summary.to_fit.begin(), summary.to_fit.end());
       for (const PathFourBar& four_bar : four_bars) {
         PathMechanismReport report = Report(four_bar, data, angles);
         if (report.rms_point_error) AddDistinct(report, data.length, &seeds);

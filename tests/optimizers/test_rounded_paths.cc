@@ -189,6 +189,77 @@ TEST(RoundedPaths, CrankTurnedComplexByRoundingIsRecovered) {
   EXPECT_LE(Recovery(task, expected, result), 1.0);
 }
 
+// Ten timed points of a 4R with a short crank, printed to 4 digits: in one of the two spread
+// five-point subsets the generating crank has become a complex pair (imaginary part 0.04 L), in
+// the other the real root's output dyads miss the other points by 0.25 L. The complex pair's
+// real part seeds the least squares, which brings the four-bar back (balanced; it was found
+// by the global search only).
+TEST(RoundedPaths, SubsetCrankTurnedComplexSeedsTheFit) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": -1.171, "y": 0.9359, "input_deg": 139.6},
+  {"x": -1.338, "y": 0.2260, "input_deg": 104.8},
+  {"x": -1.300, "y": 0.2494, "input_deg": 80.20},
+  {"x": -1.285, "y": 0.2873, "input_deg": 62.55},
+  {"x": -1.263, "y": 0.3696, "input_deg": 28.62},
+  {"x": -1.253, "y": 0.4086, "input_deg": 13.02},
+  {"x": -1.235, "y": 0.4850, "input_deg": -16.41},
+  {"x": -1.211, "y": 0.5690, "input_deg": -46.05},
+  {"x": -1.178, "y": 0.6514, "input_deg": -72.46},
+  {"x": -1.125, "y": 0.7425, "input_deg": -99.96}]})");
+  const PathFourBar expected = FourBarRR(
+      {-0.76212302480692085, 0.36090150240399899}, {-0.84627497387513539, 0.4326430765987439},
+      {-0.86682160099612582, 0.43400285009703055}, {0.49749811859212811, 0.96592122802255509},
+      {-1.17131412365586, 0.93591559410523628});
+  const PathResult result = SolvePathTask(task);
+  ASSERT_FALSE(result.mechanisms.empty());
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  EXPECT_TRUE(
+      testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
+  bool rough = false;
+  EXPECT_TRUE(testing::RoundedPathRecovery(expected, result, points, angles, &rough) <= 1.0 ||
+              rough);
+}
+
+// Five timed points of a slider-crank printed to 4 digits: the slider reading of the
+// generating crank's output circle misses the coupler poses by 5.6 of their uncertainties, so
+// the output stays a circle; that 4R meets the points exactly but its bound (24 L, ten times its
+// size) says the points determine neither the output nor its type. The judge counts that as
+// the data being too coarse (rough), not as a wrong answer; a generating 4R whose crank no
+// listed four-bar shares is not.
+TEST(RoundedPaths, UndeterminedOutputOfAnotherTypeIsRough) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": -1.734, "y": 0.5945, "input_deg": 48.94},
+  {"x": -1.795, "y": 0.8526, "input_deg": 91.94},
+  {"x": -1.945, "y": 0.7684, "input_deg": 110.1},
+  {"x": -2.106, "y": 0.6111, "input_deg": 125.3},
+  {"x": -2.389, "y": 0.1517, "input_deg": 152.1}]})");
+  PathFourBar expected;
+  const Eigen::Vector2d pivot(-0.39882392633252961, -0.69103219627370172);
+  const Eigen::Vector2d pin(-0.20178244129702749, -0.46486796294294985);
+  expected.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  expected.output = PlanarDyad::PR(Eigen::Vector2d(0.29574890184376923, -0.54255496464762409),
+                                   Eigen::Vector2d(0.29574890184376934, -0.54255496464762398),
+                                   Eigen::Vector2d(0.99862764864376175, -0.052371932981623084));
+  expected.coupler_point = Eigen::Vector2d(-1.7338594695916321, 0.59451920864671437);
+  const PathResult result = SolvePathTask(task);
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  bool rough = false;
+  const double recovery = testing::RoundedPathRecovery(expected, result, points, angles, &rough);
+  EXPECT_FALSE(recovery <= 1.0);
+  EXPECT_TRUE(rough);
+  EXPECT_TRUE(HasNote(result.notes, "means nothing at this precision"));
+  // A crank beyond twice every listed four-bar's bound (the loosest is 74 L): not rough.
+  PathFourBar elsewhere = expected;
+  elsewhere.input.fixed_pivot += Eigen::Vector2d(200.0, 0.0);
+  bool elsewhere_rough = false;
+  testing::RoundedPathRecovery(elsewhere, result, points, angles, &elsewhere_rough);
+  EXPECT_FALSE(elsewhere_rough);
+}
+
 // A path whose data barely determine its four-bars says so (the error bounds beyond 1 % of the
 // four-bars' size), and one whose bounds exceed the four-bars themselves says that such a
 // four-bar means nothing at this precision.

@@ -249,7 +249,7 @@ double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result
   for (const PathMechanismReport& report : result.mechanisms) {
     if (MeetsPointsWithinPrecision(report, points, result.precision)) fitting.push_back(report);
   }
-  return Recovery(
+  const double best = Recovery(
       targets, fitting,
       [](const PathMechanismReport& report) -> const PathFourBar& { return report.design; },
       [](const PathFourBar& four_bar, const PathFourBar& target, double scale) {
@@ -257,6 +257,23 @@ double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result
       },
       [&](const PathFourBar& target) { return PathFourBarSize(target, points, length); },
       [](double scale) { return 1e-9 * scale; }, rough);
+  // An output of another type on the generating crank and coupler point (within its bound),
+  // whose rough bound says the points do not determine the output: the data cannot give its
+  // type either.
+  if (rough != nullptr && !(best <= 1.0)) {
+    for (const PathFourBar& target : targets) {
+      const double scale = PathFourBarSize(target, points, length);
+      for (const PathMechanismReport& report : fitting) {
+        if (report.design.output.type == target.output.type || !report.error_bound) continue;
+        const double bound = *report.error_bound;
+        const double crank =
+            std::max(DyadDistance(report.design.input, target.input, scale),
+                     (report.design.coupler_point - target.coupler_point).norm() / scale);
+        if (!(bound < kRoughBound * scale) && crank * scale <= 2.0 * bound) *rough = true;
+      }
+    }
+  }
+  return best;
 }
 
 }  // namespace linkfit::testing

@@ -77,7 +77,9 @@ bool MeetsPointsWithinPrecision(const PathMechanismReport& report,
 // poses within their precision may come back as that reading (fitting/model_choice.h). Free
 // timing (`input_angles` empty): a Roberts cognate of a 4R, or the four-bar driven by its
 // other crank, traces the same curve through the same points and counts as the generating one
-// (CurveCognates, random_path.h).
+// (CurveCognates, random_path.h). *rough is set as for RoundedRecovery, and also when a listed
+// four-bar with another output type has the generating crank and coupler point within its
+// bound and that bound is rough: the points determine neither the output nor its type.
 double RoundedPathRecovery(const PathFourBar& expected, const PathResult& result,
                            const std::vector<Eigen::Vector2d>& points,
                            const std::vector<double>& input_angles, bool* rough = nullptr);

@@ -44,11 +44,12 @@ PathFourBar FourBarRR(const Eigen::Vector2d& pivot, const Eigen::Vector2d& pin,
 }
 
 // RoundedPathRecovery of `expected` from the result of a task read from rounded text.
-double Recovery(const Task& task, const PathFourBar& expected, const PathResult& result) {
+double Recovery(const Task& task, const PathFourBar& expected, const PathResult& result,
+                bool* rough = nullptr) {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> angles;
   testing::TimedPoints(task, &points, &angles);
-  return testing::RoundedPathRecovery(expected, result, points, angles);
+  return testing::RoundedPathRecovery(expected, result, points, angles, rough);
 }
 
 TEST(RoundedPaths, RobertsCognatesPassTheSamePoints) {
@@ -218,8 +219,7 @@ TEST(RoundedPaths, SubsetCrankTurnedComplexSeedsTheFit) {
   EXPECT_TRUE(
       testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
   bool rough = false;
-  EXPECT_TRUE(testing::RoundedPathRecovery(expected, result, points, angles, &rough) <= 1.0 ||
-              rough);
+  EXPECT_TRUE(Recovery(task, expected, result, &rough) <= 1.0 || rough);
 }
 
 // Five timed points of a slider-crank printed to 4 digits: the slider reading of the
@@ -244,11 +244,8 @@ TEST(RoundedPaths, UndeterminedOutputOfAnotherTypeIsRough) {
                                    Eigen::Vector2d(0.99862764864376175, -0.052371932981623084));
   expected.coupler_point = Eigen::Vector2d(-1.7338594695916321, 0.59451920864671437);
   const PathResult result = SolvePathTask(task);
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  testing::TimedPoints(task, &points, &angles);
   bool rough = false;
-  const double recovery = testing::RoundedPathRecovery(expected, result, points, angles, &rough);
+  const double recovery = Recovery(task, expected, result, &rough);
   EXPECT_FALSE(recovery <= 1.0);
   EXPECT_TRUE(rough);
   EXPECT_TRUE(HasNote(result.notes, "means nothing at this precision"));
@@ -256,7 +253,7 @@ TEST(RoundedPaths, UndeterminedOutputOfAnotherTypeIsRough) {
   PathFourBar elsewhere = expected;
   elsewhere.input.fixed_pivot += Eigen::Vector2d(200.0, 0.0);
   bool elsewhere_rough = false;
-  testing::RoundedPathRecovery(elsewhere, result, points, angles, &elsewhere_rough);
+  Recovery(task, elsewhere, result, &elsewhere_rough);
   EXPECT_FALSE(elsewhere_rough);
 }
 

@@ -294,17 +294,12 @@ double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& pos
   return std::numeric_limits<double>::infinity();
 }
 
-namespace {
-
-// Two unit vectors tangent to a plane normal: the directions it turns in.
 void NormalTurns(const Eigen::Vector3d& normal, Eigen::Vector3d* turn1, Eigen::Vector3d* turn2) {
   int k = 0;
   normal.cwiseAbs().minCoeff(&k);
   *turn1 = normal.cross(Eigen::Vector3d::Unit(k)).normalized();
   *turn2 = normal.cross(*turn1);
 }
-
-}  // namespace
 
 std::vector<SpatialFrame> SpatialFrames(const std::vector<DualQuaternion>& poses) {
   std::vector<SpatialFrame> frames;

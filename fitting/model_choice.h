@@ -75,12 +75,14 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
 // by rounding (its slider reading), the real part of a complex root pair.
 PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<PlanarPose>& poses,
                                int iterations);
-// A pose's rotation and translation, evaluated once (the fits evaluate residuals many times),
-// and its weight in a least-squares problem.
+// Two unit vectors tangent to a unit plane normal (normal x the least axis, then normal x that):
+// the directions it turns in, and with the normal a right-handed frame.
+void NormalTurns(const Eigen::Vector3d& normal, Eigen::Vector3d* turn1, Eigen::Vector3d* turn2);
+
+// A pose's rotation and translation, evaluated once (the fits evaluate residuals many times).
 struct SpatialFrame {
   Eigen::Matrix3d rotation;
   Eigen::Vector3d translation;
-  double weight = 1.0;
 };
 std::vector<SpatialFrame> SpatialFrames(const std::vector<DualQuaternion>& poses);
 

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "fitting/model_choice.h"
 #include "fitting/planar_constraint_space.h"
@@ -312,6 +313,7 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
   // meet in at most four points).
   struct RootReading {
     Eigen::Vector3d real_part;  // the root's, normalized (a complex-conjugate pair shares it)
+    bool real = true;
     DyadReading reading;
     DyadReading circle;  // a slider read from a circle: the circle
     double moved = 0.0;  // how far the slider's polish moved the circle's pivot (0: unpolished)
@@ -319,6 +321,12 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
   constexpr int kMaxRoots = 4;
   std::array<RootReading, kMaxRoots> found;
   int found_count = 0;
+  // The real parts of complex roots whose readings did not fit within precision: a conjugate
+  // pair's second member reads the same.
+  std::vector<Eigen::Vector3d> rejected;
+  const auto same_part = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - b).norm() < 1e-9;
+  };
   for (const ComplexConstraintVector& z : complex_roots) {
     if (found_count == kMaxRoots) break;
     // Back to P^2 coordinates (the basis is orthonormal), phase removed.
@@ -337,6 +345,21 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     // complex pair): at that precision it is real.
     if (!real && !coarse) continue;
     if (real) ++result->roots_real;
+    // A root whose real part an earlier root shares (a complex-conjugate pair near a real
+    // double root) is that root, read once; a pair kept counts twice as real within precision.
+    const Eigen::Vector3d real_part = a.real().normalized();
+    const auto earlier =
+        std::find_if(found.begin(), found.begin() + found_count,
+                     [&](const RootReading& root) { return same_part(root.real_part, real_part); });
+    if (earlier != found.begin() + found_count) {
+      if (!real && !earlier->real) ++result->real_within_precision;
+      continue;
+    }
+    if (!real && std::any_of(rejected.begin(), rejected.end(), [&](const Eigen::Vector3d& part) {
+          return same_part(part, real_part);
+        })) {
+      continue;
+    }
     const ConstraintVector z_real = basis * a_real.normalized();
     DyadReading readings[3];
     const int count = ReadingsOf(z_real, frames, /*sliders=*/true, readings);
@@ -370,11 +393,15 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
           chosen = i;
         }
       }
-      if (!(PrecisionRatio(readings[chosen].dyad, poses, precision, 1.0) <= kModelUnits)) continue;
+      if (!(PrecisionRatio(readings[chosen].dyad, poses, precision, 1.0) <= kModelUnits)) {
+        rejected.push_back(real_part);
+        continue;
+      }
       ++result->real_within_precision;
     }
     RootReading& root = found[found_count];
-    root.real_part = a.real().normalized();
+    root.real_part = real_part;
+    root.real = real;
     root.reading = readings[chosen];
     // A circle that the data cannot tell from a slider is the slider.
     if (readings[chosen].dyad.type == DyadType::kRR) {
@@ -387,10 +414,9 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
     }
     ++found_count;
   }
-  // Roots whose readings coincide. A complex-conjugate pair near a real double root is one
-  // root. A slider polished from a circle onto another root's reading ran to that root: the
-  // root whose pivot the polish moved least (an unpolished reading: not at all) keeps the
-  // slider, the others stay circles.
+  // Roots whose readings coincide. A slider polished from a circle onto another root's reading
+  // ran to that root: the root whose pivot the polish moved least (an unpolished reading: not at
+  // all) keeps the slider, the others stay circles.
   const auto same = [](const DyadReading& a, const DyadReading& b) {
     return a.dyad.type == b.dyad.type &&
            (a.dyad.moving_pivot - b.dyad.moving_pivot).norm() < 1e-7 &&
@@ -398,11 +424,9 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
            (a.dyad.line_point - b.dyad.line_point).norm() < 1e-7;
   };
   std::array<int, kMaxRoots> order;  // by the polish's move, stable
-  for (int i = 0; i < found_count; ++i) {
-    int j = i;
-    for (; j > 0 && found[order[j - 1]].moved > found[i].moved; --j) order[j] = order[j - 1];
-    order[j] = i;
-  }
+  std::iota(order.begin(), order.begin() + found_count, 0);
+  std::stable_sort(order.begin(), order.begin() + found_count,
+                   [&](int i, int j) { return found[i].moved < found[j].moved; });
   std::array<const DyadReading*, kMaxRoots> kept = {};
   const auto taken = [&](const DyadReading& reading) {
     return std::any_of(kept.begin(), kept.begin() + found_count, [&](const DyadReading* other) {
@@ -411,10 +435,6 @@ void SolveNormalized(const std::vector<PlanarPose>& poses, const PlanarBurmester
   };
   for (int rank = 0; rank < found_count; ++rank) {
     const RootReading& root = found[order[rank]];
-    const bool pair = std::any_of(order.begin(), order.begin() + rank, [&](int j) {
-      return (found[j].real_part - root.real_part).norm() < 1e-9;
-    });
-    if (pair) continue;
     if (!taken(root.reading)) {
       kept[order[rank]] = &root.reading;
     } else if (root.moved > 0.0 && !taken(root.circle)) {

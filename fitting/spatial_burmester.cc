@@ -342,6 +342,7 @@ double MaxResidual(const SpatialDyad& dyad, const std::vector<Frame>& frames) {
 // c, r; PS and SP the point, the normal's two turns, the offset), each step kept while it
 // lowers the largest residual.
 SpatialDyad PolishGeometric(SpatialDyad dyad, const std::vector<Frame>& frames, int iterations) {
+  double worst = MaxResidual(dyad, frames);
   for (int iteration = 0; iteration < iterations; ++iteration) {
     Eigen::VectorXd residual;
     Eigen::MatrixXd jacobian;
@@ -350,8 +351,10 @@ SpatialDyad PolishGeometric(SpatialDyad dyad, const std::vector<Frame>& frames, 
     const Eigen::VectorXd step = jacobian.colPivHouseholderQr().solve(residual);
     if (!step.allFinite()) break;
     const SpatialDyad next = SpatialDyadStep(dyad, step);
-    if (!(MaxResidual(next, frames) <= MaxResidual(dyad, frames))) break;
+    const double next_worst = MaxResidual(next, frames);
+    if (!(next_worst <= worst)) break;
     dyad = next;
+    worst = next_worst;
     if (step.norm() < 1e-15) break;
   }
   return dyad;
@@ -403,7 +406,6 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
     Frame frame;
     frame.rotation = rotation;
     frame.translation = (poses[j].Translation() - centroid) / length;
-    frame.weight = weights.empty() ? 1.0 : weights[j];
     normalized.push_back(DualQuaternion::FromRotationTranslation(rotation, frame.translation));
     frames.push_back(frame);
   }
@@ -433,16 +435,18 @@ int SolveSpatialBurmester(const std::vector<DualQuaternion>& poses,
   local.nearly_real = bilinear.nearly_real;
 
   // P0 of eq. 10 for a real root: minus the weighted mean of the other terms.
+  const auto weight = [&](int j) { return weights.empty() ? 1.0 : weights[j]; };
   double weight_sum = 0.0;
   Eigen::Matrix<double, 16, 1> mean_row = Eigen::Matrix<double, 16, 1>::Zero();
-  for (const Frame& frame : frames) {
-    mean_row += frame.weight * SpatialConstraintRow(frame.rotation, frame.translation).tail<16>();
-    weight_sum += frame.weight;
+  for (int j = 0; j < n; ++j) {
+    mean_row +=
+        weight(j) * SpatialConstraintRow(frames[j].rotation, frames[j].translation).tail<16>();
+    weight_sum += weight(j);
   }
   mean_row /= weight_sum;
   const auto weighted_mean = [&](auto value) {
     double total = 0.0;
-    for (const Frame& frame : frames) total += frame.weight * value(frame);
+    for (int j = 0; j < n; ++j) total += weight(j) * value(frames[j]);
     return total / weight_sum;
   };
 

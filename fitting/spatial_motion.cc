@@ -84,11 +84,10 @@ SphereOrPlane FitSphereOrPlane(const std::vector<Eigen::Vector3d>& points,
 
 // Plane-frame axes with the given unit normal as the third column.
 Eigen::Matrix3d FrameAbout(const Eigen::Vector3d& normal) {
-  int k = 0;
-  normal.cwiseAbs().minCoeff(&k);
-  const Eigen::Vector3d u1 = normal.cross(Eigen::Vector3d::Unit(k)).normalized();
+  Eigen::Vector3d u1, u2;
+  NormalTurns(normal, &u1, &u2);
   Eigen::Matrix3d axes;
-  axes << u1, normal.cross(u1), normal;
+  axes << u1, u2, normal;
   return axes;
 }
 

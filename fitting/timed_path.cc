@@ -358,7 +358,6 @@ int TimedPathFourBars(const std::vector<Eigen::Vector2d>& points,
     // are handed on for a joint fit to the points (TimedPathSummary::to_fit).
     bool near_real = false;
     if (!root.real) {
-      if (summary == nullptr) continue;  // its four-bars would only go to summary->to_fit
       const double size =
           std::max((root.fixed_pivot.real() - scaled.centroid).norm(), root.crank.real().norm());
       const double imaginary =

@@ -2,9 +2,9 @@
 // complex instance and one solution of each of its 1442 orbits, found by monodromy
 // (ComputeNinePointStart), as the C++ include fitting/nine_point_start.inc. About 40 s on one
 // core. Usage: linkfit_nine_point_start OUTPUT [SEED]
+#include <complex>
 #include <cstdio>
 #include <cstdlib>
-#include <string>
 
 #include "fitting/nine_point_path.h"
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "lib/dyad.h"
@@ -209,13 +210,13 @@ double Norm(const State& state) {
 // Newton's method at fixed parameters: up to `iterations` steps; true when the last update is
 // below `tolerance` (relative to 1 + |state|) and the updates contract. `first` (when given)
 // receives the first update's size, relative: the predictor's error.
-bool Correct(const Parameters& parameters, int iterations, double tolerance, State* state,
-             double* first = nullptr) {
-  Linearization lin;
+// `lin` is scratch space (the tracker's, so that no step builds a fresh one).
+bool Correct(const Parameters& parameters, int iterations, double tolerance, Linearization* lin,
+             State* state, double* first = nullptr) {
   double previous = std::numeric_limits<double>::infinity();
   for (int k = 0; k < iterations; ++k) {
-    if (!Linearize(*state, parameters, &lin)) return false;
-    const State delta = SolveLinearized(lin, -NinePointResidual(*state, parameters));
+    if (!Linearize(*state, parameters, lin)) return false;
+    const State delta = SolveLinearized(*lin, -NinePointResidual(*state, parameters));
     const double size = Norm(delta);
     if (!std::isfinite(size) || (k > 0 && size > 0.5 * previous)) return false;
     *state += delta;
@@ -363,7 +364,7 @@ bool TrackNinePoint(const NinePointParameters& from, const NinePointParameters& 
     State next = *state + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
     double error = 0.0;
     ok = ok && Correct(from + (s + h) * dp, options.corrector_iterations,
-                       options.corrector_tolerance, &next, &error);
+                       options.corrector_tolerance, &lin, &next, &error);
     if (!ok) {
       h *= 0.5;
       if (h < options.min_step) return false;
@@ -379,7 +380,7 @@ bool TrackNinePoint(const NinePointParameters& from, const NinePointParameters& 
     h = std::min(h * std::clamp(factor, 0.5, 2.0), options.max_step);
   }
   if (s < 1.0) return false;
-  return Correct(to, 8, 1e-13, state) ||
+  return Correct(to, 8, 1e-13, &lin, state) ||
          NinePointResidual(*state, to).cwiseAbs().maxCoeff() <= 1e-10 * (1.0 + Norm(*state));
 }
 
@@ -444,8 +445,8 @@ NinePointStart ComputeNinePointStart(std::uint64_t seed, int orbits, int max_loo
       p2[k] = random_complex();
     }
     const size_t before = start.solutions.size();
-    const std::vector<State> tracked = start.solutions;
-    for (State state : tracked) {
+    for (size_t i = 0; i < before; ++i) {
+      State state = start.solutions[i];  // a copy: add() may grow the vector
       if (!TrackNinePoint(start.parameters, p1, options, &state) ||
           !TrackNinePoint(p1, p2, options, &state) ||
           !TrackNinePoint(p2, start.parameters, options, &state) || !Nondegenerate(state) ||
@@ -472,6 +473,9 @@ int SolveNinePointPath(const std::vector<Eigen::Vector2d>& points, const NinePoi
   for (const Eigen::Vector2d& point : points) length += (point - centroid).squaredNorm();
   length = std::sqrt(length / points.size());
   if (points.size() != 9 || !(length > 0.0)) return 0;
+  Similarity2 frame;  // the scaled frame (R_0 the origin, lengths in L) -> the task's
+  frame.scale = length;
+  frame.translation = points[0];
   Parameters target;
   for (int j = 0; j < kPoints; ++j) {
     const Complex d = ComplexOf((points[j + 1] - points[0]) / length);
@@ -503,10 +507,10 @@ int SolveNinePointPath(const std::vector<Eigen::Vector2d>& points, const NinePoi
       const Complex x = member[kX], a = member[kA], y = member[kY], b = member[kB];
       PathFourBar four_bar;
       four_bar.coupler_point = points[0];
-      four_bar.input = PlanarDyad::RR(points[0] + length * PointOf(a),
-                                      points[0] + length * PointOf(x), length * std::abs(x - a));
-      four_bar.output = PlanarDyad::RR(points[0] + length * PointOf(b),
-                                       points[0] + length * PointOf(y), length * std::abs(y - b));
+      four_bar.input =
+          TransformDyad(PlanarDyad::RR(PointOf(a), PointOf(x), std::abs(x - a)), frame, frame);
+      four_bar.output =
+          TransformDyad(PlanarDyad::RR(PointOf(b), PointOf(y), std::abs(y - b)), frame, frame);
       four_bars->push_back(four_bar);
     }
   }

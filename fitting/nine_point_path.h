@@ -25,7 +25,6 @@
 #define LINKFIT_FITTING_NINE_POINT_PATH_H_
 
 #include <Eigen/Core>
-#include <array>
 #include <complex>
 #include <cstdint>
 #include <vector>

@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <limits>
 #include <random>
 
 #include "fitting/nine_point_path.h"
@@ -14,6 +15,18 @@ using testing::GeneratedPathTask;
 using testing::PathFourBarDistance;
 using testing::PathLength;
 using testing::RandomPathTask;
+
+// The distance from any of `four_bars` to the nearest of `targets` (PathFourBarDistance).
+double Nearest(const std::vector<PathFourBar>& four_bars, const std::vector<PathFourBar>& targets,
+               double length) {
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const PathFourBar& target : targets) {
+    for (const PathFourBar& four_bar : four_bars) {
+      nearest = std::min(nearest, PathFourBarDistance(four_bar, target, length));
+    }
+  }
+  return nearest;
+}
 
 double Residual(const NinePointState& state, const NinePointParameters& parameters) {
   return NinePointResidual(state, parameters).cwiseAbs().maxCoeff() /
@@ -73,13 +86,7 @@ TEST(NinePointPath, RandomFourBarsComeBack) {
     SolveNinePointPath(generated.points, NinePointOptions(), &four_bars, &summary);
     EXPECT_EQ(summary.paths, 1442);
     EXPECT_LT(summary.paths_failed, 50) << "task " << t;
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const PathFourBar& cognate : CurveCognates(generated.four_bar)) {
-      for (const PathFourBar& four_bar : four_bars) {
-        nearest = std::min(nearest, PathFourBarDistance(four_bar, cognate, length));
-      }
-    }
-    EXPECT_LT(nearest, 1e-8) << "task " << t;
+    EXPECT_LT(Nearest(four_bars, CurveCognates(generated.four_bar), length), 1e-8) << "task " << t;
     // Both labelings of every real orbit.
     EXPECT_EQ(static_cast<int>(four_bars.size()), 2 * summary.real_solutions);
   }
@@ -95,11 +102,7 @@ TEST(NinePointPath, OrbitIsTheCognates) {
   SolveNinePointPath(generated.points, options, &four_bars);
   const double length = PathLength(generated.points);
   for (const PathFourBar& cognate : CurveCognates(generated.four_bar)) {
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const PathFourBar& four_bar : four_bars) {
-      nearest = std::min(nearest, PathFourBarDistance(four_bar, cognate, length));
-    }
-    EXPECT_LT(nearest, 1e-8);
+    EXPECT_LT(Nearest(four_bars, {cognate}, length), 1e-8);
   }
 }
 

@@ -460,7 +460,8 @@ int Run(int argc, char** argv) {
       "write the task files the extremes sweep answered wrongly (or with a note) here");
   bench->add_option("--family", bench_options.family,
                     "run only this family of the extremes sweep (e.g. rounded), or its rows whose "
-                    "variant contains a text (rounded:path 5 points)");
+                    "variant contains a text (rounded:path 5 points); of the trade, this family "
+                    "(untimed path), or its rows of a number of items (untimed path:10)");
 
   try {
     app.parse(argc, argv);

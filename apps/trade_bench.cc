@@ -237,6 +237,14 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
                         const std::string& exact_path, const std::string& fitted_path,
                         double exact_tolerance,
                         const std::function<Outcome(std::mt19937_64&, Effort, double)>& solve) {
+    // "family" (the trade family, e.g. "untimed path") or "family:number of items"
+    if (!options.family.empty()) {
+      const size_t colon = options.family.find(':');
+      if (family != options.family.substr(0, colon)) return;
+      if (colon != std::string::npos && options.family.substr(colon + 1) != std::to_string(items)) {
+        return;
+      }
+    }
     for (const double noise : {0.0, 1e-3, 1e-2}) {
       // The same tasks for every effort level of a cell.
       const uint64_t seed = options.seed + 1000003ull * items + static_cast<uint64_t>(noise * 1e5) +

@@ -36,7 +36,8 @@ struct BenchOptions {
   // with the generating mechanism beside it, to reproduce it with `linkfit solve`.
   std::string wrong_dir;
   // When set, the extremes sweep runs only this family ("rounded"), or only its rows whose
-  // variant contains a text ("rounded:path 5 points").
+  // variant contains a text ("rounded:path 5 points"); the trade runs only this family
+  // ("untimed path"), or only its rows of a number of items ("untimed path:10").
   std::string family;
 };
 

@@ -2,7 +2,9 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <complex>
 #include <limits>
 
 #include "lib/four_bar_motion.h"
@@ -408,6 +410,62 @@ double PathFourBarSize(const PathFourBar& four_bar, const std::vector<Eigen::Vec
     size = std::max(size, (p - centroid).norm());
   }
   return size;
+}
+
+std::vector<PathFourBar> CurveCognates(const PathFourBar& four_bar) {
+  std::vector<PathFourBar> cognates;
+  if (four_bar.input.type != DyadType::kRR || four_bar.output.type != DyadType::kRR) {
+    return cognates;
+  }
+  using Complex = std::complex<double>;
+  const auto complex = [](const Eigen::Vector2d& point) { return Complex(point.x(), point.y()); };
+  const auto point = [](const Complex& z) { return Eigen::Vector2d(z.real(), z.imag()); };
+  const Complex a0 = complex(four_bar.input.fixed_pivot), a = complex(four_bar.input.moving_pivot);
+  const Complex b0 = complex(four_bar.output.fixed_pivot);
+  const Complex b = complex(four_bar.output.moving_pivot), p = complex(four_bar.coupler_point);
+  // The coupler triangle A B P as p = a + z (b - a); the third fixed pivot makes A0 B0 C0
+  // similar to it. Each cognate's crank is parallel to a side of the coupler (a parallelogram
+  // with the original links) and its coupler is a triangle similar to A B P.
+  const Complex z = (p - a) / (b - a), z2 = 1.0 - z;  // z2 = (p - b) / (a - b)
+  const Complex c0 = a0 + z * (b0 - a0);
+  const Complex e1 = a0 + (p - a), f1 = e1 + z * (a - a0);
+  const Complex g1 = b0 + (p - b), h1 = g1 + z2 * (b - b0);
+  const auto make = [&](const Complex& fixed_in, const Complex& moving_in, const Complex& fixed_out,
+                        const Complex& moving_out) {
+    PathFourBar cognate;
+    cognate.input =
+        PlanarDyad::RR(point(fixed_in), point(moving_in), std::abs(moving_in - fixed_in));
+    cognate.output =
+        PlanarDyad::RR(point(fixed_out), point(moving_out), std::abs(moving_out - fixed_out));
+    cognate.coupler_point = four_bar.coupler_point;
+    return cognate;
+  };
+  for (const auto& [fixed_1, moving_1, fixed_2, moving_2] :
+       {std::array<Complex, 4>{a0, a, b0, b}, std::array<Complex, 4>{a0, e1, c0, f1},
+        std::array<Complex, 4>{b0, g1, c0, h1}}) {
+    cognates.push_back(make(fixed_1, moving_1, fixed_2, moving_2));
+    cognates.push_back(make(fixed_2, moving_2, fixed_1, moving_1));
+  }
+  return cognates;
+}
+
+double CurveDistance(const PathFourBar& a, const PathFourBar& b) {
+  if (a.input.type != b.input.type || a.output.type != b.output.type) {
+    return std::numeric_limits<double>::infinity();
+  }
+  const auto apart = [&a](const PathFourBar& c) {
+    return std::max({(a.input.fixed_pivot - c.input.fixed_pivot).norm(),
+                     (a.input.moving_pivot - c.input.moving_pivot).norm(),
+                     (a.output.fixed_pivot - c.output.fixed_pivot).norm(),
+                     (a.output.moving_pivot - c.output.moving_pivot).norm(),
+                     (a.output.LineFoot() - c.output.LineFoot()).norm(),
+                     (a.coupler_point - c.coupler_point).norm()});
+  };
+  const std::vector<PathFourBar> cognates = CurveCognates(b);
+  if (cognates.empty()) return apart(b);
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const PathFourBar& cognate : cognates) nearest = std::min(nearest, apart(cognate));
+  return nearest;
 }
 
 std::vector<PlanarPose> CouplerCycle(const PathFourBar& four_bar, double length, int samples) {

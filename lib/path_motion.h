@@ -110,6 +110,18 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
                              const DataPrecision& precision, double length,
                              bool free_timing = false);
 
+// The three four-bars that trace the coupler curve of a 4R (Roberts-Chebyshev cognates): the
+// four-bar itself and its two cognates, each in the same first configuration (E = Sigma there),
+// and each also with its two cranks' roles swapped: six designs. Empty unless both dyads are RR.
+// With free timing every one passes the same points.
+std::vector<PathFourBar> CurveCognates(const PathFourBar& four_bar);
+
+// How far apart the coupler curves of two four-bars of one type are: for 4Rs the least, over
+// the six designs of CurveCognates(b), of the largest distance between a's and that design's
+// fixed pivots, moving pivots and coupler points; otherwise that largest distance (a slider's
+// line by its foot) between a and b themselves. Length units; infinity for different types.
+double CurveDistance(const PathFourBar& a, const PathFourBar& b);
+
 // A four-bar's size as PathFourBarErrorBound measures it: its largest pivot or coupler point
 // distance from the points' centroid, at least `length`.
 double PathFourBarSize(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -38,6 +39,11 @@ constexpr int kFreeTimingIterations = 400;
 // Free timing from nine points or more (balanced and thorough): the four-bars through nine of
 // the points (fitting/nine_point_path.h) with the smallest error on all of them, refined.
 constexpr int kNinePointRefined = 8;
+// Free timing, balanced: the nine-point solve on the other nine points when the best four-bar
+// misses the points by at most this many times their tolerance (PassTolerance). Measured
+// (2026-11-24): four-digit tasks stuck 1.5 tolerances off; noisy data given as exact (sigma
+// 1e-3 L against a tolerance of 1e-8 L) 1e5 and more.
+constexpr double kOtherNineMiss = 10.0;
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -101,6 +107,12 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
 // reference (an input angle's error moves the crank pin by alpha times the crank).
 double PointTolerance(const PathData& data, double reach) {
   return kModelUnits * PointUncertainty(data.precision, reach, data.length, 2);
+}
+
+// The largest point error of a four-bar that passes the points: their precision's tolerance
+// (PointTolerance at the crank's pivot), not below 1e-8 L.
+double PassTolerance(const PathData& data) {
+  return std::max(1e-8 * data.length, PointTolerance(data, 0.0));
 }
 
 // Defect-free first, then those that meet every point, then by error (RMS for least squares,
@@ -457,28 +469,48 @@ void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
   *report = refined;
 }
 
-// Free timing, nine points or more: every four-bar whose coupler curve passes nine of them,
-// spread along the path (fitting/nine_point_path.h), each given the timing it gives all the
-// points (ProjectTiming, the direction with the points in order and the smaller error); the
-// kNinePointRefined of smallest error are returned.
-std::vector<PathMechanismReport> NinePointSeeds(const PathData& data) {
-  const int count = static_cast<int>(data.points.size());
+// The nine points of `points` a nine-point solve takes (count >= 9): spread along the path,
+// both ends included; the second set (`second`) shifts the interior seven by half a spacing, so
+// that the two sets leave out different points. Empty when the second set would repeat the
+// first (nine points).
+std::vector<Eigen::Vector2d> NinePointSubset(const std::vector<Eigen::Vector2d>& points,
+                                             bool second) {
+  const int count = static_cast<int>(points.size());
   std::vector<Eigen::Vector2d> nine;
+  if (second && count == 9) return nine;
+  const double spacing = (count - 1) / 8.0;
   for (int k = 0; k < 9; ++k) {
-    nine.push_back(data.points[static_cast<size_t>(std::lround(k * (count - 1) / 8.0))]);
+    const long index =
+        k == 0 || k == 8 || !second ? std::lround(k * spacing) : std::lround((k - 0.5) * spacing);
+    nine.push_back(points[static_cast<size_t>(index)]);
   }
+  return nine;
+}
+
+// Free timing, nine points or more: every coupler curve through nine of them
+// (NinePointSubset; fitting/nine_point_path.h), each curve by the one of its six designs
+// (CurveCognates: three cognates, either crank; driven by a rocker, a cognate may not pass the
+// points in order) with the timing it gives all the points (ProjectTiming, either direction)
+// of smallest error; the kNinePointRefined curves of smallest error are returned.
+std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool second) {
+  const std::vector<Eigen::Vector2d> nine = NinePointSubset(data.points, second);
+  if (nine.empty()) return {};
   std::vector<PathFourBar> four_bars;
-  SolveNinePointPath(nine, NinePointOptions(), &four_bars);
+  NinePointOptions nine_options;
+  nine_options.swap_dyads = false;  // CurveCognates gives every design of each curve
+  SolveNinePointPath(nine, nine_options, &four_bars);
   std::vector<PathMechanismReport> seeds;
   for (const PathFourBar& four_bar : four_bars) {
     std::optional<PathMechanismReport> best;
-    for (const double direction : {1.0, -1.0}) {
-      const std::optional<std::vector<double>> angles = ProjectTiming(four_bar, data, direction);
-      if (!angles || !Monotonic(*angles)) continue;
-      PathMechanismReport report = Report(four_bar, data, *angles);
-      report.input_angles = *angles;
-      if (!report.max_point_error) continue;
-      if (!best || *report.max_point_error < *best->max_point_error) best = report;
+    for (const PathFourBar& design : CurveCognates(four_bar)) {
+      for (const double direction : {1.0, -1.0}) {
+        const std::optional<std::vector<double>> angles = ProjectTiming(design, data, direction);
+        if (!angles || !Monotonic(*angles)) continue;
+        PathMechanismReport report = Report(design, data, *angles);
+        report.input_angles = *angles;
+        if (!report.max_point_error) continue;
+        if (!best || *report.max_point_error < *best->max_point_error) best = report;
+      }
     }
     if (best) seeds.push_back(*best);
   }
@@ -493,7 +525,7 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data) {
 // Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
 // four-bars of each guess, refined with the angles free (RefineFreeTiming).
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
-                     PathResult* result) {
+                     PathResult* result, std::vector<PathFourBar>* fits) {
   const int count = static_cast<int>(data.points.size());
   const auto stage_start = std::chrono::steady_clock::now();
   std::vector<PathMechanismReport> candidates;
@@ -537,7 +569,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   std::vector<PathMechanismReport> homotopy_seeds;
   if (task.effort != Effort::kFast && count >= 9) {
     const auto homotopy_start = std::chrono::steady_clock::now();
-    homotopy_seeds = NinePointSeeds(data);
+    homotopy_seeds = NinePointSeeds(data, false);
     result->stages.push_back(Stage("nine-point homotopy", homotopy_start, homotopy_seeds));
   }
   if (task.effort != Effort::kFast) {
@@ -547,9 +579,9 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     }
     // A four-bar through every point within the data's precision: the guessed timings' seeds
     // can only come to the same curve or to a worse fit; they are not refined.
+    const double exact = PassTolerance(data);
     const std::optional<double> best = BestMaxError(homotopy_seeds);
-    const bool exact = best && *best <= std::max(1e-8 * data.length, PointTolerance(data, 0.0));
-    if (exact) {
+    if (best && *best <= exact) {
       candidates = homotopy_seeds;
     } else {
       for (PathMechanismReport& candidate : candidates) {
@@ -558,16 +590,45 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
     }
     result->stages.push_back(Stage("refine", refine_start, candidates));
+    // Still no four-bar through the points: the nine-point solve again on the other nine (a
+    // path the tracker lost, or a curve coarse data moved out of reach of the refinement from
+    // one set, is found from the other). Balanced does it for a near miss (within
+    // kOtherNineMiss tolerances: data as precise as they say, the refinement stuck near a
+    // curve through them); noisier data move the curves of both sets alike, and the second
+    // solve (about 1 s) is thorough's.
+    const std::optional<double> refined_best = BestMaxError(candidates);
+    const bool near_miss = refined_best && *refined_best <= kOtherNineMiss * exact;
+    if (count >= 10 && !(refined_best && *refined_best <= exact) &&
+        (near_miss || task.effort == Effort::kThorough)) {
+      const auto second_start = std::chrono::steady_clock::now();
+      std::vector<PathMechanismReport> second = NinePointSeeds(data, true);
+      for (PathMechanismReport& candidate : second) {
+        RefineFreeTiming(data, options.path_refiner, &candidate);
+      }
+      result->stages.push_back(Stage("nine-point homotopy, other nine", second_start, second));
+      candidates.insert(candidates.end(), second.begin(), second.end());
+    }
+  }
+  const double tolerance = PassTolerance(data);
+  for (const PathMechanismReport& candidate : candidates) {
+    if (candidate.defects.empty() && candidate.max_point_error &&
+        *candidate.max_point_error <= tolerance) {
+      fits->push_back(candidate.design);
+    }
   }
   Finish(data, options.path_reported, candidates, result);
 }
 
 // Every four-bar that meets the points gets its first-order error bound at the data's precision
-// (PathFourBarErrorBound; free timing with its fitted input angles as parameters), and a note
-// counts those the precision leaves loose: by more than 1 % of their size, and by more than
-// their size (those mean nothing at this precision).
-void BoundErrors(const PathData& data, bool free_timing, PathResult* result) {
-  int loose = 0, meaningless = 0, bounded = 0;
+// (PathFourBarErrorBound; free timing with its fitted input angles as parameters), widened to
+// the farthest of `fits` (four-bars that also pass the points within their precision, free
+// timing) by CurveDistance, and a note counts those the precision leaves loose: by more than 1 %
+// of their size, and by more than their size (those mean nothing at this precision).
+void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathFourBar>& fits,
+                 PathResult* result) {
+  int loose = 0, meaningless = 0, bounded = 0, spread = 0;
+  double widest = 0.0;
+  const double tolerance = PassTolerance(data);
   for (PathMechanismReport& report : result->mechanisms) {
     if (!report.max_point_error) continue;
     const std::vector<double>& angles = free_timing ? report.input_angles : data.angles;
@@ -575,10 +636,35 @@ void BoundErrors(const PathData& data, bool free_timing, PathResult* result) {
     report.error_bound = PathFourBarErrorBound(report.design, data.points, angles, data.precision,
                                                data.length, free_timing);
     ++bounded;
+    // The first-order bound sees one minimum. Another curve through the points within their
+    // precision is as far as the data can move this one at least.
+    if (report.defects.empty() && *report.max_point_error <= tolerance) {
+      double farthest = 0.0;
+      for (const PathFourBar& fit : fits) {
+        const double apart = CurveDistance(report.design, fit);
+        if (std::isfinite(apart)) farthest = std::max(farthest, apart);
+      }
+      if (farthest > *report.error_bound) {
+        report.error_bound = farthest;
+        ++spread;
+        widest =
+            std::max(widest, farthest / PathFourBarSize(report.design, data.points, data.length));
+      }
+    }
     const double relative =
         *report.error_bound / PathFourBarSize(report.design, data.points, data.length);
     if (relative > 1e-2) ++loose;
     if (!(relative <= 1.0)) ++meaningless;
+  }
+  if (spread > 0) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.2g", widest);
+    result->notes.push_back(
+        "distinct coupler curves (not cognates) pass the points within their precision, up to " +
+        std::string(text) +
+        " of a four-bar's size apart: the points do not determine the four-bar; the error_bound "
+        "of " +
+        std::to_string(spread) + " four-bar(s) is that distance");
   }
   if (loose == 0) return;
   std::string note =
@@ -614,6 +700,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   const bool free_timing = data.angles.size() != data.points.size();
   result.timing = free_timing ? "free" : "prescribed";
   const int count = static_cast<int>(data.points.size());
+  std::vector<PathFourBar> fits;  // free timing: the four-bars through the points
   if (count < 5) {
     result.notes.push_back(std::to_string(count) + " point(s): a four-bar has 10 parameters, so " +
                            (free_timing ? "fewer than nine untimed points leave"
@@ -677,7 +764,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
     result.method = "least-squares";
     result.effort = EffortName(task.effort);
     if (free_timing) {
-      SolveFreeTiming(task, data, options, &result);
+      SolveFreeTiming(task, data, options, &result, &fits);
       if (count < 9) {
         result.notes.push_back(
             "fewer than nine untimed points: a family of four-bars passes "
@@ -690,7 +777,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
       result.notes.push_back("no four-bar found: the seeds failed (degenerate points?)");
     }
   }
-  if (count >= 5) BoundErrors(data, free_timing, &result);
+  if (count >= 5) BoundErrors(data, free_timing, fits, &result);
   if (task.closed && count >= 5) {
     result.notes.push_back(
         std::string("solved as a closed path: the crank makes a whole turn from points[0] back "

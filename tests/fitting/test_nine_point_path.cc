@@ -10,7 +10,6 @@
 namespace linkfit {
 namespace {
 
-using testing::CurveCognates;
 using testing::GeneratedPathTask;
 using testing::PathFourBarDistance;
 using testing::PathLength;

@@ -25,7 +25,7 @@ bool HasNote(const std::vector<std::string>& notes, const std::string& words) {
   });
 }
 
-// Each cognate (testing::CurveCognates), driven by either crank, puts its coupler point on the
+// Each cognate (CurveCognates), driven by either crank, puts its coupler point on the
 // generating four-bar's points: at point j the generating pins are a_j (the crank turned by
 // psi_j - psi_0) and b_j (the coupler's image of b), and the cognate's crank pin follows from
 // them as the construction says (complex numbers: e_j = a0 + p_j - a_j, f_j = e_j + z (a_j - a0),
@@ -60,7 +60,7 @@ TEST(RoundedPaths, RobertsCognatesPassTheSamePoints) {
     const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 10);
     const double length = testing::PathLength(generated.points);
     const PathFourBar& g = generated.four_bar;
-    const std::vector<PathFourBar> cognates = testing::CurveCognates(g);
+    const std::vector<PathFourBar> cognates = CurveCognates(g);
     ASSERT_EQ(cognates.size(), 6u);
     const Complex a0 = complex(g.input.fixed_pivot), a = complex(g.input.moving_pivot);
     const Complex b0 = complex(g.output.fixed_pivot), b = complex(g.output.moving_pivot);
@@ -255,6 +255,92 @@ TEST(RoundedPaths, UndeterminedOutputOfAnotherTypeIsRough) {
   bool elsewhere_rough = false;
   Recovery(task, elsewhere, result, &elsewhere_rough);
   EXPECT_FALSE(elsewhere_rough);
+}
+
+// Ten untimed points printed to 6 digits. The nine-point solve gives each coupler curve by one
+// of its six designs; the one it gave is driven by a rocker and cannot pass the points in order.
+// The generating crank is another design of that curve (CurveCognates): it must come back.
+TEST(RoundedPaths, FreeTimingDrivesTheDesignThatTurnsThroughThePoints) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": 1.00620, "y": 0.194099}, {"x": 0.894786, "y": 0.343901},
+  {"x": 0.653379, "y": 0.330314}, {"x": 0.171762, "y": -0.366622},
+  {"x": -0.532975, "y": -0.492609}, {"x": -0.730001, "y": -0.697260},
+  {"x": -0.670047, "y": -0.957114}, {"x": -0.560022, "y": -1.09269},
+  {"x": -0.235902, "y": -1.25814}, {"x": 0.0559000, "y": -1.27887}]})");
+  const PathFourBar expected = FourBarRR(
+      {-0.27990379285629907, -0.56987769303096791}, {0.41484209099154912, -0.18745335065060464},
+      {-0.17945744019971432, 0.32429328207087882}, {0.73320162844488701, 0.77843951766017949},
+      {1.0061951303342722, 0.19409889202762612});
+  const PathResult result = SolvePathTask(task);
+  ASSERT_FALSE(result.mechanisms.empty());
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  EXPECT_TRUE(
+      testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
+  EXPECT_LE(Recovery(task, expected, result), 1.0);
+}
+
+// Ten untimed points printed to 4 digits: from the spread nine that leave out the fifth point,
+// no four-bar refines onto all ten within their precision (the nearest stops 2.2e-3 off, the
+// tolerance is 1.4e-3); the other nine give the generating four-bar.
+TEST(RoundedPaths, FreeTimingSolvesTheOtherNineWhenTheFirstMissThePoints) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": 0.7765, "y": 1.545}, {"x": -0.02399, "y": 1.848}, {"x": 0.5301, "y": 0.4182},
+  {"x": -0.1825, "y": -0.2903}, {"x": -0.6234, "y": -0.8222}, {"x": -0.7519, "y": -1.698},
+  {"x": -0.5698, "y": -2.166}, {"x": -0.3469, "y": -2.433}, {"x": 0.2271, "y": -2.729},
+  {"x": 0.6269, "y": -2.748}]})");
+  const PathFourBar expected = FourBarRR(
+      {-0.39488080447271268, -0.80245114836792442}, {0.61403687430910936, 0.27146372256435836},
+      {-0.71082748378732619, 0.79063879564878015}, {-0.70975493807093026, -0.81178108378986469},
+      {0.77649611215533221, 1.5449936787962317});
+  const PathResult result = SolvePathTask(task);
+  EXPECT_TRUE(std::any_of(result.stages.begin(), result.stages.end(), [](const StageReport& s) {
+    return s.name == "nine-point homotopy, other nine";
+  }));
+  ASSERT_FALSE(result.mechanisms.empty());
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  EXPECT_TRUE(
+      testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
+  EXPECT_LE(Recovery(task, expected, result), 1.0);
+}
+
+// Ten untimed points on a short arc (L 0.41 for a four-bar of size 1.7) printed to 8 digits:
+// two coupler curves, 2.5 apart, pass them within 3.4e-8 (the tolerance is 1.4e-7), and each
+// one's first-order bound is 2-10 % of its size. Every four-bar that meets the points states at
+// least its distance from the other curve, and the result says the points do not determine
+// the four-bar.
+TEST(RoundedPaths, DistinctCurvesThroughThePointsWidenTheBounds) {
+  const Task task = testing::ReadRounded(R"({"problem": "path", "points": [
+  {"x": -0.039268341, "y": -0.28235885}, {"x": 0.14042750, "y": -0.41171089},
+  {"x": 0.26162128, "y": -0.67776685}, {"x": 0.26135673, "y": -0.81453906},
+  {"x": 0.22914106, "y": -0.93598158}, {"x": 0.087261548, "y": -1.1339643},
+  {"x": 0.0072455839, "y": -1.1900759}, {"x": -0.12397827, "y": -1.2415391},
+  {"x": -0.28752426, "y": -1.2525405}, {"x": -0.46893280, "y": -1.1985189}]})");
+  const PathResult result = SolvePathTask(task);
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  std::vector<const PathMechanismReport*> fits;
+  for (const PathMechanismReport& mechanism : result.mechanisms) {
+    if (mechanism.defects.empty() &&
+        testing::MeetsPointsWithinPrecision(mechanism, points, result.precision)) {
+      fits.push_back(&mechanism);
+    }
+  }
+  double widest = 0.0;
+  for (const PathMechanismReport* a : fits) {
+    ASSERT_TRUE(a->error_bound.has_value());
+    for (const PathMechanismReport* b : fits) {
+      const double apart = CurveDistance(a->design, b->design);
+      widest = std::max(widest, apart / PathFourBarSize(a->design, points, result.scale));
+      EXPECT_GE(*a->error_bound, apart);
+    }
+  }
+  EXPECT_GT(widest, 1.0);
+  EXPECT_TRUE(HasNote(result.notes, "the points do not determine the four-bar"));
 }
 
 // A path whose data barely determine its four-bars says so (the error bounds beyond 1 % of the

@@ -35,12 +35,6 @@ GeneratedPathTask PathTaskOf(const GeneratedTask& motion, const Eigen::Vector2d&
 // `length` (infinity for different types).
 double PathFourBarDistance(const PathFourBar& found, const PathFourBar& expected, double length);
 
-// The three four-bars that trace the coupler curve of a 4R (Roberts-Chebyshev cognates): the
-// four-bar itself and its two cognates, each in the same first configuration (E = Sigma there),
-// and each also with its two cranks' roles swapped: six designs. Empty unless both dyads are RR.
-// With free timing every one passes the same points.
-std::vector<PathFourBar> CurveCognates(const PathFourBar& four_bar);
-
 // The task's L: the RMS distance of the points from their centroid.
 double PathLength(const std::vector<Eigen::Vector2d>& points);
 

@@ -36,14 +36,20 @@ constexpr int kAlternations = 3;
 // Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
+// Free timing: a near miss, a four-bar that misses the points by at most this many times their
+// tolerance (PassTolerance): refined, it may pass them.
+constexpr double kNearMiss = 10.0;
+// Free timing, balanced: the other nine points are solved when the best refined four-bar
+// misses the points by at most this many tolerances: data as precise as they say, the
+// refinement stopped short. Measured (2026-11-24): ill-conditioned curves of exact data stop
+// 20-90 tolerances off, four-digit data 1.5; noise of 1e-3 L on data given as exact misses by
+// 1e5 tolerances and more (both sets' curves move alike; thorough solves both).
+constexpr double kSecondNineMiss = 1000.0;
 // Free timing from nine points or more (balanced and thorough): the four-bars through nine of
-// the points (fitting/nine_point_path.h) with the smallest error on all of them, refined.
+// the points (fitting/nine_point_path.h) with the smallest error on all of them, refined; and
+// near misses beyond them, up to kNinePointNearMax in all.
 constexpr int kNinePointRefined = 8;
-// Free timing, balanced: the nine-point solve on the other nine points when the best four-bar
-// misses the points by at most this many times their tolerance (PassTolerance). Measured
-// (2026-11-24): four-digit tasks stuck 1.5 tolerances off; noisy data given as exact (sigma
-// 1e-3 L against a tolerance of 1e-8 L) 1e5 and more.
-constexpr double kOtherNineMiss = 10.0;
+constexpr int kNinePointNearMax = 32;
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -491,7 +497,8 @@ std::vector<Eigen::Vector2d> NinePointSubset(const std::vector<Eigen::Vector2d>&
 // (NinePointSubset; fitting/nine_point_path.h), each curve by the one of its six designs
 // (CurveCognates: three cognates, either crank; driven by a rocker, a cognate may not pass the
 // points in order) with the timing it gives all the points (ProjectTiming, either direction)
-// of smallest error; the kNinePointRefined curves of smallest error are returned.
+// of smallest error, a crank and compact among equals; the kNinePointRefined curves of smallest
+// error are returned.
 std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool second) {
   const std::vector<Eigen::Vector2d> nine = NinePointSubset(data.points, second);
   if (nine.empty()) return {};
@@ -501,7 +508,8 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
   SolveNinePointPath(nine, nine_options, &four_bars);
   std::vector<PathMechanismReport> seeds;
   for (const PathFourBar& four_bar : four_bars) {
-    std::optional<PathMechanismReport> best;
+    std::vector<PathMechanismReport> designs;
+    double least = std::numeric_limits<double>::infinity();
     for (const PathFourBar& design : CurveCognates(four_bar)) {
       for (const double direction : {1.0, -1.0}) {
         const std::optional<std::vector<double>> angles = ProjectTiming(design, data, direction);
@@ -509,7 +517,21 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
         PathMechanismReport report = Report(design, data, *angles);
         report.input_angles = *angles;
         if (!report.max_point_error) continue;
-        if (!best || *report.max_point_error < *best->max_point_error) best = report;
+        least = std::min(least, *report.max_point_error);
+        designs.push_back(report);
+      }
+    }
+    // Designs of one curve meet the points alike (up to the timing projection): of those, a
+    // crank (it refines away from the toggles a rocker turns back at), then the most compact.
+    std::optional<PathMechanismReport> best;
+    double best_size = 0.0;
+    for (const PathMechanismReport& report : designs) {
+      if (*report.max_point_error > least + PassTolerance(data)) continue;
+      const double size = PathFourBarSize(report.design, data.points, data.length);
+      if (!best || std::make_pair(!report.input_rotates_fully, size) <
+                       std::make_pair(!best->input_rotates_fully, best_size)) {
+        best = report;
+        best_size = size;
       }
     }
     if (best) seeds.push_back(*best);
@@ -518,7 +540,14 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
             [](const PathMechanismReport& a, const PathMechanismReport& b) {
               return *a.max_point_error < *b.max_point_error;
             });
-  if (static_cast<int>(seeds.size()) > kNinePointRefined) seeds.resize(kNinePointRefined);
+  // Beyond them, curves that nearly pass the points: refined, they may pass them within
+  // precision (another four-bar the data admit; BoundErrors needs to see it).
+  size_t kept = std::min(seeds.size(), static_cast<size_t>(kNinePointRefined));
+  while (kept < seeds.size() && static_cast<int>(kept) < kNinePointNearMax &&
+         *seeds[kept].max_point_error <= kNearMiss * PassTolerance(data)) {
+    ++kept;
+  }
+  seeds.resize(kept);
   return seeds;
 }
 
@@ -592,12 +621,10 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     result->stages.push_back(Stage("refine", refine_start, candidates));
     // Still no four-bar through the points: the nine-point solve again on the other nine (a
     // path the tracker lost, or a curve coarse data moved out of reach of the refinement from
-    // one set, is found from the other). Balanced does it for a near miss (within
-    // kOtherNineMiss tolerances: data as precise as they say, the refinement stuck near a
-    // curve through them); noisier data move the curves of both sets alike, and the second
-    // solve (about 1 s) is thorough's.
+    // one set, is found from the other). Balanced does it when the miss is small
+    // (kSecondNineMiss); thorough always.
     const std::optional<double> refined_best = BestMaxError(candidates);
-    const bool near_miss = refined_best && *refined_best <= kOtherNineMiss * exact;
+    const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * exact;
     if (count >= 10 && !(refined_best && *refined_best <= exact) &&
         (near_miss || task.effort == Effort::kThorough)) {
       const auto second_start = std::chrono::steady_clock::now();
@@ -617,10 +644,31 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     }
   }
   Finish(data, options.path_reported, candidates, result);
+  // Nothing through the points within their precision: say so, with how far the best misses.
+  std::optional<double> best;
+  for (const PathMechanismReport& report : result->mechanisms) {
+    if (report.defects.empty() && report.max_point_error &&
+        (!best || *report.max_point_error < *best)) {
+      best = report.max_point_error;
+    }
+  }
+  if (count >= 9 && task.effort != Effort::kFast && best && *best > tolerance) {
+    char text[96];
+    std::snprintf(text, sizeof(text), "%.3g (%.3g times the tolerance %.3g)", *best,
+                  *best / tolerance, tolerance);
+    result->notes.push_back(
+        std::string("no four-bar found passes every point within their precision: the best "
+                    "misses one by ") +
+        text + "; the data are noisier than their digits say, or the search missed it" +
+        (task.effort == Effort::kThorough ? std::string()
+                                          : std::string(" (effort thorough searches more)")));
+  }
 }
 
-// Every four-bar that meets the points gets its first-order error bound at the data's precision
-// (PathFourBarErrorBound; free timing with its fitted input angles as parameters), widened to
+// Every four-bar that meets the points gets its first-order error bound at the data's precision,
+// or at its own largest point error where that is larger and it has no defect
+// (PathFourBarErrorBound; free timing
+// with its fitted input angles as parameters), widened to
 // the farthest of `fits` (four-bars that also pass the points within their precision, free
 // timing) by CurveDistance, and a note counts those the precision leaves loose: by more than 1 %
 // of their size, and by more than their size (those mean nothing at this precision).
@@ -633,7 +681,13 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
     if (!report.max_point_error) continue;
     const std::vector<double>& angles = free_timing ? report.input_angles : data.angles;
     if (angles.size() != data.points.size()) continue;
-    report.error_bound = PathFourBarErrorBound(report.design, data.points, angles, data.precision,
+    // A four-bar that misses the points by e is known no better than from points precise to e
+    // (defect-free: a defect's error is the branch or circuit it passes to, not the fit's).
+    DataPrecision precision = data.precision;
+    if (report.defects.empty()) {
+      precision.length = std::max(precision.length, *report.max_point_error);
+    }
+    report.error_bound = PathFourBarErrorBound(report.design, data.points, angles, precision,
                                                data.length, free_timing);
     ++bounded;
     // The first-order bound sees one minimum. Another curve through the points within their

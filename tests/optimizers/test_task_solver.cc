@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
+#include <string>
 
 #include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
@@ -134,6 +136,16 @@ TEST(TaskSolver, UntimedPointsAreFittedWithTheirAngles) {
       *AnalyzePathFourBar(generated.four_bar, points, generated.input_angles, length)
            .rms_point_error;
   EXPECT_LE(*best.rms_point_error, 1.10 * reference);
+  // Noise of 1e-3 L on points given to full precision: no four-bar passes them within their
+  // precision, and the result says so. Without noise it does not.
+  const auto says_missed = [](const PathResult& solved) {
+    return std::any_of(solved.notes.begin(), solved.notes.end(), [](const std::string& note) {
+      return note.find("no four-bar found passes every point") != std::string::npos;
+    });
+  };
+  EXPECT_TRUE(says_missed(result));
+  std::vector<Eigen::Vector2d> exact_points;
+  EXPECT_FALSE(says_missed(SolvePathTask(PathTask(generated, 0.0, true, rng, &exact_points))));
 }
 
 TEST(TaskSolver, FewerThanFiveTimedPointsGiveANote) {

@@ -12,6 +12,7 @@
 #include "fitting/model_choice.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
+#include "lib/precision.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
@@ -342,6 +343,31 @@ Verdict SolveRoundedText(const std::string& text, Task* task, SpatialMotionResul
   verdict.task_text = text;
   verdict.finite = AllFinite(*result);
   verdict.kind = result->model;
+  return verdict;
+}
+
+// Seven poses of a spherical motion (random rotations about a random centre) from rounded data:
+// a family of dyads with its centre (SolveSpatialMotion's spherical model choice), the centre
+// within 100 relative precisions of L.
+Verdict SolveRoundedSpherical(std::mt19937_64& rng, int digits, testing::SpatialForm form) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const Eigen::Vector3d center(uniform(rng), uniform(rng), uniform(rng));
+  std::vector<DualQuaternion> poses;
+  for (int j = 0; j < 7; ++j) {
+    const Eigen::Matrix3d rotation = testing::RandomSpatialPose(rng).Rotation();
+    poses.push_back(DualQuaternion::FromRotationTranslation(rotation, center - rotation * center));
+  }
+  Task task;
+  SpatialMotionResult result;
+  Verdict verdict =
+      SolveRoundedText(testing::SpatialMotionText(poses, digits, form), &task, &result);
+  verdict.expected = "a spherical motion about [" + std::to_string(center.x()) + ", " +
+                     std::to_string(center.y()) + ", " + std::to_string(center.z()) + "]\n";
+  if (!result.spherical || !result.dyads.empty()) return verdict;
+  verdict.kind = "spherical";
+  const double length = SpatialTaskLength(task);
+  verdict.error = (result.spherical->in_fixed - center).norm() / length;
+  verdict.tolerance = 100.0 * std::max(RelativePrecision(task.precision, length), 1e-12);
   return verdict;
 }
 
@@ -887,6 +913,10 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
                                                       form);
                  });
     }
+    sweep.Case("rounded", "spherical motion as 7 spatial poses (q, g), a family" + printed, 1.0,
+               [&](std::mt19937_64& rng) {
+                 return SolveRoundedSpherical(rng, digits, testing::SpatialForm::kDualQuaternion);
+               });
   }
   return sweep.rows();
 }

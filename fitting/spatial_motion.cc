@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/QR>
+#include <Eigen/SVD>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -196,6 +197,39 @@ std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaterni
   return plane;
 }
 
+std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuaternion>& poses,
+                                                     double length, const DataPrecision& precision,
+                                                     double tolerance) {
+  const int n = static_cast<int>(poses.size());
+  if (n < 3) return std::nullopt;
+  // R_j p + d_j = P for every pose: 3n linear equations [R_j  -I] (p, P) = -d_j, in units of L.
+  Eigen::MatrixXd a(3 * n, 6);
+  Eigen::VectorXd b(3 * n);
+  for (int j = 0; j < n; ++j) {
+    a.block<3, 3>(3 * j, 0) = poses[j].Rotation();
+    a.block<3, 3>(3 * j, 3) = -Eigen::Matrix3d::Identity();
+    b.segment<3>(3 * j) = -poses[j].Translation() / length;
+  }
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  // Rotations about one axis direction leave a line of solutions (planar motion's business).
+  if (!(sigma(5) > 1e-3 * sigma(0))) return std::nullopt;
+  const Eigen::VectorXd x = svd.solve(b) * length;
+  SphericalCenter center;
+  center.in_moving = x.head<3>();
+  center.in_fixed = x.tail<3>();
+  for (const DualQuaternion& pose : poses) {
+    center.sphericity = std::max(
+        center.sphericity,
+        (pose.Rotation() * center.in_moving + pose.Translation() - center.in_fixed).norm());
+  }
+  const double within_precision =
+      kModelUnits * std::hypot(2.0 * std::sqrt(3.0) * precision.length,
+                               2.0 * center.in_moving.norm() * precision.angle);
+  if (!(center.sphericity <= std::max(tolerance * length, within_precision))) return std::nullopt;
+  return center;
+}
+
 SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SpatialMotionResult result;
@@ -220,6 +254,21 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   }
   std::vector<double> weights = task.pose_weights;
   if (weights.size() != poses.size()) weights.assign(poses.size(), 1.0);
+  if (!have_pivots && n >= 7) {
+    if (std::optional<SphericalCenter> center =
+            DetectSphericalMotion(poses, length, task.precision, options.planarity_tolerance)) {
+      result.spherical = *center;
+      const Eigen::Vector3d& c = center->in_fixed;
+      result.notes.push_back(
+          "the poses are a spherical motion: every displacement fixes the point [" +
+          Format("%.6g", c.x()) + ", " + Format("%.6g", c.y()) + ", " + Format("%.6g", c.z()) +
+          "] of the fixed frame (largest deviation " + Format("%.3g", center->sphericity) +
+          ", within the data's precision), so every body point keeps its distance from it and "
+          "every SS dyad with its fixed pivot there passes the poses: the poses admit a family "
+          "of dyads, not finitely many");
+      return finish();
+    }
+  }
 
   if (n < 7) {
     if (!have_pivots) {

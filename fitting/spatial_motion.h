@@ -5,6 +5,9 @@
 //     spatial coordinates, as seed 000 section 6 does; both pivots of such an RR dyad may slide
 //     along the plane normal. Seven or more planar poses also get the note that every body
 //     point moves in a plane parallel to the plane of motion (the PS family of section 5).
+//   - Seven or more poses that all fix one point within the data's precision (a spherical
+//     motion): a family of dyads (every SS dyad with its fixed pivot at that point), reported
+//     with its centre and no dyads, as exact data's rank-deficient equations are.
 //   - Seven or more poses: spatial_burmester.h (exact for seven, algebraic least squares
 //     beyond; the refinement is in optimizers/).
 //   - Four to six poses with given pivots: one SS dyad per pivot (a sphere through the pivot's
@@ -44,6 +47,15 @@ double PlanarityTolerance(const Task& task, double length, const SpatialMotionOp
 // The plane of motion when the poses are planar within tolerance * length; nullopt otherwise.
 std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaternion>& poses,
                                                   double length, double tolerance);
+
+// The centre (lib/result.h SphericalCenter) when the poses' displacements all fix one point within
+// what the data's precision allows (rounding moves each image of p by up to sqrt(3) delta + |p|
+// alpha; doubled for the fit of P, kModelUnits of that) or within tolerance * length; nullopt
+// otherwise, and when the rotations do not determine a point (all about one axis direction: planar
+// motion).
+std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuaternion>& poses,
+                                                     double length, const DataPrecision& precision,
+                                                     double tolerance);
 
 // Solves a validated spatial motion task without refinement or platforms.
 SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOptions& options = {});

@@ -120,6 +120,14 @@ struct PlanarEmbedding {
   std::vector<PlanarPose> poses;  // the task poses in the plane frames
 };
 
+// A point of the moving body that every pose puts at one place of the fixed frame: the motion
+// is spherical about it.
+struct SphericalCenter {
+  Eigen::Vector3d in_moving = Eigen::Vector3d::Zero();  // p, in E
+  Eigen::Vector3d in_fixed = Eigen::Vector3d::Zero();   // P, in Sigma
+  double sphericity = 0.0;  // the largest |R_j p + d_j - P|, length units
+};
+
 struct SpatialMotionResult {
   std::string method = "exact";   // "exact" | "least-squares"
   double scale = 1.0;             // the characteristic length L used
@@ -132,6 +140,8 @@ struct SpatialMotionResult {
   // Planar data: the plane and the planar result (dyads in plane coordinates).
   std::optional<PlanarEmbedding> plane;
   std::optional<PlanarMotionResult> planar;
+  // A spherical motion within the data's precision (a family of dyads: none listed).
+  std::optional<SphericalCenter> spherical;
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
   double refine_seconds = 0.0;  // Ceres refinement (more than seven poses)

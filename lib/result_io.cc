@@ -327,6 +327,13 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   PutPrecision(&root, result.precision, result.closed);
   root["dyads"] = Json::array();
   root["mechanisms"] = Json::array();
+  if (result.spherical) {
+    Json sphere;
+    PutPoint3(&sphere, "center", result.spherical->in_fixed);
+    PutPoint3(&sphere, "center_in_moving", result.spherical->in_moving);
+    PutNumber(&sphere, "largest_deviation", result.spherical->sphericity);
+    root["spherical"] = sphere;
+  }
   if (result.plane && result.planar) {
     const PlanarEmbedding& plane = *result.plane;
     Json frame;

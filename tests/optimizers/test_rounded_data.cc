@@ -215,6 +215,42 @@ TEST(RoundedData, OneOrientationWithinPrecisionIsAFamily) {
   EXPECT_TRUE(HasNote(result.notes, "dependent within the data's precision"));
 }
 
+// Seven poses of a spherical motion (every displacement fixes one point, off the origin) printed
+// as tables print them: rounding breaks the rank deficiency exact data show, and a solve would
+// list dyads of the broken family. Judged against the data's precision, the motion is spherical
+// at every precision (a family, with its centre), and random spatial poses printed to four
+// digits are not.
+TEST(RoundedData, SphericalMotionWithinPrecisionIsAFamily) {
+  std::mt19937_64 rng(1700);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  for (const int digits : {8, 6, 4}) {
+    int families = 0, spherical_random = 0;
+    for (int t = 0; t < 20; ++t) {
+      const Eigen::Vector3d center(uniform(rng), uniform(rng), uniform(rng));
+      std::vector<DualQuaternion> poses;
+      for (int j = 0; j < 7; ++j) {
+        const Eigen::Matrix3d rotation = testing::RandomSpatialPose(rng).Rotation();
+        poses.push_back(
+            DualQuaternion::FromRotationTranslation(rotation, center - rotation * center));
+      }
+      const testing::SpatialForm form =
+          t % 2 == 0 ? testing::SpatialForm::kDualQuaternion : testing::SpatialForm::kAxisAngle;
+      const Task task = testing::ReadRounded(testing::SpatialMotionText(poses, digits, form));
+      const SpatialMotionResult result = SolveSpatialTask(task);
+      if (result.dyads.empty() && HasNote(result.notes, "the poses are a spherical motion")) {
+        ++families;
+      }
+      const testing::PlantedSpatialTask random = testing::RandomPlatformTask(rng, 7);
+      const Task random_task = testing::ReadRounded(
+          testing::SpatialMotionText(random.poses, 4, testing::SpatialForm::kDualQuaternion));
+      spherical_random +=
+          HasNote(SolveSpatialTask(random_task).notes, "the poses are a spherical motion");
+    }
+    EXPECT_EQ(families, 20) << digits << " digits";
+    EXPECT_EQ(spherical_random, 0);
+  }
+}
+
 // Tasks that linkfit bench (rounded data) once answered wrongly, as its task files print them,
 // with the generating dyads' pivots to full precision; a circle's or sphere's radius is the mean
 // pivot distance over the rounded poses (the bench prints radii to six decimals only).

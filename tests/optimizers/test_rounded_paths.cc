@@ -52,6 +52,15 @@ double Recovery(const Task& task, const PathFourBar& expected, const PathResult&
   return testing::RoundedPathRecovery(expected, result, points, angles, rough);
 }
 
+// Whether the first listed four-bar passes the task's points within their precision.
+bool FirstMeetsThePoints(const Task& task, const PathResult& result) {
+  if (result.mechanisms.empty()) return false;
+  std::vector<Eigen::Vector2d> points;
+  std::vector<double> angles;
+  testing::TimedPoints(task, &points, &angles);
+  return testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision);
+}
+
 TEST(RoundedPaths, RobertsCognatesPassTheSamePoints) {
   using Complex = std::complex<double>;
   const auto complex = [](const Eigen::Vector2d& v) { return Complex(v.x(), v.y()); };
@@ -212,12 +221,7 @@ TEST(RoundedPaths, SubsetCrankTurnedComplexSeedsTheFit) {
       {-0.86682160099612582, 0.43400285009703055}, {0.49749811859212811, 0.96592122802255509},
       {-1.17131412365586, 0.93591559410523628});
   const PathResult result = SolvePathTask(task);
-  ASSERT_FALSE(result.mechanisms.empty());
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  testing::TimedPoints(task, &points, &angles);
-  EXPECT_TRUE(
-      testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
+  EXPECT_TRUE(FirstMeetsThePoints(task, result));
   bool rough = false;
   EXPECT_TRUE(Recovery(task, expected, result, &rough) <= 1.0 || rough);
 }
@@ -272,12 +276,7 @@ TEST(RoundedPaths, FreeTimingDrivesTheDesignThatTurnsThroughThePoints) {
       {-0.17945744019971432, 0.32429328207087882}, {0.73320162844488701, 0.77843951766017949},
       {1.0061951303342722, 0.19409889202762612});
   const PathResult result = SolvePathTask(task);
-  ASSERT_FALSE(result.mechanisms.empty());
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  testing::TimedPoints(task, &points, &angles);
-  EXPECT_TRUE(
-      testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
+  EXPECT_TRUE(FirstMeetsThePoints(task, result));
   EXPECT_LE(Recovery(task, expected, result), 1.0);
 }
 
@@ -298,12 +297,7 @@ TEST(RoundedPaths, FreeTimingSolvesTheOtherNineWhenTheFirstMissThePoints) {
   EXPECT_TRUE(std::any_of(result.stages.begin(), result.stages.end(), [](const StageReport& s) {
     return s.name == "nine-point homotopy, other nine";
   }));
-  ASSERT_FALSE(result.mechanisms.empty());
-  std::vector<Eigen::Vector2d> points;
-  std::vector<double> angles;
-  testing::TimedPoints(task, &points, &angles);
-  EXPECT_TRUE(
-      testing::MeetsPointsWithinPrecision(result.mechanisms.front(), points, result.precision));
+  EXPECT_TRUE(FirstMeetsThePoints(task, result));
   EXPECT_LE(Recovery(task, expected, result), 1.0);
 }
 

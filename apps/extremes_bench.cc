@@ -913,7 +913,7 @@ std::vector<ExtremeRow> RunExtremesBench(const BenchOptions& options, std::FILE*
                                                       form);
                  });
     }
-    sweep.Case("rounded", "spherical motion as 7 spatial poses (q, g), a family" + printed, 1.0,
+    sweep.Case("rounded", "spherical 7 poses (q, g), a family" + printed, 1.0,
                [&](std::mt19937_64& rng) {
                  return SolveRoundedSpherical(rng, digits, testing::SpatialForm::kDualQuaternion);
                });

@@ -136,6 +136,22 @@ TEST(TradeBench, CsvAndSvgOfATable) {
   EXPECT_EQ(Count(svg, "inf"), 0);
 }
 
+// `--family` picks trade rows too: a family, and its rows of a number of items.
+TEST(TradeBench, FamilyRunsOnlyItsRows) {
+  BenchOptions options;
+  options.quick = true;
+  options.family = "timed path:5";
+  const std::vector<TradeRow> rows = RunTradeBench(options, nullptr);
+  ASSERT_EQ(rows.size(), 3u);  // the exact solver at three noise levels
+  for (const TradeRow& row : rows) {
+    EXPECT_EQ(row.family, "timed path");
+    EXPECT_EQ(row.items, 5);
+    EXPECT_EQ(row.path, "path exact");
+  }
+  options.family = "rounded";  // an extremes family: no trade rows
+  EXPECT_TRUE(RunTradeBench(options, nullptr).empty());
+}
+
 TEST(BenchCli, WritesTheSweepAndRefusesAnUnwritableDirectory) {
   char pattern[] = "/tmp/linkfit_bench_XXXXXX";
   ASSERT_NE(mkdtemp(pattern), nullptr);

@@ -76,6 +76,11 @@ bool AllFinite(const SpatialMotionResult& result) {
     if (!Finite(platform.max_pose_error)) return false;
   }
   if (result.planar && !AllFinite(*result.planar)) return false;
+  if (result.spherical &&
+      !(result.spherical->in_fixed.allFinite() && result.spherical->in_moving.allFinite() &&
+        std::isfinite(result.spherical->sphericity))) {
+    return false;
+  }
   return std::isfinite(result.scale);
 }
 
@@ -347,7 +352,7 @@ Verdict SolveRoundedText(const std::string& text, Task* task, SpatialMotionResul
 }
 
 // Seven poses of a spherical motion (random rotations about a random centre) from rounded data:
-// a family of dyads with its centre (SolveSpatialMotion's spherical model choice), the centre
+// a family of dyads with its centre (SolveSpatialMotion's model "spherical"), the centre
 // within 100 relative precisions of L.
 Verdict SolveRoundedSpherical(std::mt19937_64& rng, int digits, testing::SpatialForm form) {
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);

@@ -197,6 +197,11 @@ std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaterni
   return plane;
 }
 
+// DetectSphericalMotion: the smallest singular value of [R_j  -I] (units of the largest) for
+// which the rotations determine the fixed point (rotations about one axis direction leave a
+// line of points: 0).
+constexpr double kCenterDetermined = 1e-3;
+
 std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuaternion>& poses,
                                                      double length, const DataPrecision& precision,
                                                      double tolerance) {
@@ -213,7 +218,7 @@ std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuate
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(a, Eigen::ComputeThinU | Eigen::ComputeThinV);
   const Eigen::VectorXd& sigma = svd.singularValues();
   // Rotations about one axis direction leave a line of solutions (planar motion's business).
-  if (!(sigma(5) > 1e-3 * sigma(0))) return std::nullopt;
+  if (!(sigma(5) > kCenterDetermined * sigma(0))) return std::nullopt;
   const Eigen::VectorXd x = svd.solve(b) * length;
   SphericalCenter center;
   center.in_moving = x.head<3>();
@@ -256,8 +261,10 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   if (weights.size() != poses.size()) weights.assign(poses.size(), 1.0);
   if (!have_pivots && n >= 7) {
     if (std::optional<SphericalCenter> center =
-            DetectSphericalMotion(poses, length, task.precision, options.planarity_tolerance)) {
+            DetectSphericalMotion(poses, length, task.precision, options.sphericity_tolerance)) {
       result.spherical = *center;
+      result.model = "spherical";
+      result.method = n == 7 ? "exact" : "least-squares";
       const Eigen::Vector3d& c = center->in_fixed;
       result.notes.push_back(
           "the poses are a spherical motion: every displacement fixes the point [" +

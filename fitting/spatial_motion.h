@@ -32,6 +32,9 @@ struct SpatialMotionOptions {
   // Poses whose out-of-plane deviation (translation along the normal, and L times the tilt of
   // the rotation axes) stays below this times L are solved as planar.
   double planarity_tolerance = 1e-8;
+  // Poses whose displacements all fix one point within this times L (or within what the data's
+  // precision allows) are a spherical motion.
+  double sphericity_tolerance = 1e-8;
   PlatformMotionOptions platform;  // the platform's forward kinematics
 };
 
@@ -48,11 +51,12 @@ double PlanarityTolerance(const Task& task, double length, const SpatialMotionOp
 std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaternion>& poses,
                                                   double length, double tolerance);
 
-// The centre (lib/result.h SphericalCenter) when the poses' displacements all fix one point within
-// what the data's precision allows (rounding moves each image of p by up to sqrt(3) delta + |p|
-// alpha; doubled for the fit of P, kModelUnits of that) or within tolerance * length; nullopt
-// otherwise, and when the rotations do not determine a point (all about one axis direction: planar
-// motion).
+// The centre (lib/result.h SphericalCenter) when the poses' displacements all fix one point
+// within what the data's precision allows, kModelUnits * hypot(2 sqrt(3) delta, 2 |p| alpha)
+// (rounding moves a pose's origin by up to sqrt(3) delta and tilts it by alpha, which moves the
+// image of p by |p| alpha; doubled for the fit of P, as PlanarityTolerance does), or within
+// tolerance * length; nullopt otherwise, and when the rotations do not determine the point (all
+// about one axis direction, sigma_6 below kCenterDetermined sigma_1: planar motion).
 std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuaternion>& poses,
                                                      double length, const DataPrecision& precision,
                                                      double tolerance);

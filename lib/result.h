@@ -129,9 +129,11 @@ struct SphericalCenter {
 };
 
 struct SpatialMotionResult {
-  std::string method = "exact";   // "exact" | "least-squares"
-  double scale = 1.0;             // the characteristic length L used
-  std::string model = "spatial";  // "spatial" | "planar" (the data lie in a plane)
+  std::string method = "exact";  // "exact" | "least-squares"
+  double scale = 1.0;            // the characteristic length L used
+  // "spatial" | "planar" (the data lie in a plane) | "spherical" (the poses fix one point: a
+  // family, `spherical`, no dyads)
+  std::string model = "spatial";
   std::vector<SpatialDyadReport> dyads;
   std::vector<PlatformReport> mechanisms;
   int roots_total = 0;     // complex roots of the bilinear system (20 when generic)

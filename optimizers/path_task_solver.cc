@@ -214,6 +214,18 @@ std::optional<double> BestMaxError(const std::vector<PathMechanismReport>& repor
   return best;
 }
 
+// The smallest largest point error of a defect-free report: how near an answer came.
+std::optional<double> BestDefectFreeMaxError(const std::vector<PathMechanismReport>& reports) {
+  std::optional<double> best;
+  for (const PathMechanismReport& report : reports) {
+    if (report.defects.empty() && report.max_point_error &&
+        (!best || *report.max_point_error < *best)) {
+      best = report.max_point_error;
+    }
+  }
+  return best;
+}
+
 StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point start,
                   const std::vector<PathMechanismReport>& reports) {
   StageReport stage;
@@ -495,10 +507,11 @@ std::vector<Eigen::Vector2d> NinePointSubset(const std::vector<Eigen::Vector2d>&
 
 // Free timing, nine points or more: every coupler curve through nine of them
 // (NinePointSubset; fitting/nine_point_path.h), each curve by the one of its six designs
-// (CurveCognates: three cognates, either crank; driven by a rocker, a cognate may not pass the
-// points in order) with the timing it gives all the points (ProjectTiming, either direction)
-// of smallest error, a crank and compact among equals; the kNinePointRefined curves of smallest
-// error are returned.
+// (CurveCognates, which builds the orbit NinePointOrbit does, in Sigma: three cognates, either
+// crank; driven by a rocker, a cognate may not pass the points in order) with the timing it
+// gives all the points (ProjectTiming, either direction) of smallest error, defect-free first,
+// a crank and compact among equals. Returned: the kNinePointRefined curves of smallest error,
+// and near misses (kNearMiss) beyond them, up to kNinePointNearMax in all.
 std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool second) {
   const std::vector<Eigen::Vector2d> nine = NinePointSubset(data.points, second);
   if (nine.empty()) return {};
@@ -509,24 +522,31 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
   std::vector<PathMechanismReport> seeds;
   for (const PathFourBar& four_bar : four_bars) {
     std::vector<PathMechanismReport> designs;
-    double least = std::numeric_limits<double>::infinity();
     for (const PathFourBar& design : CurveCognates(four_bar)) {
       for (const double direction : {1.0, -1.0}) {
         const std::optional<std::vector<double>> angles = ProjectTiming(design, data, direction);
         if (!angles || !Monotonic(*angles)) continue;
         PathMechanismReport report = Report(design, data, *angles);
         report.input_angles = *angles;
-        if (!report.max_point_error) continue;
-        least = std::min(least, *report.max_point_error);
-        designs.push_back(report);
+        if (report.max_point_error) designs.push_back(report);
       }
+    }
+    // The defect-free designs when there are any.
+    const bool clean = std::any_of(designs.begin(), designs.end(),
+                                   [](const PathMechanismReport& r) { return r.defects.empty(); });
+    double least = std::numeric_limits<double>::infinity();
+    for (const PathMechanismReport& report : designs) {
+      if (report.defects.empty() || !clean) least = std::min(least, *report.max_point_error);
     }
     // Designs of one curve meet the points alike (up to the timing projection): of those, a
     // crank (it refines away from the toggles a rocker turns back at), then the most compact.
     std::optional<PathMechanismReport> best;
     double best_size = 0.0;
     for (const PathMechanismReport& report : designs) {
-      if (*report.max_point_error > least + PassTolerance(data)) continue;
+      if ((clean && !report.defects.empty()) ||
+          *report.max_point_error > least + PassTolerance(data)) {
+        continue;
+      }
       const double size = PathFourBarSize(report.design, data.points, data.length);
       if (!best || std::make_pair(!report.input_rotates_fully, size) <
                        std::make_pair(!best->input_rotates_fully, best_size)) {
@@ -609,7 +629,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     // A four-bar through every point within the data's precision: the guessed timings' seeds
     // can only come to the same curve or to a worse fit; they are not refined.
     const double exact = PassTolerance(data);
-    const std::optional<double> best = BestMaxError(homotopy_seeds);
+    const std::optional<double> best = BestDefectFreeMaxError(homotopy_seeds);
     if (best && *best <= exact) {
       candidates = homotopy_seeds;
     } else {
@@ -623,7 +643,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     // path the tracker lost, or a curve coarse data moved out of reach of the refinement from
     // one set, is found from the other). Balanced does it when the miss is small
     // (kSecondNineMiss); thorough always.
-    const std::optional<double> refined_best = BestMaxError(candidates);
+    const std::optional<double> refined_best = BestDefectFreeMaxError(candidates);
     const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * exact;
     if (count >= 10 && !(refined_best && *refined_best <= exact) &&
         (near_miss || task.effort == Effort::kThorough)) {
@@ -645,33 +665,31 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   }
   Finish(data, options.path_reported, candidates, result);
   // Nothing through the points within their precision: say so, with how far the best misses.
-  std::optional<double> best;
-  for (const PathMechanismReport& report : result->mechanisms) {
-    if (report.defects.empty() && report.max_point_error &&
-        (!best || *report.max_point_error < *best)) {
-      best = report.max_point_error;
+  const std::optional<double> best = BestDefectFreeMaxError(result->mechanisms);
+  if (count >= 9 && task.effort != Effort::kFast && !result->mechanisms.empty() &&
+      !(best && *best <= tolerance)) {
+    std::string miss = "every four-bar found has a defect";
+    if (best) {
+      char text[96];
+      std::snprintf(text, sizeof(text), "%.3g (%.3g times the tolerance %.3g)", *best,
+                    *best / tolerance, tolerance);
+      miss = std::string("the best misses one by ") + text;
     }
-  }
-  if (count >= 9 && task.effort != Effort::kFast && best && *best > tolerance) {
-    char text[96];
-    std::snprintf(text, sizeof(text), "%.3g (%.3g times the tolerance %.3g)", *best,
-                  *best / tolerance, tolerance);
     result->notes.push_back(
-        std::string("no four-bar found passes every point within their precision: the best "
-                    "misses one by ") +
-        text + "; the data are noisier than their digits say, or the search missed it" +
+        "no four-bar found passes every point within their precision: " + miss +
+        "; the data are noisier than their digits say, or the search missed it" +
         (task.effort == Effort::kThorough ? std::string()
                                           : std::string(" (effort thorough searches more)")));
   }
 }
 
-// Every four-bar that meets the points gets its first-order error bound at the data's precision,
-// or at its own largest point error where that is larger and it has no defect
-// (PathFourBarErrorBound; free timing
-// with its fitted input angles as parameters), widened to
-// the farthest of `fits` (four-bars that also pass the points within their precision, free
-// timing) by CurveDistance, and a note counts those the precision leaves loose: by more than 1 %
-// of their size, and by more than their size (those mean nothing at this precision).
+// Every four-bar that meets the points gets its first-order error bound at the data's
+// precision, or at its own largest point error where that is larger and it has no defect
+// (PathFourBarErrorBound; free timing with its fitted input angles as parameters); a note counts
+// those that bound leaves loose: by more than 1 % of their size, and by more than their size
+// (those mean nothing at this precision). Under free timing the bound is then widened to the
+// farthest of `fits` (four-bars that also pass the points within their precision) by
+// CurveDistance, with a note of its own.
 void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathFourBar>& fits,
                  PathResult* result) {
   int loose = 0, meaningless = 0, bounded = 0, spread = 0;
@@ -690,6 +708,10 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
     report.error_bound = PathFourBarErrorBound(report.design, data.points, angles, precision,
                                                data.length, free_timing);
     ++bounded;
+    const double size = PathFourBarSize(report.design, data.points, data.length);
+    const double relative = *report.error_bound / size;
+    if (relative > 1e-2) ++loose;
+    if (!(relative <= 1.0)) ++meaningless;
     // The first-order bound sees one minimum. Another curve through the points within their
     // precision is as far as the data can move this one at least.
     if (report.defects.empty() && *report.max_point_error <= tolerance) {
@@ -701,14 +723,9 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
       if (farthest > *report.error_bound) {
         report.error_bound = farthest;
         ++spread;
-        widest =
-            std::max(widest, farthest / PathFourBarSize(report.design, data.points, data.length));
+        widest = std::max(widest, farthest / size);
       }
     }
-    const double relative =
-        *report.error_bound / PathFourBarSize(report.design, data.points, data.length);
-    if (relative > 1e-2) ++loose;
-    if (!(relative <= 1.0)) ++meaningless;
   }
   if (spread > 0) {
     char text[32];
@@ -728,7 +745,7 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
                          PrecisionText(data.precision.angle * 180.0 / std::acos(-1.0)) + " deg") +
       ", " + std::to_string(loose) + " of the " + std::to_string(bounded) +
       " four-bars may be off by more than 1 % of their size (error_bound, first "
-      "order)";
+      "order; at a four-bar's own point error where that is larger)";
   if (meaningless > 0) {
     note += "; " + std::to_string(meaningless) +
             " by more than their own size or undetermined: such a four-bar means nothing at this "

@@ -13,6 +13,8 @@
 
 #include "fitting/spatial_motion.h"
 #include "lib/mechanism.h"
+#include "lib/precision.h"
+#include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
@@ -237,8 +239,19 @@ TEST(RoundedData, SphericalMotionWithinPrecisionIsAFamily) {
           t % 2 == 0 ? testing::SpatialForm::kDualQuaternion : testing::SpatialForm::kAxisAngle;
       const Task task = testing::ReadRounded(testing::SpatialMotionText(poses, digits, form));
       const SpatialMotionResult result = SolveSpatialTask(task);
-      if (result.dyads.empty() && HasNote(result.notes, "the poses are a spherical motion")) {
+      // The centre within 100 units of the data's relative precision (of L).
+      const double length = SpatialTaskLength(task);
+      if (result.model == "spherical" && result.dyads.empty() && result.spherical &&
+          (result.spherical->in_fixed - center).norm() <=
+              100.0 * RelativePrecision(task.precision, length) * length &&
+          HasNote(result.notes, "the poses are a spherical motion")) {
         ++families;
+      }
+      if (t == 0) {  // the result file: the model and the centre in Sigma and in E
+        const std::string json = ResultToJson(result, 2);
+        EXPECT_NE(json.find("\"model\": \"spherical\""), std::string::npos) << json;
+        EXPECT_NE(json.find("\"spherical\": {"), std::string::npos) << json;
+        EXPECT_NE(json.find("\"center_in_moving\": ["), std::string::npos) << json;
       }
       const testing::PlantedSpatialTask random = testing::RandomPlatformTask(rng, 7);
       const Task random_task = testing::ReadRounded(
@@ -249,6 +262,14 @@ TEST(RoundedData, SphericalMotionWithinPrecisionIsAFamily) {
     EXPECT_EQ(families, 20) << digits << " digits";
     EXPECT_EQ(spherical_random, 0);
   }
+  // Rotations about one axis direction fix a line, not a point: not spherical (planar motion,
+  // solved as planar before this test is reached).
+  std::vector<DualQuaternion> turns;
+  for (int j = 0; j < 7; ++j) {
+    turns.push_back(DualQuaternion::FromAxisAngle(Eigen::Vector3d::UnitZ(), 0.3 * j,
+                                                  Eigen::Vector3d(0.1 * j, -0.2 * j, 0.0)));
+  }
+  EXPECT_FALSE(DetectSphericalMotion(turns, 1.0, DataPrecision(), 1e-8).has_value());
 }
 
 // Tasks that linkfit bench (rounded data) once answered wrongly, as its task files print them,

@@ -145,7 +145,9 @@ TEST(TaskSolver, UntimedPointsAreFittedWithTheirAngles) {
   };
   EXPECT_TRUE(says_missed(result));
   std::vector<Eigen::Vector2d> exact_points;
-  EXPECT_FALSE(says_missed(SolvePathTask(PathTask(generated, 0.0, true, rng, &exact_points))));
+  const PathResult exact = SolvePathTask(PathTask(generated, 0.0, true, rng, &exact_points));
+  EXPECT_LE(BestError(exact, false), 1e-8 * testing::PathLength(exact_points));
+  EXPECT_FALSE(says_missed(exact));
 }
 
 TEST(TaskSolver, FewerThanFiveTimedPointsGiveANote) {

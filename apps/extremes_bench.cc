@@ -355,13 +355,8 @@ Verdict SolveRoundedText(const std::string& text, Task* task, SpatialMotionResul
 // a family of dyads with its centre (SolveSpatialMotion's model "spherical"), the centre
 // within 100 relative precisions of L.
 Verdict SolveRoundedSpherical(std::mt19937_64& rng, int digits, testing::SpatialForm form) {
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
-  const Eigen::Vector3d center(uniform(rng), uniform(rng), uniform(rng));
-  std::vector<DualQuaternion> poses;
-  for (int j = 0; j < 7; ++j) {
-    const Eigen::Matrix3d rotation = testing::RandomSpatialPose(rng).Rotation();
-    poses.push_back(DualQuaternion::FromRotationTranslation(rotation, center - rotation * center));
-  }
+  Eigen::Vector3d center;
+  const std::vector<DualQuaternion> poses = testing::RandomSphericalMotion(rng, 7, &center);
   Task task;
   SpatialMotionResult result;
   Verdict verdict =

@@ -132,14 +132,21 @@ void SolvePlanar(const Task& task, const SpatialMotionOptions& options, PlanarEm
 
 }  // namespace
 
+namespace {
+
+// How far rounding can move a body point `distance` from a pose's origin, measured against a
+// fitted reference: the origin moves by up to sqrt(3) delta and the rotation tilts by up to
+// alpha, both doubled for the reference fitted to the poses, kModelUnits of that.
+double FitWithinPrecision(const DataPrecision& precision, double distance) {
+  return kModelUnits *
+         std::hypot(2.0 * std::sqrt(3.0) * precision.length, 2.0 * distance * precision.angle);
+}
+
+}  // namespace
+
 double PlanarityTolerance(const Task& task, double length, const SpatialMotionOptions& options) {
-  // Rounding moves a pose origin off the plane by up to sqrt(3) delta and tilts a rotation by
-  // up to alpha; the test measures against the centroid and the first pose, which doubles both.
-  const double within_precision = kModelUnits *
-                                  std::hypot(2.0 * std::sqrt(3.0) * task.precision.length,
-                                             2.0 * length * task.precision.angle) /
-                                  length;
-  return std::max(options.planarity_tolerance, within_precision);
+  // Measured against the centroid and the first pose, at L from the origin.
+  return std::max(options.planarity_tolerance, FitWithinPrecision(task.precision, length) / length);
 }
 
 double SpatialTaskLength(const Task& task) {
@@ -228,10 +235,10 @@ std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuate
         center.sphericity,
         (pose.Rotation() * center.in_moving + pose.Translation() - center.in_fixed).norm());
   }
-  const double within_precision =
-      kModelUnits * std::hypot(2.0 * std::sqrt(3.0) * precision.length,
-                               2.0 * center.in_moving.norm() * precision.angle);
-  if (!(center.sphericity <= std::max(tolerance * length, within_precision))) return std::nullopt;
+  if (!(center.sphericity <=
+        std::max(tolerance * length, FitWithinPrecision(precision, center.in_moving.norm())))) {
+    return std::nullopt;
+  }
   return center;
 }
 

@@ -519,6 +519,7 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
   NinePointOptions nine_options;
   nine_options.swap_dyads = false;  // CurveCognates gives every design of each curve
   SolveNinePointPath(nine, nine_options, &four_bars);
+  const double tolerance = PassTolerance(data);
   std::vector<PathMechanismReport> seeds;
   for (const PathFourBar& four_bar : four_bars) {
     std::vector<PathMechanismReport> designs;
@@ -543,8 +544,7 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
     std::optional<PathMechanismReport> best;
     double best_size = 0.0;
     for (const PathMechanismReport& report : designs) {
-      if ((clean && !report.defects.empty()) ||
-          *report.max_point_error > least + PassTolerance(data)) {
+      if ((clean && !report.defects.empty()) || *report.max_point_error > least + tolerance) {
         continue;
       }
       const double size = PathFourBarSize(report.design, data.points, data.length);
@@ -564,7 +564,7 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
   // precision (another four-bar the data admit; BoundErrors needs to see it).
   size_t kept = std::min(seeds.size(), static_cast<size_t>(kNinePointRefined));
   while (kept < seeds.size() && static_cast<int>(kept) < kNinePointNearMax &&
-         *seeds[kept].max_point_error <= kNearMiss * PassTolerance(data)) {
+         *seeds[kept].max_point_error <= kNearMiss * tolerance) {
     ++kept;
   }
   seeds.resize(kept);
@@ -576,6 +576,7 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
                      PathResult* result, std::vector<PathFourBar>* fits) {
   const int count = static_cast<int>(data.points.size());
+  const double tolerance = PassTolerance(data);  // a four-bar through the points
   const auto stage_start = std::chrono::steady_clock::now();
   std::vector<PathMechanismReport> candidates;
   std::vector<double> chords;
@@ -628,9 +629,8 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     }
     // A four-bar through every point within the data's precision: the guessed timings' seeds
     // can only come to the same curve or to a worse fit; they are not refined.
-    const double exact = PassTolerance(data);
     const std::optional<double> best = BestDefectFreeMaxError(homotopy_seeds);
-    if (best && *best <= exact) {
+    if (best && *best <= tolerance) {
       candidates = homotopy_seeds;
     } else {
       for (PathMechanismReport& candidate : candidates) {
@@ -644,8 +644,8 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     // one set, is found from the other). Balanced does it when the miss is small
     // (kSecondNineMiss); thorough always.
     const std::optional<double> refined_best = BestDefectFreeMaxError(candidates);
-    const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * exact;
-    if (count >= 10 && !(refined_best && *refined_best <= exact) &&
+    const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * tolerance;
+    if (count >= 10 && !(refined_best && *refined_best <= tolerance) &&
         (near_miss || task.effort == Effort::kThorough)) {
       const auto second_start = std::chrono::steady_clock::now();
       std::vector<PathMechanismReport> second = NinePointSeeds(data, true);
@@ -656,7 +656,6 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       candidates.insert(candidates.end(), second.begin(), second.end());
     }
   }
-  const double tolerance = PassTolerance(data);
   for (const PathMechanismReport& candidate : candidates) {
     if (candidate.defects.empty() && candidate.max_point_error &&
         *candidate.max_point_error <= tolerance) {
@@ -728,11 +727,9 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
     }
   }
   if (spread > 0) {
-    char text[32];
-    std::snprintf(text, sizeof(text), "%.2g", widest);
     result->notes.push_back(
         "distinct coupler curves (not cognates) pass the points within their precision, up to " +
-        std::string(text) +
+        PrecisionText(widest) +
         " of a four-bar's size apart: the points do not determine the four-bar; the error_bound "
         "of " +
         std::to_string(spread) + " four-bar(s) is that distance");

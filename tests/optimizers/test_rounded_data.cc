@@ -224,17 +224,11 @@ TEST(RoundedData, OneOrientationWithinPrecisionIsAFamily) {
 // digits are not.
 TEST(RoundedData, SphericalMotionWithinPrecisionIsAFamily) {
   std::mt19937_64 rng(1700);
-  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (const int digits : {8, 6, 4}) {
     int families = 0, spherical_random = 0;
     for (int t = 0; t < 20; ++t) {
-      const Eigen::Vector3d center(uniform(rng), uniform(rng), uniform(rng));
-      std::vector<DualQuaternion> poses;
-      for (int j = 0; j < 7; ++j) {
-        const Eigen::Matrix3d rotation = testing::RandomSpatialPose(rng).Rotation();
-        poses.push_back(
-            DualQuaternion::FromRotationTranslation(rotation, center - rotation * center));
-      }
+      Eigen::Vector3d center;
+      const std::vector<DualQuaternion> poses = testing::RandomSphericalMotion(rng, 7, &center);
       const testing::SpatialForm form =
           t % 2 == 0 ? testing::SpatialForm::kDualQuaternion : testing::SpatialForm::kAxisAngle;
       const Task task = testing::ReadRounded(testing::SpatialMotionText(poses, digits, form));

@@ -35,6 +35,19 @@ DualQuaternion RandomSpatialPose(std::mt19937_64& rng, double extent) {
   return DualQuaternion::FromRotationTranslation(q.toRotationMatrix(), RandomVector(rng, extent));
 }
 
+std::vector<DualQuaternion> RandomSphericalMotion(std::mt19937_64& rng, int count,
+                                                  Eigen::Vector3d* center) {
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const Eigen::Vector3d fixed(uniform(rng), uniform(rng), uniform(rng));
+  std::vector<DualQuaternion> poses;
+  for (int j = 0; j < count; ++j) {
+    const Eigen::Matrix3d rotation = RandomSpatialPose(rng).Rotation();
+    poses.push_back(DualQuaternion::FromRotationTranslation(rotation, fixed - rotation * fixed));
+  }
+  *center = fixed;
+  return poses;
+}
+
 SpatialDyad RandomSSDyad(std::mt19937_64& rng) {
   std::uniform_real_distribution<double> radius(0.5, 2.0);
   return SpatialDyad::SS(RandomVector(rng, 1.0), RandomVector(rng, 1.0), radius(rng));

@@ -13,6 +13,11 @@ namespace linkfit::testing {
 // A uniformly random rotation and a translation in the box of half-width `extent`.
 DualQuaternion RandomSpatialPose(std::mt19937_64& rng, double extent = 1.0);
 
+// `count` poses of a spherical motion: uniformly random rotations about a centre drawn in the box
+// of half-width 1 (returned in *center), each translation making the centre a fixed point.
+std::vector<DualQuaternion> RandomSphericalMotion(std::mt19937_64& rng, int count,
+                                                  Eigen::Vector3d* center);
+
 // An SS dyad with center and moving point in the box of half-width 1 and radius in [0.5, 2].
 SpatialDyad RandomSSDyad(std::mt19937_64& rng);
 // A PS dyad with moving point in the box of half-width 1 and a plane within distance 1 of 0.

@@ -14,6 +14,7 @@
 
 #include "apps/extremes_bench.h"
 #include "apps/percentile.h"
+#include "lib/design_constraints.h"
 #include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
@@ -178,7 +179,7 @@ Outcome RunPath(std::mt19937_64& rng, Effort effort, int count, double noise, bo
   for (const PathMechanismReport& mechanism : result.mechanisms) {
     const std::optional<double>& error =
         use_rms ? mechanism.rms_point_error : mechanism.max_point_error;
-    if (error && mechanism.defects.empty()) best = std::min(best, *error);
+    if (error && !HasKinematicDefect(mechanism.defects)) best = std::min(best, *error);
   }
   if (noise == 0.0) {
     outcome.error = best / length;

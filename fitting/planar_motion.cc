@@ -9,7 +9,9 @@
 
 #include "fitting/model_choice.h"
 #include "fitting/planar_burmester_curves.h"
+#include "lib/design_constraints.h"
 #include "lib/four_bar_motion.h"
+#include "lib/precision.h"
 
 namespace linkfit {
 namespace {
@@ -81,18 +83,54 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   return mechanism;
 }
 
-namespace {
-
-bool MechanismBefore(const MechanismReport& a, const MechanismReport& b) {
-  if (a.defects.empty() != b.defects.empty()) return a.defects.empty();
-  const double ta = a.transmission_min_deg.value_or(-1.0);
-  const double tb = b.transmission_min_deg.value_or(-1.0);
-  if (ta != tb) return ta > tb;
-  return a.max_pose_error.value_or(std::numeric_limits<double>::infinity()) <
-         b.max_pose_error.value_or(std::numeric_limits<double>::infinity());
+bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& precision,
+              double length, double bound) {
+  if (a.type != b.type) return false;
+  // Only what the type has: an RR its pivots and radius, a PR its moving pivot and line in
+  // Sigma, an RP its fixed pivot and line in E.
+  const bool fixed = a.type != DyadType::kPR, moving = a.type != DyadType::kRP;
+  double size = length;
+  if (fixed) size = std::max(size, a.fixed_pivot.norm());
+  if (moving) size = std::max(size, a.moving_pivot.norm());
+  double difference = 0.0;
+  if (fixed) difference = std::max(difference, (a.fixed_pivot - b.fixed_pivot).norm());
+  if (moving) difference = std::max(difference, (a.moving_pivot - b.moving_pivot).norm());
+  if (a.type == DyadType::kRR) {
+    difference = std::max(difference, std::abs(a.radius - b.radius));
+  } else {
+    size = std::max(size, a.LineFoot().norm());
+    const Eigen::Vector2d na(-a.line_direction.y(), a.line_direction.x());
+    const double sign =
+        na.dot(Eigen::Vector2d(-b.line_direction.y(), b.line_direction.x())) < 0 ? -1.0 : 1.0;
+    difference = std::max({difference, size * (a.line_direction - sign * b.line_direction).norm(),
+                           std::abs(na.dot(b.line_point - a.line_point))});
+  }
+  const double tolerance =
+      std::max({1e-7 * size, kModelUnits * PointUncertainty(precision, size, length, 2),
+                std::min(bound, 0.1 * size)});
+  return difference <= tolerance;
 }
 
-}  // namespace
+double PoseFitTolerance(const DataPrecision& precision, double length) {
+  return std::max(1e-8 * length, kModelUnits * PointUncertainty(precision, length, length, 2));
+}
+
+void JudgeMechanism(const DesignConstraints& constraints, const std::vector<DyadReport>& dyads,
+                    double length, MechanismReport* mechanism) {
+  const PlanarDyad& input = dyads[mechanism->input_dyad].dyad;
+  const PlanarDyad& output = dyads[mechanism->output_dyad].dyad;
+  FourBarClass kind;
+  kind.type = mechanism->type;
+  kind.grashof = mechanism->grashof;
+  kind.input_rotates_fully = mechanism->input_rotates_fully;
+  mechanism->violates = MotionViolations(constraints, input, output, kind, length);
+  std::vector<std::string>& defects = mechanism->defects;
+  if (mechanism->transmission_min_deg &&
+      *mechanism->transmission_min_deg < MinTransmissionAngleDeg(constraints) &&
+      std::find(defects.begin(), defects.end(), "transmission") == defects.end()) {
+    defects.push_back("transmission");
+  }
+}
 
 namespace {
 
@@ -269,20 +307,40 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
   }
 }
 
-void RankMechanisms(std::vector<MechanismReport>* mechanisms) {
-  std::stable_sort(mechanisms->begin(), mechanisms->end(), MechanismBefore);
+RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit) {
+  RankKey key;
+  key.within_precision = mechanism.max_pose_error && *mechanism.max_pose_error <= precision_fit;
+  key.parameters = FourBarParameters(mechanism.type);
+  key.violates = !mechanism.violates.empty();
+  key.fit = mechanism.rms_pose_error ? mechanism.rms_pose_error : mechanism.max_pose_error;
+  // Not assembling at the first pose, it cannot be driven through the poses at all.
+  key.defect_level = mechanism.max_pose_error ? DefectLevel(mechanism.defects) : 2;
+  key.transmission_min_deg = mechanism.transmission_min_deg;
+  return key;
 }
 
-void BuildMechanisms(const std::vector<PlanarPose>& poses, double length,
-                     PlanarMotionResult* result) {
+void RankMechanisms(double precision_fit, std::vector<MechanismReport>* mechanisms) {
+  std::vector<RankKey> keys;
+  for (const MechanismReport& mechanism : *mechanisms) {
+    keys.push_back(MechanismRankKey(mechanism, precision_fit));
+  }
+  std::vector<MechanismReport> ranked;
+  for (int index : RankOrder(keys)) ranked.push_back((*mechanisms)[index]);
+  *mechanisms = std::move(ranked);
+}
+
+void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result) {
+  const std::vector<PlanarPose>& poses = task.planar_poses;
   result->mechanisms.clear();
   for (size_t i = 0; i < result->dyads.size(); ++i) {
     for (size_t j = i + 1; j < result->dyads.size(); ++j) {
-      result->mechanisms.push_back(
-          AnalyzeDyadPair(result->dyads, static_cast<int>(i), static_cast<int>(j), poses, length));
+      MechanismReport mechanism =
+          AnalyzeDyadPair(result->dyads, static_cast<int>(i), static_cast<int>(j), poses, length);
+      JudgeMechanism(task.constraints, result->dyads, length, &mechanism);
+      result->mechanisms.push_back(mechanism);
     }
   }
-  RankMechanisms(&result->mechanisms);
+  RankMechanisms(PoseFitTolerance(task.precision, length), &result->mechanisms);
 }
 
 std::vector<std::vector<int>> SpreadSubsets(int count, int subsets) {
@@ -339,6 +397,7 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
   const std::vector<PlanarPose>& poses = task.planar_poses;
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);
   result.scale = length;
+  result.constraints = task.constraints;
   result.method = poses.size() <= 5 ? "exact" : "least-squares";
   PlanarMotionOptions at_precision = options;
   at_precision.burmester.precision = task.precision;
@@ -348,7 +407,7 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
     SolveFivePosesOrMore(task, at_precision, &result);
   }
 
-  BuildMechanisms(poses, length, &result);
+  BuildMechanisms(task, length, &result);
   if (result.dyads.empty() && result.notes.empty()) {
     result.notes.push_back("no real dyad guides the body through these poses");
   } else if (result.dyads.size() == 1) {

@@ -43,17 +43,41 @@ int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptio
 // round((i + k / subsets) n / 5), i = 0..4, so that consecutive subsets shift through the task.
 std::vector<std::vector<int>> SpreadSubsets(int count, int subsets);
 
+// Whether two dyads are one: of a type, and their pivots, radii and lines within the data's
+// precision (kModelUnits point uncertainties at their size), within `bound` (how far the data's
+// precision can move them: the smaller of their DyadErrorBounds, at most 10 % of their size) or
+// within 1e-7 of their size.
+bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& precision,
+              double length, double bound = 0.0);
+
+// The pose error below which a four-bar meets the poses within their precision (kModelUnits
+// point uncertainties of a point L from E's origin), not below 1e-8 L: two fits below it are a
+// near tie in the ranking.
+double PoseFitTolerance(const DataPrecision& precision, double length);
+
+// A four-bar judged against the task's constraints: the ones it violates, and the defect
+// "transmission" when its worst transmission angle is below min_transmission_angle_deg.
+void JudgeMechanism(const DesignConstraints& constraints, const std::vector<DyadReport>& dyads,
+                    double length, MechanismReport* mechanism);
+
 // Every four-bar made of two of result->dyads, each analysed under both inputs (the better
-// kept), ranked defect-free first, then by worst transmission angle, then by pose error.
-void BuildMechanisms(const std::vector<PlanarPose>& poses, double length,
-                     PlanarMotionResult* result);
+// kept), judged (JudgeMechanism), those of the same two dyads listed once, and ranked
+// (RankMechanisms). The poses are the task's planar poses.
+void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result);
 
 // The analysis of the four-bar of dyads i and j of `dyads` (both inputs tried, the better kept).
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
                                 const std::vector<PlanarPose>& poses, double length);
 
-// Ranks mechanisms: defect-free first, then by worst transmission angle, then by pose error.
-void RankMechanisms(std::vector<MechanismReport>* mechanisms);
+// A mechanism's key in the ranking rule (lib/design_constraints.h): the fit is the RMS pose
+// error for least squares, else the largest; within the data's precision when its largest pose
+// error is at most `precision_fit` (PoseFitTolerance).
+RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit);
+
+// Ranks mechanisms by the rule of lib/design_constraints.h (RankOrder): keeping the
+// constraints, defect-free, by fit (RMS pose error for least squares, else the largest), near
+// ties by worst transmission angle. `precision_fit`: PoseFitTolerance.
+void RankMechanisms(double precision_fit, std::vector<MechanismReport>* mechanisms);
 
 }  // namespace linkfit
 

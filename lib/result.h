@@ -48,9 +48,14 @@ struct MechanismReport {
   // Largest pose error when assembled at every task pose on one circuit (four_bar_motion.h);
   // absent when the mechanism does not assemble at the first pose.
   std::optional<double> max_pose_error;
-  std::string pose_error_note;       // why max_pose_error is absent
-  std::string grashof;               // 4R only
-  std::vector<std::string> defects;  // "circuit", "branch", "order"
+  std::string pose_error_note;  // why max_pose_error is absent
+  std::string grashof;          // 4R only
+  // "circuit", "branch", "order", "transmission" (the worst transmission angle below the
+  // task's min_transmission_angle_deg)
+  std::vector<std::string> defects;
+  // The task's design constraints this four-bar breaks (lib/design_constraints.h); empty when it
+  // keeps them all.
+  std::vector<std::string> violates;
   bool input_rotates_fully = false;  // the input dyad can be a crank on this circuit
   bool output_rotates_fully = false;
   std::optional<double> transmission_min_deg;  // folded to [0, 90], first to last pose
@@ -82,6 +87,7 @@ struct PlanarMotionResult {
   std::vector<StageReport> stages;  // least squares: what each stage took and gave
   DataPrecision precision;          // the data precision assumed (the task's)
   bool closed = false;              // the task's last pose repeated the first (dropped)
+  DesignConstraints constraints;    // the task's, echoed
 };
 
 struct SpatialDyadReport {
@@ -161,8 +167,9 @@ struct PathMechanismReport {
   std::string error_note;  // why max_point_error is absent
   // Least squares: the largest point error before the refinement (absent when not refined).
   std::optional<double> seed_max_point_error;
-  std::vector<std::string> defects;  // "branch", "circuit"
-  std::string grashof;               // 4R only
+  std::vector<std::string> defects;   // "branch", "circuit", "order", "transmission"
+  std::vector<std::string> violates;  // the task's design constraints it breaks
+  std::string grashof;                // 4R only
   bool input_rotates_fully = false;
   std::optional<double> transmission_min_deg;  // over the crank's sweep, first to last point
   std::optional<double> transmission_max_deg;
@@ -191,6 +198,7 @@ struct PathResult {
   // A closed path: the last point repeated the first, and the crank makes a whole turn from
   // the first point back to it.
   bool closed = false;
+  DesignConstraints constraints;  // the task's, echoed
 };
 
 // What `linkfit solve` returns for one task.

@@ -176,6 +176,7 @@ Json MechanismToJson(const MechanismReport& report) {
   }
   if (!report.grashof.empty()) object["grashof"] = report.grashof;
   object["defects"] = report.defects;
+  object["violates"] = report.violates;
   object["full_rotation"] = {{"input", report.input_rotates_fully},
                              {"output", report.output_rotates_fully}};
   if (report.transmission_min_deg && report.transmission_max_deg &&
@@ -221,6 +222,7 @@ Json PathMechanismToJson(const PathMechanismReport& report) {
     object["before_refinement"] = seed;
   }
   object["defects"] = report.defects;
+  object["violates"] = report.violates;
   if (!report.grashof.empty()) object["grashof"] = report.grashof;
   object["input_rotates_fully"] = report.input_rotates_fully;
   if (report.transmission_min_deg && report.transmission_max_deg) {
@@ -306,6 +308,34 @@ void PutPrecision(Json* root, const DataPrecision& precision, bool closed) {
   object["source"] = precision.source;
   (*root)["precision"] = object;
   if (closed) (*root)["closed"] = true;
+}
+
+// "constraints": the design constraints the result was judged by (lib/design_constraints.h),
+// the task's and the defaults in force, which "defaults" names.
+void PutConstraints(Json* root, const DesignConstraints& constraints, double scale) {
+  Json object;
+  Json defaults = Json::array();
+  PutNumber(&object, "max_link_length", MaxLinkLength(constraints, scale));
+  if (!constraints.max_link_length) defaults.push_back("max_link_length");
+  if (constraints.min_link_length) {
+    PutNumber(&object, "min_link_length", *constraints.min_link_length);
+  }
+  if (constraints.max_coupler_point_offset) {
+    PutNumber(&object, "max_coupler_point_offset", *constraints.max_coupler_point_offset);
+  }
+  for (const auto& [key, box] : {std::pair{"fixed_pivots_box", &constraints.fixed_pivots_box},
+                                 std::pair{"moving_pivots_box", &constraints.moving_pivots_box}}) {
+    if (*box) {
+      object[key] = Json::array({Json::array({(*box)->min.x(), (*box)->min.y()}),
+                                 Json::array({(*box)->max.x(), (*box)->max.y()})});
+    }
+  }
+  if (constraints.input_rotates_fully) object["input_rotates_fully"] = true;
+  if (!constraints.grashof.empty()) object["grashof"] = constraints.grashof;
+  PutNumber(&object, "min_transmission_angle_deg", MinTransmissionAngleDeg(constraints));
+  if (!constraints.min_transmission_angle_deg) defaults.push_back("min_transmission_angle_deg");
+  if (!defaults.empty()) object["defaults"] = defaults;
+  (*root)["constraints"] = object;
 }
 
 std::string Dump(const Json& root, int indent) {
@@ -397,6 +427,7 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   root["method"] = result.method;
   PutNumber(&root, "scale", result.scale);
   PutPrecision(&root, result.precision, result.closed);
+  PutConstraints(&root, result.constraints, result.scale);
   root["dyads"] = Json::array();
   for (const DyadReport& dyad : result.dyads) root["dyads"].push_back(DyadToJson(dyad));
   root["mechanisms"] = Json::array();
@@ -439,6 +470,7 @@ std::string ResultToJson(const PathResult& result, int indent) {
   PutNumber(&root, "scale", result.scale);
   PutPrecision(&root, result.precision, false);
   root["closed"] = result.closed;
+  PutConstraints(&root, result.constraints, result.scale);
   root["mechanisms"] = Json::array();
   for (const PathMechanismReport& mechanism : result.mechanisms) {
     root["mechanisms"].push_back(PathMechanismToJson(mechanism));

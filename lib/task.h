@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
 #include "lib/precision.h"
@@ -48,6 +49,8 @@ struct Task {
   // from; empty for the default (the five of smallest radius).
   std::vector<int> platform;
   std::optional<double> scale;  // characteristic length L, when given
+  // Planar motion and path problems: the design's bounds (lib/design_constraints.h).
+  DesignConstraints constraints;
   Effort effort = Effort::kBalanced;
   // The precision of the data, given or inferred from the digits (lib/precision.h).
   DataPrecision precision;

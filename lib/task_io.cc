@@ -416,7 +416,7 @@ class TaskParser {
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
     CheckKeys(root, "",
               {"problem", "space", "poses", "points", "scale", "precision", "options",
-               "moving_pivots", "fixed_pivots", "platform"});
+               "moving_pivots", "fixed_pivots", "platform", "constraints"});
 
     Task task;
     task.problem =
@@ -477,6 +477,7 @@ class TaskParser {
         root.contains("platform")) {
       Fail("platform", "used by spatial motion problems only");
     }
+    if (root.contains("constraints")) ReadConstraints(root.at("constraints"), &task);
     return task;
   }
 
@@ -630,6 +631,90 @@ class TaskParser {
     for (size_t i = 0; i < value.size(); ++i)
       pivots.push_back(Vector<N>(value[i], IndexItem(key, i)));
     return pivots;
+  }
+
+  // An axis-aligned box [[xmin, ymin], [xmax, ymax]].
+  PlanarBox Box(const Json& value, const std::string& item) const {
+    if (!value.is_array() || value.size() != 2) {
+      Fail(item, "expected [[xmin, ymin], [xmax, ymax]], got " + Describe(value));
+    }
+    PlanarBox box;
+    box.min = Vector<2>(value[0], IndexItem(item, 0));
+    box.max = Vector<2>(value[1], IndexItem(item, 1));
+    for (int i = 0; i < 2; ++i) {
+      if (!(box.min[i] <= box.max[i])) {
+        Fail(item, std::string("the lower corner's ") + (i == 0 ? "x" : "y") + " (" +
+                       FormatNumber(box.min[i]) + ") is above the upper corner's (" +
+                       FormatNumber(box.max[i]) + ")");
+      }
+    }
+    return box;
+  }
+
+  // "constraints" (lib/design_constraints.h): planar motion and path problems.
+  void ReadConstraints(const Json& value, Task* task) const {
+    const char* item = "constraints";
+    if (task->space == Space::kSpatial) Fail(item, "used by planar motion and path problems only");
+    if (!value.is_object()) Fail(item, "expected an object, got " + Describe(value));
+    CheckKeys(
+        value, item,
+        {"max_link_length", "min_link_length", "max_coupler_point_offset", "fixed_pivots_box",
+         "moving_pivots_box", "input_rotates_fully", "grashof", "min_transmission_angle_deg"});
+    DesignConstraints& constraints = task->constraints;
+    constraints.given = true;
+    const auto positive = [&](const char* key, std::optional<double>* out) {
+      if (value.contains(key)) *out = Positive(value.at(key), KeyItem(item, key));
+    };
+    positive("max_link_length", &constraints.max_link_length);
+    positive("min_link_length", &constraints.min_link_length);
+    positive("max_coupler_point_offset", &constraints.max_coupler_point_offset);
+    if (constraints.min_link_length && constraints.max_link_length &&
+        !(*constraints.min_link_length <= *constraints.max_link_length)) {
+      Fail(KeyItem(item, "min_link_length"),
+           "above max_link_length (" + FormatNumber(*constraints.max_link_length) + ")");
+    }
+    if (constraints.max_coupler_point_offset && task->problem != ProblemKind::kPath) {
+      Fail(KeyItem(item, "max_coupler_point_offset"), "used by path problems only");
+    }
+    if (value.contains("fixed_pivots_box")) {
+      constraints.fixed_pivots_box =
+          Box(value.at("fixed_pivots_box"), KeyItem(item, "fixed_pivots_box"));
+    }
+    if (value.contains("moving_pivots_box")) {
+      if (task->problem != ProblemKind::kMotion) {
+        Fail(KeyItem(item, "moving_pivots_box"),
+             "used by motion problems only (a path four-bar's coupler has no frame of the task)");
+      }
+      constraints.moving_pivots_box =
+          Box(value.at("moving_pivots_box"), KeyItem(item, "moving_pivots_box"));
+    }
+    if (value.contains("input_rotates_fully")) {
+      constraints.input_rotates_fully =
+          Bool(value.at("input_rotates_fully"), KeyItem(item, "input_rotates_fully"));
+    }
+    if (value.contains("grashof")) {
+      const Json& grashof = value.at("grashof");
+      const std::string names =
+          "\"grashof\", \"non-grashof\", \"crank-rocker\", \"double-crank\", "
+          "\"double-rocker\", \"rocker-crank\", \"triple-rocker\" or \"change-point\"";
+      if (!grashof.is_string()) {
+        Fail(KeyItem(item, "grashof"), "expected " + names + ", got " + Describe(grashof));
+      }
+      const std::string& name = grashof.get_ref<const std::string&>();
+      for (const char* known : {"grashof", "non-grashof", "crank-rocker", "double-crank",
+                                "double-rocker", "rocker-crank", "triple-rocker", "change-point"}) {
+        if (name == known) constraints.grashof = name;
+      }
+      if (constraints.grashof.empty()) {
+        Fail(KeyItem(item, "grashof"), "expected " + names + ", got " + Quote(name));
+      }
+    }
+    if (value.contains("min_transmission_angle_deg")) {
+      const std::string key = KeyItem(item, "min_transmission_angle_deg");
+      const double angle = NonNegative(value.at("min_transmission_angle_deg"), key);
+      if (!(angle <= 90.0)) Fail(key, "at most 90, got " + FormatNumber(angle));
+      constraints.min_transmission_angle_deg = angle;
+    }
   }
 
   // An optional array of five distinct dyad indices.

@@ -10,6 +10,7 @@
 #include "fitting/model_choice.h"
 #include "fitting/nine_point_path.h"
 #include "fitting/planar_motion.h"
+#include "lib/design_constraints.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/precision.h"
@@ -62,8 +63,9 @@ struct PathData {
   std::vector<double> weights;
   std::vector<bool> exact;
   double length = 1.0;
-  bool closed = false;      // the crank makes a whole turn from the first point back to it
-  DataPrecision precision;  // the task's
+  bool closed = false;            // the crank makes a whole turn from the first point back to it
+  DataPrecision precision;        // the task's
+  DesignConstraints constraints;  // the task's
 };
 
 PathData Data(const Task& task) {
@@ -82,6 +84,7 @@ PathData Data(const Task& task) {
   if (!(data.length > 0.0)) data.length = 1.0;
   data.closed = task.closed;
   data.precision = task.precision;
+  data.constraints = task.constraints;
   return data;
 }
 
@@ -105,7 +108,23 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   if (report.type == FourBarType::k4R) {
     report.grashof = GrashofType(design.input, design.output, data.length);
   }
+  FourBarClass kind;
+  kind.type = report.type;
+  kind.grashof = report.grashof;
+  kind.input_rotates_fully = report.input_rotates_fully;
+  report.violates = PathViolations(data.constraints, design, kind, data.length);
   return report;
+}
+
+// The defect "transmission" (the worst transmission angle below the task's minimum), given at
+// the end: the solver's own choices go by the kinematic defects.
+void JudgeTransmission(const PathData& data, PathMechanismReport* report) {
+  std::vector<std::string>& defects = report->defects;
+  if (report->transmission_min_deg &&
+      *report->transmission_min_deg < MinTransmissionAngleDeg(data.constraints) &&
+      std::find(defects.begin(), defects.end(), "transmission") == defects.end()) {
+    defects.push_back("transmission");
+  }
 }
 
 // How far a four-bar may miss a point and still pass it within the data's precision:
@@ -121,31 +140,55 @@ double PassTolerance(const PathData& data) {
   return std::max(1e-8 * data.length, PointTolerance(data, 0.0));
 }
 
-// Defect-free first, then those that meet every point, then by error (RMS for least squares,
-// largest for exact synthesis).
-void Rank(bool least_squares, std::vector<PathMechanismReport>* mechanisms) {
-  const auto key = [least_squares](const PathMechanismReport& report) {
-    const std::optional<double>& error =
-        least_squares ? report.rms_point_error : report.max_point_error;
-    return std::make_tuple(!report.defects.empty(), !error.has_value(),
-                           error.value_or(std::numeric_limits<double>::infinity()));
-  };
-  std::stable_sort(
-      mechanisms->begin(), mechanisms->end(),
-      [&](const PathMechanismReport& a, const PathMechanismReport& b) { return key(a) < key(b); });
+// The ranking rule (lib/design_constraints.h RankOrder): keeping the constraints, defect-free,
+// by error (RMS for least squares, the largest for exact synthesis; absent last), near ties by
+// the worst transmission angle; `precision_fit`: PassTolerance.
+RankKey PathRankKey(bool least_squares, double precision_fit, const PathMechanismReport& report) {
+  RankKey key;
+  key.within_precision = report.max_point_error && *report.max_point_error <= precision_fit;
+  key.parameters = FourBarParameters(report.type);
+  key.violates = !report.violates.empty();
+  key.fit = least_squares ? report.rms_point_error : report.max_point_error;
+  if (!report.max_point_error) key.fit.reset();
+  // Not driven through every point, it cannot pass them at all.
+  key.defect_level = report.max_point_error ? DefectLevel(report.defects) : 2;
+  key.transmission_min_deg = report.transmission_min_deg;
+  return key;
 }
 
+void Rank(bool least_squares, double precision_fit, std::vector<PathMechanismReport>* mechanisms) {
+  std::vector<RankKey> keys;
+  for (const PathMechanismReport& report : *mechanisms) {
+    keys.push_back(PathRankKey(least_squares, precision_fit, report));
+  }
+  std::vector<PathMechanismReport> ranked;
+  for (int index : RankOrder(keys)) ranked.push_back((*mechanisms)[index]);
+  *mechanisms = std::move(ranked);
+}
+
+// Two four-bars are one when their crank, coupler point and output agree within kSameFourBar
+// (relative to L, and to a point's distance from the origin beyond L): an RR output by its
+// pivots, a PR by its moving pivot and line, an RP by its fixed pivot and line.
 bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
   if (a.output.type != b.output.type) return false;
   const double tolerance = kSameFourBar * length;
   const auto near = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
     return (p - q).norm() <= tolerance * std::max(1.0, p.norm() / length);
   };
-  return near(a.input.fixed_pivot, b.input.fixed_pivot) &&
-         near(a.input.moving_pivot, b.input.moving_pivot) &&
-         near(a.output.fixed_pivot, b.output.fixed_pivot) &&
-         near(a.output.moving_pivot, b.output.moving_pivot) &&
-         near(a.output.LineFoot(), b.output.LineFoot()) && near(a.coupler_point, b.coupler_point);
+  const DyadType type = a.output.type;
+  if (!near(a.input.fixed_pivot, b.input.fixed_pivot) ||
+      !near(a.input.moving_pivot, b.input.moving_pivot) ||
+      !near(a.coupler_point, b.coupler_point)) {
+    return false;
+  }
+  if (type != DyadType::kPR && !near(a.output.fixed_pivot, b.output.fixed_pivot)) return false;
+  if (type != DyadType::kRP && !near(a.output.moving_pivot, b.output.moving_pivot)) return false;
+  if (type == DyadType::kRR) return true;
+  // A line: its foot from the origin, and its direction (either sense).
+  const Eigen::Vector2d u = a.output.line_direction.normalized();
+  const Eigen::Vector2d v = b.output.line_direction.normalized();
+  return near(a.output.LineFoot(), b.output.LineFoot()) &&
+         std::abs(u.x() * v.y() - u.y() * v.x()) <= kSameFourBar;
 }
 
 // Adds `report` unless an equal four-bar is listed (then the better of the two stays).
@@ -199,7 +242,7 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
       }
     }
   }
-  Rank(true, &seeds);
+  Rank(true, PassTolerance(data), &seeds);
   if (static_cast<int>(seeds.size()) > keep) seeds.resize(keep);
   return seeds;
 }
@@ -218,7 +261,7 @@ std::optional<double> BestMaxError(const std::vector<PathMechanismReport>& repor
 std::optional<double> BestDefectFreeMaxError(const std::vector<PathMechanismReport>& reports) {
   std::optional<double> best;
   for (const PathMechanismReport& report : reports) {
-    if (report.defects.empty() && report.max_point_error &&
+    if (!HasKinematicDefect(report.defects) && report.max_point_error &&
         (!best || *report.max_point_error < *best)) {
       best = report.max_point_error;
     }
@@ -341,13 +384,26 @@ int RefineAll(const PathData& data, const PathRefinerOptions& options,
   return simplified;
 }
 
+// The distinct candidates, judged (JudgeTransmission) and ranked; at most `reported` listed,
+// with a note of how many more were dropped.
 void Finish(const PathData& data, int reported, std::vector<PathMechanismReport> candidates,
             PathResult* result) {
   std::vector<PathMechanismReport> distinct;
   for (const PathMechanismReport& report : candidates) AddDistinct(report, data.length, &distinct);
-  Rank(true, &distinct);
-  if (static_cast<int>(distinct.size()) > reported) distinct.resize(reported);
-  result->mechanisms = distinct;
+  for (PathMechanismReport& report : distinct) JudgeTransmission(data, &report);
+  Rank(true, PassTolerance(data), &distinct);
+  // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
+  std::vector<RankKey> keys;
+  for (const PathMechanismReport& report : distinct) {
+    keys.push_back(PathRankKey(true, PassTolerance(data), report));
+  }
+  const std::vector<int> listed = ListedWithinBound(keys, reported);
+  if (listed.size() < distinct.size()) {
+    result->notes.push_back(std::to_string(distinct.size() - listed.size()) +
+                            " more four-bars, ranked below these, were found and dropped");
+  }
+  result->mechanisms.clear();
+  for (int index : listed) result->mechanisms.push_back(distinct[index]);
 }
 
 void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOptions& options,
@@ -701,7 +757,7 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
     // A four-bar that misses the points by e is known no better than from points precise to e
     // (defect-free: a defect's error is the branch or circuit it passes to, not the fit's).
     DataPrecision precision = data.precision;
-    if (report.defects.empty()) {
+    if (!HasKinematicDefect(report.defects)) {
       precision.length = std::max(precision.length, *report.max_point_error);
     }
     report.error_bound = PathFourBarErrorBound(report.design, data.points, angles, precision,
@@ -713,7 +769,7 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
     if (!(relative <= 1.0)) ++meaningless;
     // The first-order bound sees one minimum. Another curve through the points within their
     // precision is as far as the data can move this one at least.
-    if (report.defects.empty() && *report.max_point_error <= tolerance) {
+    if (!HasKinematicDefect(report.defects) && *report.max_point_error <= tolerance) {
       double farthest = 0.0;
       for (const PathFourBar& fit : fits) {
         const double apart = CurveDistance(report.design, fit);
@@ -764,6 +820,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   options.path_refiner.closed = task.closed;
   result.precision = task.precision;
   result.closed = task.closed;
+  result.constraints = task.constraints;
   result.scale = data.length;
   const bool free_timing = data.angles.size() != data.points.size();
   result.timing = free_timing ? "free" : "prescribed";
@@ -824,7 +881,8 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
                              " output circle(s) reported as sliders: at the data's precision the "
                              "points cannot tell them from their slider readings");
     }
-    Rank(false, &result.mechanisms);
+    for (PathMechanismReport& report : result.mechanisms) JudgeTransmission(data, &report);
+    Rank(false, PassTolerance(data), &result.mechanisms);
     if (four_bars.empty() && !summary.degenerate) {
       result.notes.push_back("no real four-bar passes the five points with this timing");
     }

@@ -261,24 +261,6 @@ double WeightedRms(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
   return std::sqrt(sum / weight_sum);
 }
 
-bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, double length) {
-  if (a.type != b.type) return false;
-  const double size =
-      std::max({length, a.fixed_pivot.norm(), a.moving_pivot.norm(), a.line_point.norm()});
-  double difference =
-      std::max((a.fixed_pivot - b.fixed_pivot).norm(), (a.moving_pivot - b.moving_pivot).norm());
-  if (a.type == DyadType::kRR) {
-    difference = std::max(difference, std::abs(a.radius - b.radius));
-  } else {
-    const Eigen::Vector2d na(-a.line_direction.y(), a.line_direction.x());
-    const double sign =
-        na.dot(Eigen::Vector2d(-b.line_direction.y(), b.line_direction.x())) < 0 ? -1.0 : 1.0;
-    difference = std::max({difference, length * (a.line_direction - sign * b.line_direction).norm(),
-                           std::abs(na.dot(b.line_point - a.line_point))});
-  }
-  return difference <= 1e-7 * size;
-}
-
 // The best stage figures of the current dyads and mechanisms.
 StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point start,
                   const PlanarMotionResult& result) {
@@ -308,6 +290,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   PlanarMotionResult result;
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);
   result.scale = length;
+  result.constraints = task.constraints;
   result.method = "least-squares";
   result.effort = EffortName(task.effort);
   const std::vector<double>& weights = task.pose_weights;
@@ -369,15 +352,28 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     result.stages.push_back(Stage("search", stage_start, result));
   }
 
-  // Distinct dyads, best fit first; the best few make the four-bars.
-  std::vector<DyadReport> kept;
+  // Distinct dyads, those within the constraints that bound a single dyad first (seeds
+  // filtered), then best fit first; the best few make the four-bars. Dyads the data's precision
+  // cannot tell apart (SameDyad within their error bounds) are one, the best-fitting listed.
+  for (DyadReport& report : result.dyads) {
+    report.error_bound = DyadErrorBound(report.dyad, poses, task.precision, length);
+  }
+  const auto keeps = [&](const DyadReport& report) {
+    return DyadKeeps(task.constraints, report.dyad, length);
+  };
   std::stable_sort(result.dyads.begin(), result.dyads.end(),
-                   [](const DyadReport& a, const DyadReport& b) {
+                   [&](const DyadReport& a, const DyadReport& b) {
+                     if (keeps(a) != keeps(b)) return keeps(a);
                      return a.rms_residual.value_or(1e300) < b.rms_residual.value_or(1e300);
                    });
+  const auto same = [&](const DyadReport& a, const DyadReport& b) {
+    const double bound = std::min(a.error_bound.value_or(0.0), b.error_bound.value_or(0.0));
+    return SameDyad(a.dyad, b.dyad, task.precision, length, bound);
+  };
+  std::vector<DyadReport> kept;
   for (const DyadReport& report : result.dyads) {
     bool repeat = false;
-    for (const DyadReport& other : kept) repeat |= SameDyad(report.dyad, other.dyad, length);
+    for (const DyadReport& other : kept) repeat |= same(report, other);
     if (!repeat) kept.push_back(report);
   }
   if (static_cast<int>(kept.size()) > options.max_dyads) {
@@ -388,14 +384,23 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   result.dyads = std::move(kept);
   for (DyadReport& report : result.dyads) report.max_residual = report.dyad.MaxResidual(poses);
   stage_start = std::chrono::steady_clock::now();
-  BuildMechanisms(poses, length, &result);
+  BuildMechanisms(task, length, &result);
   result.stages.push_back(Stage("four-bars", stage_start, result));
+  const double precision_fit = PoseFitTolerance(task.precision, length);
 
   if (task.effort != Effort::kFast) {
     // Mechanism level: the best-ranked four-bars refined on their pose error. A refined
-    // four-bar gets its own two dyads, appended to the list.
+    // four-bar gets its own two dyads, appended to the list (or the listed ones it repeats).
+    // When the first already meets the poses within their precision, without defect and
+    // within the constraints, it is the answer: the others are not refined into near copies of
+    // its dyads.
     stage_start = std::chrono::steady_clock::now();
-    const int count = std::min<int>(options.refined_mechanisms, result.mechanisms.size());
+    const bool answered = !result.mechanisms.empty() && result.mechanisms.front().defects.empty() &&
+                          result.mechanisms.front().violates.empty() &&
+                          result.mechanisms.front().max_pose_error &&
+                          *result.mechanisms.front().max_pose_error <= precision_fit;
+    const int count =
+        answered ? 0 : std::min<int>(options.refined_mechanisms, result.mechanisms.size());
     for (int m = 0; m < count; ++m) {
       MechanismReport& mechanism = result.mechanisms[m];
       if (!mechanism.max_pose_error) continue;
@@ -405,24 +410,67 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
           RefineFourBar(poses, weights, exact, length, &input, &output, options.four_bar_refiner);
       if (!(summary.final_max < *mechanism.max_pose_error)) continue;
       const double seed_error = *mechanism.max_pose_error;
-      const int first = static_cast<int>(result.dyads.size());
+      // The refined dyads, each the listed one it repeats or a new one appended.
+      const size_t listed = result.dyads.size();
+      int index[2];
+      int k = 0;
       for (const PlanarDyad& dyad : {input, output}) {
         DyadReport report;
         report.dyad = dyad;
         report.max_residual = dyad.MaxResidual(poses);
         report.rms_residual = WeightedRms(dyad, poses, weights);
-        result.dyads.push_back(report);
+        report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
+        index[k] = -1;
+        for (size_t i = 0; i < result.dyads.size() && index[k] < 0; ++i) {
+          if (same(report, result.dyads[i])) index[k] = static_cast<int>(i);
+        }
+        if (index[k] < 0) {
+          index[k] = static_cast<int>(result.dyads.size());
+          result.dyads.push_back(report);
+        }
+        ++k;
       }
-      MechanismReport refined = AnalyzeDyadPair(result.dyads, first, first + 1, poses, length);
-      if (refined.defects.size() > mechanism.defects.size() || !refined.max_pose_error) {
-        result.dyads.resize(first);  // a refinement that adds a defect is not better
+      MechanismReport refined;
+      if (index[0] != index[1]) {
+        refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length);
+        JudgeMechanism(task.constraints, result.dyads, length, &refined);
+      }
+      // A refinement that adds a defect or breaks a constraint is not better.
+      if (index[0] == index[1] || !refined.max_pose_error ||
+          refined.defects.size() > mechanism.defects.size() ||
+          refined.violates.size() > mechanism.violates.size()) {
+        result.dyads.resize(listed);
         continue;
       }
       refined.seed_max_pose_error = seed_error;
       mechanism = refined;
     }
-    RankMechanisms(&result.mechanisms);
+    // Two refinements can end on one four-bar: listed once, the first (best ranked) kept.
+    std::vector<MechanismReport> distinct;
+    for (const MechanismReport& mechanism : result.mechanisms) {
+      bool repeat = false;
+      for (const MechanismReport& other : distinct) {
+        repeat |= std::minmax(mechanism.input_dyad, mechanism.output_dyad) ==
+                  std::minmax(other.input_dyad, other.output_dyad);
+      }
+      if (!repeat) distinct.push_back(mechanism);
+    }
+    result.mechanisms = std::move(distinct);
+    RankMechanisms(precision_fit, &result.mechanisms);
     result.stages.push_back(Stage("four-bar refine", stage_start, result));
+  }
+  // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
+  std::vector<RankKey> keys;
+  for (const MechanismReport& mechanism : result.mechanisms) {
+    keys.push_back(MechanismRankKey(mechanism, precision_fit));
+  }
+  const std::vector<int> listed = ListedWithinBound(keys, options.reported_mechanisms);
+  if (listed.size() < result.mechanisms.size()) {
+    result.notes.push_back(std::to_string(result.mechanisms.size() - listed.size()) +
+                           " more four-bars, ranked below these, were found and dropped");
+    std::vector<MechanismReport> kept;
+    for (int index : listed) kept.push_back(result.mechanisms[index]);
+    result.mechanisms = std::move(kept);
   }
   // How far the data's precision can move each dyad (fitting/model_choice.h).
   for (DyadReport& report : result.dyads) {

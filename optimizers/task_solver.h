@@ -42,6 +42,7 @@ struct TaskSolverOptions {
   int seed_subsets = 6;                     // five-pose subsets solved exactly for seeds
   int max_dyads = 10;               // dyads kept (best RMS residual first) to build four-bars from
   int refined_mechanisms = 3;       // best-ranked four-bars refined at the mechanism level
+  int reported_mechanisms = 12;     // four-bars listed at most (least squares)
   TimedPathOptions timed_path;      // path problems: the five-point solver
   PathRefinerOptions path_refiner;  // path problems, least squares
   PathSearchOptions path_search;    // path problems, effort thorough

@@ -71,9 +71,14 @@ TEST(ResultIo, RoundTrip) {
   const std::string text = ResultToJson(result, 2);
   EXPECT_FALSE(HasNonFiniteText(text)) << text;
   const Json json = Json::parse(text);
-  EXPECT_EQ(Keys(json),
-            (std::vector<std::string>{"problem", "space", "method", "scale", "precision", "dyads",
-                                      "mechanisms", "roots", "notes", "solve_time_ms"}));
+  EXPECT_EQ(Keys(json), (std::vector<std::string>{"problem", "space", "method", "scale",
+                                                  "precision", "constraints", "dyads", "mechanisms",
+                                                  "roots", "notes", "solve_time_ms"}));
+  // The constraints judged by: here the defaults, named.
+  EXPECT_EQ(json["constraints"]["max_link_length"].get<double>(), 325.0);
+  EXPECT_EQ(json["constraints"]["min_transmission_angle_deg"].get<double>(), 30.0);
+  EXPECT_EQ(json["constraints"]["defaults"],
+            Json({"max_link_length", "min_transmission_angle_deg"}));
   EXPECT_EQ(json["problem"], "motion");
   EXPECT_EQ(json["space"], "planar");
   EXPECT_EQ(json["method"], "exact");
@@ -118,9 +123,10 @@ TEST(ResultIo, RoundTrip) {
   const Json& mechanisms = json["mechanisms"];
   ASSERT_EQ(mechanisms.size(), 3u);
   EXPECT_EQ(Keys(mechanisms[0]),
-            (std::vector<std::string>{"type", "dyads", "max_pose_error", "defects", "full_rotation",
-                                      "transmission_angle_note"}));
+            (std::vector<std::string>{"type", "dyads", "max_pose_error", "defects", "violates",
+                                      "full_rotation", "transmission_angle_note"}));
   EXPECT_EQ(mechanisms[0]["defects"], Json::array());
+  EXPECT_EQ(mechanisms[0]["violates"], Json::array());
   EXPECT_EQ(mechanisms[0]["full_rotation"], Json({{"input", false}, {"output", false}}));
   EXPECT_EQ(mechanisms[0]["type"], FourBarTypeName(FourBarType::kSliderCrank));
   EXPECT_EQ(mechanisms[0]["dyads"], Json({0, 1}));

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/dyad.h"
 #include "lib/path_motion.h"
 #include "lib/planar_pose.h"
@@ -424,7 +425,9 @@ TEST(ClosedPath, CrankRockerCurveComesBackWithTheCrankTurningFully) {
       EXPECT_TRUE(SaysClosed(result));
       ASSERT_FALSE(result.mechanisms.empty());
       const PathMechanismReport& first = result.mechanisms.front();
-      EXPECT_TRUE(first.defects.empty());
+      // A random crank-rocker's transmission angle may drop below the default minimum over the
+      // whole turn: no other defect.
+      EXPECT_FALSE(HasKinematicDefect(first.defects));
       EXPECT_TRUE(first.input_rotates_fully);
       ASSERT_TRUE(first.max_point_error);
       EXPECT_LE(*first.max_point_error, kClosedFit * length);

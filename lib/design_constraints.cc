@@ -1,0 +1,256 @@
+#include "lib/design_constraints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "lib/path_motion.h"
+
+namespace linkfit {
+namespace {
+
+bool InBox(const PlanarBox& box, const Eigen::Vector2d& point, double slack) {
+  return point.x() >= box.min.x() - slack && point.x() <= box.max.x() + slack &&
+         point.y() >= box.min.y() - slack && point.y() <= box.max.y() + slack;
+}
+
+bool HasFixedPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kPR; }
+bool HasMovingPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kRP; }
+
+// The violations both problem kinds share: link lengths, the fixed pivots' box, the input's
+// turn and the Grashof class, appended in that order.
+void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& links,
+                      const std::vector<Eigen::Vector2d>& fixed_pivots, const FourBarClass& kind,
+                      double length, std::vector<std::string>* violates) {
+  const double slack = kConstraintSlack * length;
+  const std::vector<double> all = links.All();
+  const double longest = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
+  const double shortest = all.empty() ? std::numeric_limits<double>::infinity()
+                                      : *std::min_element(all.begin(), all.end());
+  if (!(longest <= MaxLinkLength(constraints, length) + slack)) {
+    violates->push_back("max_link_length");
+  }
+  if (constraints.min_link_length && !(shortest >= *constraints.min_link_length - slack)) {
+    violates->push_back("min_link_length");
+  }
+  if (constraints.fixed_pivots_box) {
+    for (const Eigen::Vector2d& pivot : fixed_pivots) {
+      if (!InBox(*constraints.fixed_pivots_box, pivot, slack)) {
+        violates->push_back("fixed_pivots_box");
+        break;
+      }
+    }
+  }
+  if (constraints.input_rotates_fully && !kind.input_rotates_fully) {
+    violates->push_back("input_rotates_fully");
+  }
+  if (!constraints.grashof.empty() &&
+      !(kind.type == FourBarType::k4R && GrashofClassKeeps(constraints.grashof, kind.grashof))) {
+    violates->push_back("grashof");
+  }
+}
+
+}  // namespace
+
+double MaxLinkLength(const DesignConstraints& constraints, double length) {
+  return constraints.max_link_length ? *constraints.max_link_length
+                                     : kDefaultMaxLinkLength * length;
+}
+
+double MinTransmissionAngleDeg(const DesignConstraints& constraints) {
+  return constraints.min_transmission_angle_deg.value_or(kDefaultMinTransmissionDeg);
+}
+
+std::vector<double> FourBarLinks::All() const {
+  std::vector<double> all;
+  for (const std::optional<double>& link : {ground, input, coupler, output}) {
+    if (link) all.push_back(*link);
+  }
+  return all;
+}
+
+FourBarLinks MotionFourBarLinks(const PlanarDyad& input, const PlanarDyad& output) {
+  FourBarLinks links;
+  if (HasFixedPivot(input) && HasFixedPivot(output)) {
+    links.ground = (input.fixed_pivot - output.fixed_pivot).norm();
+  }
+  if (HasMovingPivot(input) && HasMovingPivot(output)) {
+    links.coupler = (input.moving_pivot - output.moving_pivot).norm();
+  }
+  if (input.type == DyadType::kRR) links.input = std::abs(input.radius);
+  if (output.type == DyadType::kRR) links.output = std::abs(output.radius);
+  return links;
+}
+
+FourBarLinks PathFourBarLinks(const PathFourBar& four_bar) {
+  return MotionFourBarLinks(four_bar.input, four_bar.output);
+}
+
+bool HasKinematicDefect(const std::vector<std::string>& defects) {
+  return std::any_of(defects.begin(), defects.end(), [](const std::string& defect) {
+    return defect == "circuit" || defect == "branch" || defect == "order";
+  });
+}
+
+int DefectLevel(const std::vector<std::string>& defects) {
+  if (defects.empty()) return 0;
+  return HasKinematicDefect(defects) ? 2 : 1;
+}
+
+bool GrashofClassKeeps(const std::string& required, const std::string& grashof) {
+  if (grashof.empty()) return false;
+  const bool is_grashof = grashof != "triple-rocker";
+  if (required == "grashof") return is_grashof;
+  if (required == "non-grashof") return !is_grashof;
+  return required == grashof;
+}
+
+std::vector<std::string> MotionViolations(const DesignConstraints& constraints,
+                                          const PlanarDyad& input, const PlanarDyad& output,
+                                          const FourBarClass& kind, double length) {
+  std::vector<std::string> violates;
+  std::vector<Eigen::Vector2d> fixed_pivots;
+  for (const PlanarDyad* dyad : {&input, &output}) {
+    if (HasFixedPivot(*dyad)) fixed_pivots.push_back(dyad->fixed_pivot);
+  }
+  CommonViolations(constraints, MotionFourBarLinks(input, output), fixed_pivots, kind, length,
+                   &violates);
+  if (constraints.moving_pivots_box) {
+    const double slack = kConstraintSlack * length;
+    for (const PlanarDyad* dyad : {&input, &output}) {
+      if (HasMovingPivot(*dyad) &&
+          !InBox(*constraints.moving_pivots_box, dyad->moving_pivot, slack)) {
+        violates.push_back("moving_pivots_box");
+        break;
+      }
+    }
+  }
+  return violates;
+}
+
+bool DyadKeeps(const DesignConstraints& constraints, const PlanarDyad& dyad, double length) {
+  const double slack = kConstraintSlack * length;
+  if (dyad.type == DyadType::kRR) {
+    const double radius = std::abs(dyad.radius);
+    if (!(radius <= MaxLinkLength(constraints, length) + slack)) return false;
+    if (constraints.min_link_length && !(radius >= *constraints.min_link_length - slack)) {
+      return false;
+    }
+  }
+  if (constraints.fixed_pivots_box && HasFixedPivot(dyad) &&
+      !InBox(*constraints.fixed_pivots_box, dyad.fixed_pivot, slack)) {
+    return false;
+  }
+  return !(constraints.moving_pivots_box && HasMovingPivot(dyad) &&
+           !InBox(*constraints.moving_pivots_box, dyad.moving_pivot, slack));
+}
+
+std::vector<std::string> PathViolations(const DesignConstraints& constraints,
+                                        const PathFourBar& four_bar, const FourBarClass& kind,
+                                        double length) {
+  std::vector<std::string> violates;
+  std::vector<Eigen::Vector2d> fixed_pivots = {four_bar.input.fixed_pivot};
+  if (HasFixedPivot(four_bar.output)) fixed_pivots.push_back(four_bar.output.fixed_pivot);
+  CommonViolations(constraints, PathFourBarLinks(four_bar), fixed_pivots, kind, length, &violates);
+  if (constraints.max_coupler_point_offset) {
+    double offset = (four_bar.coupler_point - four_bar.input.moving_pivot).norm();
+    if (HasMovingPivot(four_bar.output)) {
+      offset = std::max(offset, (four_bar.coupler_point - four_bar.output.moving_pivot).norm());
+    }
+    if (!(offset <= *constraints.max_coupler_point_offset + kConstraintSlack * length)) {
+      violates.push_back("max_coupler_point_offset");
+    }
+  }
+  return violates;
+}
+
+int FourBarParameters(FourBarType type) {
+  switch (type) {
+    case FourBarType::k4R:
+      return 10;
+    case FourBarType::kSliderCrank:
+    case FourBarType::kInvertedSliderCrank:
+      return 9;
+    default:
+      return 8;
+  }
+}
+
+std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  std::vector<int> order(keys.size());
+  std::iota(order.begin(), order.end(), 0);
+  const auto fit = [&](int i) {
+    const std::optional<double>& value = keys[i].fit;
+    return value && std::isfinite(*value) ? *value : kInfinity;
+  };
+  const auto group = [&](int i) { return std::make_pair(keys[i].violates, keys[i].defect_level); };
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+    if (group(a) != group(b)) return group(a) < group(b);
+    if (keys[a].within_precision != keys[b].within_precision) return keys[a].within_precision;
+    if (keys[a].within_precision && keys[a].parameters != keys[b].parameters) {
+      return keys[a].parameters < keys[b].parameters;
+    }
+    return fit(a) < fit(b);
+  });
+  // Runs of ties: those within the precision of one group and model, or from the first of a
+  // run every later one of the group whose fit is within kNearTieRatio of it.
+  size_t begin = 0;
+  while (begin < order.size()) {
+    const int first = order[begin];
+    size_t end = begin + 1;
+    while (end < order.size()) {
+      const int next = order[end];
+      if (group(next) != group(first)) break;
+      const bool tie =
+          keys[first].within_precision
+              ? keys[next].within_precision && keys[next].parameters == keys[first].parameters
+              : std::isfinite(fit(next)) && fit(next) <= kNearTieRatio * fit(first);
+      if (!tie) break;
+      ++end;
+    }
+    // Within the run: the best fit of those within kTransmissionTie of the best remaining
+    // transmission angle, repeatedly (angles that close are a tie too, decided by the fit).
+    std::vector<int> run(order.begin() + begin, order.begin() + end);
+    const auto angle = [&](int i) { return keys[i].transmission_min_deg.value_or(-1.0); };
+    for (size_t slot = begin; slot < end; ++slot) {
+      double best = -kInfinity;
+      for (int i : run) best = std::max(best, angle(i));
+      const auto pick = std::find_if(run.begin(), run.end(),
+                                     [&](int i) { return angle(i) >= best - kTransmissionTie; });
+      order[slot] = *pick;
+      run.erase(pick);
+    }
+    begin = end;
+  }
+  return order;
+}
+
+std::vector<int> ListedWithinBound(const std::vector<RankKey>& ranked, int bound) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  const auto fit = [&](int i) {
+    const std::optional<double>& value = ranked[i].fit;
+    return value && std::isfinite(*value) ? *value : kInfinity;
+  };
+  const auto group = [&](int i) {
+    return std::make_pair(ranked[i].violates, ranked[i].defect_level);
+  };
+  std::vector<int> listed;
+  const int count = static_cast<int>(ranked.size());
+  for (int i = 0; i < count; ++i) {
+    bool keep = i < bound;
+    if (!keep && std::isfinite(fit(i))) {
+      keep = true;  // the best fit of its group, unless another listed one fits as well
+      for (int j = 0; j < count && keep; ++j) {
+        if (j != i && group(j) == group(i) && (fit(j) < fit(i) || (fit(j) == fit(i) && j < i))) {
+          keep = false;
+        }
+      }
+    }
+    if (keep) listed.push_back(i);
+  }
+  return listed;
+}
+
+}  // namespace linkfit

@@ -1,0 +1,144 @@
+// Design constraints of planar motion and path tasks (README, "Design constraints"), the
+// constraints a four-bar keeps or violates, and the ranking rule every result follows.
+//
+// The links of a four-bar are those of fixed length: the ground (the two fixed pivots, when both
+// dyads have one: RR and RP), the cranks (RR radii) and the coupler (the two moving pivots, when
+// both dyads have one: RR and PR). A slider-crank counts its crank and coupler, an inverted
+// slider-crank its crank and ground. A path four-bar's coupler point is bounded by its distance
+// from each coupler joint (the crank pin, and the output's moving pivot when it has one).
+#ifndef LINKFIT_LIB_DESIGN_CONSTRAINTS_H_
+#define LINKFIT_LIB_DESIGN_CONSTRAINTS_H_
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lib/dyad.h"
+#include "lib/mechanism.h"
+
+namespace linkfit {
+
+struct PathFourBar;
+
+// An axis-aligned box of the plane.
+struct PlanarBox {
+  Eigen::Vector2d min = Eigen::Vector2d::Zero();
+  Eigen::Vector2d max = Eigen::Vector2d::Zero();
+};
+
+// Without "max_link_length", least-squares and search results keep every link within this
+// many times L (and a result lists a four-bar beyond it as violating "max_link_length").
+inline constexpr double kDefaultMaxLinkLength = 100.0;
+
+// How far (times L) a four-bar may be past a bound and still keep it: what a refinement that
+// ends on the bound leaves.
+inline constexpr double kConstraintSlack = 1e-6;
+
+// Two fits (RMS errors) within this ratio of each other are a near tie: the better worst
+// transmission angle ranks first.
+inline constexpr double kNearTieRatio = 1.1;
+
+// Transmission angles within this many degrees of each other are a tie too: decided by the fit.
+inline constexpr double kTransmissionTie = 1.0;
+
+struct DesignConstraints {
+  std::optional<double> max_link_length;  // absent: kDefaultMaxLinkLength * L
+  std::optional<double> min_link_length;
+  std::optional<double> max_coupler_point_offset;  // paths
+  std::optional<PlanarBox> fixed_pivots_box;       // both fixed pivots, in Sigma
+  std::optional<PlanarBox> moving_pivots_box;      // motion: both moving pivots, in E
+  bool input_rotates_fully = false;                // the input must be a crank
+  // A required class of a 4R (GrashofType's names), or "grashof" (any Grashof class) or
+  // "non-grashof"; empty: any. A four-bar that is not a 4R does not have a required class.
+  std::string grashof;
+  // Below it, the defect "transmission"; absent: kDefaultMinTransmissionDeg.
+  std::optional<double> min_transmission_angle_deg;
+  bool given = false;  // the task had "constraints"
+};
+
+inline constexpr double kDefaultMinTransmissionDeg = 30.0;
+
+// The task's min_transmission_angle_deg, else kDefaultMinTransmissionDeg.
+double MinTransmissionAngleDeg(const DesignConstraints& constraints);
+
+// The largest link allowed: the task's max_link_length, else kDefaultMaxLinkLength * length.
+double MaxLinkLength(const DesignConstraints& constraints, double length);
+
+// A four-bar's links of fixed length (file comment); absent where the type has none.
+struct FourBarLinks {
+  std::optional<double> ground, input, coupler, output;
+  std::vector<double> All() const;  // those present
+};
+
+FourBarLinks MotionFourBarLinks(const PlanarDyad& input, const PlanarDyad& output);
+FourBarLinks PathFourBarLinks(const PathFourBar& four_bar);
+
+// What a four-bar needs besides its dyads to be judged: its Grashof class (4R: GrashofType with
+// the input driven) and whether its input turns fully.
+struct FourBarClass {
+  FourBarType type = FourBarType::k4R;
+  std::string grashof;
+  bool input_rotates_fully = false;
+};
+
+// The constraints a motion four-bar (input and output dyads, moving pivots in E) violates, by
+// their task names, in a fixed order; empty when it keeps them all. The transmission angle is a
+// defect, not listed here.
+std::vector<std::string> MotionViolations(const DesignConstraints& constraints,
+                                          const PlanarDyad& input, const PlanarDyad& output,
+                                          const FourBarClass& kind, double length);
+
+// Whether one dyad keeps the constraints that bound a dyad alone (its crank's length, its fixed
+// pivot's box, its moving pivot's box): a seed that breaks them makes no four-bar that keeps
+// them.
+bool DyadKeeps(const DesignConstraints& constraints, const PlanarDyad& dyad, double length);
+
+// The same for a path four-bar (in the first point's configuration).
+std::vector<std::string> PathViolations(const DesignConstraints& constraints,
+                                        const PathFourBar& four_bar, const FourBarClass& kind,
+                                        double length);
+
+// Whether `defects` holds a kinematic defect ("circuit", "branch" or "order"): the four-bar
+// cannot be driven through the task as listed. "transmission" is not one.
+bool HasKinematicDefect(const std::vector<std::string>& defects);
+
+// 0 without defects, 1 when the only defect is "transmission", 2 with a kinematic defect.
+int DefectLevel(const std::vector<std::string>& defects);
+
+// Whether a Grashof class (GrashofType) is the required one ("grashof" and "non-grashof" take
+// any class of their kind; "change-point" counts as Grashof).
+bool GrashofClassKeeps(const std::string& required, const std::string& grashof);
+
+// The ranking rule of every result (README, "Ranking"): those keeping every constraint before
+// those violating one; within each, defect-free, then those whose only defect is the
+// transmission angle, then those with a kinematic defect (DefectLevel). Within each of those:
+// first those that meet the task within the data's precision, the simplest model first (fewest
+// parameters: a slider where the data cannot tell it from a circle), then by the worst
+// transmission angle; then the others by fit (smaller first; absent last), fits within
+// kNearTieRatio of the first of their run by the worst transmission angle. Transmission angles
+// within kTransmissionTie of each other are a tie, the better fit first; absent ones last.
+struct RankKey {
+  bool violates = false;
+  int defect_level = 0;  // DefectLevel; 2 also for a four-bar without a fit (not driven through)
+  std::optional<double> fit;
+  bool within_precision = false;  // its largest error is within the data's precision
+  int parameters = 0;             // FourBarParameters
+  std::optional<double> transmission_min_deg;
+};
+
+// The parameters of a four-bar's dyads (RR 5, PR and RP 4): its model's complexity.
+int FourBarParameters(FourBarType type);
+
+// The order in which `keys` are listed (indices into `keys`); stable for equal keys.
+std::vector<int> RankOrder(const std::vector<RankKey>& keys);
+
+// Of ranked keys (in their listed order), those a list of at most `bound` keeps (indices into
+// `ranked`, in order): the first `bound`, and beyond them the best fit of each group (keeping or
+// violating, DefectLevel) not yet among them, so that an exact four-bar with a poor
+// transmission angle is not lost behind worse fits that have none.
+std::vector<int> ListedWithinBound(const std::vector<RankKey>& ranked, int bound);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_LIB_DESIGN_CONSTRAINTS_H_

@@ -1,0 +1,195 @@
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "lib/design_constraints.h"
+#include "lib/path_motion.h"
+#include "lib/task_io.h"
+
+namespace linkfit {
+namespace {
+
+RankKey Key(double fit, double transmission, bool within = false, int level = 0,
+            bool violates = false, int parameters = 10) {
+  RankKey key;
+  key.fit = fit;
+  key.transmission_min_deg = transmission;
+  key.within_precision = within;
+  key.defect_level = level;
+  key.violates = violates;
+  key.parameters = parameters;
+  return key;
+}
+
+TEST(RankOrder, KeepersThenDefectLevelsThenFit) {
+  const std::vector<RankKey> keys = {
+      Key(1e-3, 80, false, 0, true),  // violates: last group of all
+      Key(5e-1, 10, false, 2),        // kinematic defect
+      Key(2e-3, 20, false, 1),        // transmission only
+      Key(4e-2, 60),                  // defect-free, worse fit
+      Key(1e-2, 40),                  // defect-free, best fit
+  };
+  EXPECT_EQ(RankOrder(keys), (std::vector<int>{4, 3, 2, 1, 0}));
+}
+
+TEST(RankOrder, NearTiesGoByTransmissionAngle) {
+  // Within 10 % of the run's first: the larger worst transmission angle first; angles within
+  // kTransmissionTie of each other are a tie, the better fit first.
+  const std::vector<RankKey> keys = {Key(1.00, 40), Key(1.05, 70), Key(1.08, 69.5), Key(1.20, 89)};
+  EXPECT_EQ(RankOrder(keys), (std::vector<int>{1, 2, 0, 3}));
+  // An absent angle goes last in its run; an absent fit last in its group.
+  RankKey no_angle = Key(1.0, 0);
+  no_angle.transmission_min_deg.reset();
+  RankKey no_fit = Key(0, 90);
+  no_fit.fit.reset();
+  EXPECT_EQ(RankOrder({no_angle, Key(1.01, 35), no_fit}), (std::vector<int>{1, 0, 2}));
+}
+
+TEST(RankOrder, WithinPrecisionTheSimplestModelFirst) {
+  // Both meet the data within their precision: the slider-crank (9 parameters) before the 4R
+  // however their transmission angles and RMS fits compare; then the rest by fit.
+  const std::vector<RankKey> keys = {Key(5e-4, 71, true, 0, false, 10),
+                                     Key(2e-4, 64, true, 0, false, 9),
+                                     Key(1e-4, 89, false, 0, false, 10)};
+  EXPECT_EQ(RankOrder(keys), (std::vector<int>{1, 0, 2}));
+}
+
+TEST(ListedWithinBound, KeepsTheBestOfEachGroup) {
+  std::vector<RankKey> ranked;
+  for (int i = 0; i < 5; ++i) ranked.push_back(Key(1e-2 * (i + 1), 60));
+  ranked.push_back(Key(1e-12, 5, false, 1));  // exact, transmission only
+  ranked.push_back(Key(1e-11, 4, false, 1));
+  ranked.push_back(Key(1.0, 0, false, 2));
+  EXPECT_EQ(ListedWithinBound(ranked, 3), (std::vector<int>{0, 1, 2, 5, 7}));
+  EXPECT_EQ(ListedWithinBound(ranked, 20).size(), ranked.size());
+}
+
+TEST(DesignConstraints, MotionViolationsNameEachConstraint) {
+  // A 4R: ground 4, crank 1, coupler |(0,1) - (3,1)| = 3, rocker 2.5.
+  const PlanarDyad input = PlanarDyad::RR({0, 0}, {0, 1}, 1.0);
+  const PlanarDyad output = PlanarDyad::RR({4, 0}, {3, 1}, 2.5);
+  FourBarClass kind;
+  kind.type = FourBarType::k4R;
+  kind.grashof = GrashofType(input, output, 1.0);
+  kind.input_rotates_fully = true;
+  const FourBarLinks links = MotionFourBarLinks(input, output);
+  EXPECT_DOUBLE_EQ(*links.ground, 4.0);
+  EXPECT_DOUBLE_EQ(*links.coupler, 3.0);
+  DesignConstraints constraints;
+  EXPECT_TRUE(MotionViolations(constraints, input, output, kind, 1.0).empty());
+  constraints.max_link_length = 3.5;
+  constraints.min_link_length = 1.5;
+  constraints.fixed_pivots_box = PlanarBox{{-1, -1}, {3, 1}};
+  constraints.moving_pivots_box = PlanarBox{{-1, 0}, {3, 2}};  // (0,1) and (3,1) inside
+  constraints.grashof = "double-crank";
+  EXPECT_EQ(MotionViolations(constraints, input, output, kind, 1.0),
+            (std::vector<std::string>{"max_link_length", "min_link_length", "fixed_pivots_box",
+                                      "grashof"}));
+  // On a bound is inside (kConstraintSlack).
+  DesignConstraints on_bound;
+  on_bound.max_link_length = 4.0;
+  on_bound.fixed_pivots_box = PlanarBox{{0, 0}, {4, 0}};
+  EXPECT_TRUE(MotionViolations(on_bound, input, output, kind, 1.0).empty());
+  // Without max_link_length the default bounds the links: 100 L.
+  EXPECT_EQ(MotionViolations(DesignConstraints(), input, output, kind, 0.039),
+            (std::vector<std::string>{"max_link_length"}));
+  // A slider-crank counts its crank and coupler; its slider has no fixed pivot.
+  const PlanarDyad slider = PlanarDyad::PR({3, 1}, {0, 1}, {1, 0});
+  kind.type = FourBarType::kSliderCrank;
+  const FourBarLinks slider_links = MotionFourBarLinks(input, slider);
+  EXPECT_FALSE(slider_links.ground);
+  EXPECT_DOUBLE_EQ(*slider_links.coupler, 3.0);
+  DesignConstraints crank_rocker;
+  crank_rocker.grashof = "crank-rocker";
+  crank_rocker.input_rotates_fully = true;
+  kind.input_rotates_fully = false;
+  EXPECT_EQ(MotionViolations(crank_rocker, input, slider, kind, 1.0),
+            (std::vector<std::string>{"input_rotates_fully", "grashof"}));
+}
+
+TEST(DesignConstraints, PathCouplerPointOffset) {
+  PathFourBar four_bar;
+  four_bar.input = PlanarDyad::RR({0, 0}, {1, 0}, 1.0);
+  four_bar.output = PlanarDyad::RR({3, 0}, {3, 2}, 2.0);
+  four_bar.coupler_point = {2, 3};  // 3.16 from the crank pin, 1.41 from the rocker pin
+  FourBarClass kind;
+  DesignConstraints constraints;
+  constraints.max_coupler_point_offset = 3.0;
+  EXPECT_EQ(PathViolations(constraints, four_bar, kind, 1.0),
+            (std::vector<std::string>{"max_coupler_point_offset"}));
+  constraints.max_coupler_point_offset = 3.2;
+  EXPECT_TRUE(PathViolations(constraints, four_bar, kind, 1.0).empty());
+}
+
+std::string ErrorOf(const std::string& text) {
+  try {
+    ParseTask(text, "task.json");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "<no error>";
+}
+
+const char* kPoses =
+    R"("poses": [{"x": 0, "y": 0, "theta_deg": 0}, {"x": 1, "y": 0.2, "theta_deg": 10},
+                 {"x": 1.5, "y": 1, "theta_deg": 25}, {"x": 1, "y": 2, "theta_deg": 40},
+                 {"x": 0, "y": 2.2, "theta_deg": 60}])";
+
+TEST(DesignConstraints, ParsedFromTheTask) {
+  const Task task = ParseTask(std::string("{") + kPoses + R"(, "constraints": {
+      "max_link_length": 50, "min_link_length": 0.5, "fixed_pivots_box": [[-1, -2], [3, 4]],
+      "moving_pivots_box": [[-5, -5], [5, 5]], "input_rotates_fully": true,
+      "grashof": "crank-rocker", "min_transmission_angle_deg": 40}})",
+                              "task.json");
+  const DesignConstraints& c = task.constraints;
+  EXPECT_TRUE(c.given);
+  EXPECT_EQ(*c.max_link_length, 50.0);
+  EXPECT_EQ(*c.min_link_length, 0.5);
+  EXPECT_EQ(c.fixed_pivots_box->min, Eigen::Vector2d(-1, -2));
+  EXPECT_EQ(c.fixed_pivots_box->max, Eigen::Vector2d(3, 4));
+  EXPECT_TRUE(c.input_rotates_fully);
+  EXPECT_EQ(c.grashof, "crank-rocker");
+  EXPECT_EQ(MinTransmissionAngleDeg(c), 40.0);
+  EXPECT_EQ(MinTransmissionAngleDeg(ParseTask(std::string("{") + kPoses + "}", "t").constraints),
+            kDefaultMinTransmissionDeg);
+}
+
+TEST(DesignConstraints, BadConstraintsSayWhatIsWrong) {
+  const auto motion = [](const std::string& constraints) {
+    return ErrorOf(std::string("{") + kPoses + ", \"constraints\": " + constraints + "}");
+  };
+  EXPECT_EQ(motion(R"({"max_link": 5})"),
+            "task.json: constraints.max_link: unknown field (known fields: max_link_length, "
+            "min_link_length, max_coupler_point_offset, fixed_pivots_box, moving_pivots_box, "
+            "input_rotates_fully, grashof, min_transmission_angle_deg)");
+  EXPECT_EQ(motion(R"({"max_link_length": -1})"),
+            "task.json: constraints.max_link_length: must be positive, got -1");
+  EXPECT_EQ(motion(R"({"max_link_length": 1, "min_link_length": 2})"),
+            "task.json: constraints.min_link_length: above max_link_length (1)");
+  EXPECT_EQ(motion(R"({"fixed_pivots_box": [[0, 0], [-1, 1]]})"),
+            "task.json: constraints.fixed_pivots_box: the lower corner's x (0) is above the upper "
+            "corner's (-1)");
+  EXPECT_EQ(motion(R"({"fixed_pivots_box": [0, 0, 1, 1]})"),
+            "task.json: constraints.fixed_pivots_box: expected [[xmin, ymin], [xmax, ymax]], got "
+            "an array");
+  EXPECT_EQ(motion(R"({"grashof": "crank"})")
+                .rfind("task.json: constraints.grashof: expected \"grashof\", \"non-grashof\"", 0),
+            0u);
+  EXPECT_EQ(motion(R"({"min_transmission_angle_deg": 95})"),
+            "task.json: constraints.min_transmission_angle_deg: at most 90, got 95");
+  EXPECT_EQ(motion(R"({"max_coupler_point_offset": 1})"),
+            "task.json: constraints.max_coupler_point_offset: used by path problems only");
+  EXPECT_EQ(motion("[]"), "task.json: constraints: expected an object, got an array");
+  EXPECT_EQ(
+      ErrorOf(R"({"problem": "path", "points": [{"x": 0, "y": 0}, {"x": 1, "y": 0}], "constraints":
+                  {"moving_pivots_box": [[0, 0], [1, 1]]}})"),
+      "task.json: constraints.moving_pivots_box: used by motion problems only (a path four-bar's "
+      "coupler has no frame of the task)");
+  EXPECT_EQ(ErrorOf(R"({"space": "spatial", "scale": 1,
+                        "poses": [{"q": [1, 0, 0, 0], "g": [0, 0, 0, 0]}], "constraints": {}})"),
+            "task.json: constraints: used by planar motion and path problems only");
+}
+
+}  // namespace
+}  // namespace linkfit

@@ -1,0 +1,187 @@
+// Results as a designer reads them: the first mechanism is the recommendation (the ranking rule,
+// lib/design_constraints.h), nothing is listed twice, and the transmission angle is judged.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "fitting/model_choice.h"
+#include "fitting/planar_motion.h"
+#include "lib/design_constraints.h"
+#include "lib/four_bar_motion.h"
+#include "optimizers/task_solver.h"
+#include "tests/support/random_mechanism.h"
+#include "tests/support/random_path.h"
+#include "tests/support/rounded_task.h"
+
+namespace linkfit {
+namespace {
+
+// Two dyads of the generating mechanism's type nearer it than this (times its size) are the
+// same dyad listed twice: far above what any precision here moves a dyad (1e-3 at 4 digits).
+constexpr double kTwice = 2e-2;
+
+// The ranking rule checked on a planar result: the first four-bar keeps the constraints and
+// has no defect when any listed one does, and no defect-free keeper fits it better by more than
+// the near-tie ratio unless the first meets the poses within their precision.
+void ExpectFirstIsTheRecommendation(const PlanarMotionResult& result, const Task& task) {
+  ASSERT_FALSE(result.mechanisms.empty());
+  const MechanismReport& first = result.mechanisms.front();
+  const auto clean = [](const MechanismReport& m) {
+    return m.violates.empty() && m.defects.empty() && m.max_pose_error;
+  };
+  const bool any_clean = std::any_of(result.mechanisms.begin(), result.mechanisms.end(), clean);
+  EXPECT_EQ(clean(first), any_clean);
+  if (!any_clean) return;
+  const auto fit = [](const MechanismReport& m) {
+    return m.rms_pose_error ? *m.rms_pose_error : *m.max_pose_error;
+  };
+  double best = fit(first);
+  for (const MechanismReport& m : result.mechanisms) {
+    if (clean(m)) best = std::min(best, fit(m));
+  }
+  const bool within = *first.max_pose_error <= PoseFitTolerance(task.precision, result.scale);
+  EXPECT_TRUE(fit(first) <= kNearTieRatio * best || within)
+      << "first " << fit(first) << " best " << best;
+}
+
+// Every listed four-bar: "transmission" exactly when its worst angle is below the minimum; no
+// two of the same two dyads.
+void ExpectJudgedOnce(const PlanarMotionResult& result, double min_transmission_deg) {
+  for (size_t i = 0; i < result.mechanisms.size(); ++i) {
+    const MechanismReport& m = result.mechanisms[i];
+    const bool flagged =
+        std::find(m.defects.begin(), m.defects.end(), "transmission") != m.defects.end();
+    EXPECT_EQ(flagged, m.transmission_min_deg && *m.transmission_min_deg < min_transmission_deg);
+    for (size_t j = 0; j < i; ++j) {
+      const MechanismReport& o = result.mechanisms[j];
+      EXPECT_FALSE(std::minmax(m.input_dyad, m.output_dyad) ==
+                   std::minmax(o.input_dyad, o.output_dyad))
+          << "mechanisms " << j << " and " << i << " share their dyads";
+    }
+  }
+}
+
+// How many listed dyads are within kTwice of `expected` (relative to its size).
+int Copies(const std::vector<DyadReport>& dyads, const PlanarDyad& expected,
+           const std::vector<PlanarPose>& poses) {
+  const double size = testing::DyadScale(expected, poses);
+  int copies = 0;
+  for (const DyadReport& report : dyads) {
+    if (report.dyad.type == expected.type &&
+        testing::DyadDistance(report.dyad, expected, size) <= kTwice) {
+      ++copies;
+    }
+  }
+  return copies;
+}
+
+// Twelve poses of a slider-crank, exact and as tables print them: each generating dyad listed
+// once, no four-bar twice, and the slider-crank first (the simplest model that meets the poses
+// within their precision), which is the best-fitting defect-free four-bar.
+TEST(Ranking, TwelveSliderCrankPosesGiveTheSliderCrankFirstAndOnce) {
+  std::mt19937_64 rng(1401);
+  int tasks = 0;
+  while (tasks < 8) {
+    const testing::GeneratedTask generated = testing::RandomSliderCrankTask(rng, 12);
+    const double length = CharacteristicLength(generated.poses);
+    // A generating slider-crank whose transmission angle is a defect is not the answer.
+    const FourBarAnalysis analysis =
+        AnalyzeFourBar(generated.input, generated.output, generated.poses, length);
+    if (!analysis.transmission_min_deg || *analysis.transmission_min_deg < 35.0) continue;
+    ++tasks;
+    for (int digits : {0, 8, 6, 4}) {
+      SCOPED_TRACE("seed 1401, task " + std::to_string(tasks) + ", digits " +
+                   std::to_string(digits));
+      const Task task =
+          digits == 0 ? PlanarMotionTask(generated.poses)
+                      : testing::ReadRounded(testing::PlanarMotionText(generated.poses, digits));
+      const PlanarMotionResult result = SolvePlanarTask(task);
+      EXPECT_EQ(Copies(result.dyads, generated.input, generated.poses), 1);
+      EXPECT_EQ(Copies(result.dyads, generated.output, generated.poses), 1);
+      ExpectJudgedOnce(result, kDefaultMinTransmissionDeg);
+      ExpectFirstIsTheRecommendation(result, task);
+      ASSERT_FALSE(result.mechanisms.empty());
+      const MechanismReport& first = result.mechanisms.front();
+      EXPECT_EQ(first.type, FourBarType::kSliderCrank);
+      // Its dyads are the generating ones within twice their stated error bounds (first order).
+      for (int index : {first.input_dyad, first.output_dyad}) {
+        const DyadReport& report = result.dyads[index];
+        const PlanarDyad& expected =
+            report.dyad.type == DyadType::kRR ? generated.input : generated.output;
+        const double size = testing::DyadScale(expected, generated.poses);
+        ASSERT_TRUE(report.error_bound.has_value());
+        EXPECT_LE(testing::DyadDistance(report.dyad, expected, size) * size,
+                  2.0 * *report.error_bound + 1e-9 * size);
+      }
+    }
+  }
+}
+
+// Least-squares tasks of every kind the planar solver takes, with noise: the first four-bar is
+// the recommendation by the rule, and every four-bar is judged once.
+TEST(Ranking, FirstPlanarFourBarIsTheBestFittingDefectFreeOne) {
+  std::mt19937_64 rng(1402);
+  for (int t = 0; t < 12; ++t) {
+    SCOPED_TRACE("seed 1402, task " + std::to_string(t));
+    const DyadType output = t % 3 == 0 ? DyadType::kPR : DyadType::kRR;
+    const testing::GeneratedTask generated = testing::RandomTask(rng, DyadType::kRR, output, 8 + t);
+    std::vector<PlanarPose> poses = generated.poses;
+    testing::PerturbPlanarPoses(rng, t % 2 == 0 ? 1e-3 : 1e-2, CharacteristicLength(poses), &poses);
+    Task task = PlanarMotionTask(poses);
+    const PlanarMotionResult result = SolvePlanarTask(task);
+    ExpectFirstIsTheRecommendation(result, task);
+    ExpectJudgedOnce(result, kDefaultMinTransmissionDeg);
+    EXPECT_LE(result.mechanisms.size(), 16u);  // bounded (ListedWithinBound)
+    // With a stricter minimum, more (never fewer) four-bars have the defect.
+    task.constraints.min_transmission_angle_deg = 60.0;
+    const PlanarMotionResult strict = SolvePlanarTask(task);
+    ExpectJudgedOnce(strict, 60.0);
+    ExpectFirstIsTheRecommendation(strict, task);
+  }
+}
+
+// Path results: the first four-bar keeps the constraints and is defect-free when any is, and no
+// defect-free one fits better beyond a near tie unless the first passes the points within their
+// precision.
+TEST(Ranking, FirstPathFourBarIsTheBestFittingDefectFreeOne) {
+  std::mt19937_64 rng(1403);
+  for (int t = 0; t < 8; ++t) {
+    SCOPED_TRACE("seed 1403, task " + std::to_string(t));
+    const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 10);
+    const double length = testing::PathLength(generated.points);
+    std::normal_distribution<double> normal;
+    Task task;
+    task.problem = ProblemKind::kPath;
+    for (size_t j = 0; j < generated.points.size(); ++j) {
+      TimedPoint point;
+      point.point_in_fixed =
+          generated.points[j] + 1e-3 * length * Eigen::Vector2d(normal(rng), normal(rng));
+      point.input_angle = generated.input_angles[j];
+      task.points.push_back(point);
+    }
+    const PathResult result = SolvePathTask(task);
+    ASSERT_FALSE(result.mechanisms.empty());
+    const auto clean = [](const PathMechanismReport& m) {
+      return m.violates.empty() && m.defects.empty() && m.rms_point_error;
+    };
+    const PathMechanismReport& first = result.mechanisms.front();
+    if (!std::any_of(result.mechanisms.begin(), result.mechanisms.end(), clean)) continue;
+    ASSERT_TRUE(clean(first));
+    double best = *first.rms_point_error;
+    for (const PathMechanismReport& m : result.mechanisms) {
+      if (clean(m)) best = std::min(best, *m.rms_point_error);
+      const bool flagged =
+          std::find(m.defects.begin(), m.defects.end(), "transmission") != m.defects.end();
+      EXPECT_EQ(flagged,
+                m.transmission_min_deg && *m.transmission_min_deg < kDefaultMinTransmissionDeg);
+    }
+    EXPECT_LE(*first.rms_point_error, kNearTieRatio * best);
+  }
+}
+
+}  // namespace
+}  // namespace linkfit

@@ -14,6 +14,7 @@
 
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "optimizers/design_bounds.h"
 #include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
 #include "optimizers/solver_options.h"
@@ -236,13 +237,49 @@ class TurnLimitResidual {
   int steps_;
 };
 
+// The design bounds of a path four-bar (design_bounds.h), blocks as PathPointResidual's:
+//   e_k = sqrt(mu) max(0, g_k).
+class PathBoundsResidual {
+ public:
+  PathBoundsResidual(DyadType output_type, const ScaledBounds* bounds, const double* sqrt_weight)
+      : output_type_(output_type), bounds_(bounds), sqrt_weight_(sqrt_weight) {}
+
+  template <typename T>
+  bool operator()(const T* crank_pivot, const T* crank_pin, const T* output_point,
+                  const T* output_second, const T* output_scalar, const T* coupler_point,
+                  T* residual) const {
+    const BoundGeometry<T> geometry =
+        PathBoundGeometry(output_type_, crank_pivot, crank_pin, output_point, output_second,
+                          output_scalar, coupler_point);
+    T g[kBoundResiduals];
+    BoundValues(*bounds_, geometry, g);
+    for (int k = 0; k < kBoundResiduals; ++k) {
+      residual[k] = g[k] > T(0.0) ? T(*sqrt_weight_ * g[k]) : T(0.0);
+    }
+    return true;
+  }
+
+  static ceres::CostFunction* Create(DyadType output_type, const ScaledBounds* bounds,
+                                     const double* sqrt_weight) {
+    return new ceres::AutoDiffCostFunction<PathBoundsResidual, kBoundResiduals, 2, 2, 2, 2, 1, 2>(
+        new PathBoundsResidual(output_type, bounds, sqrt_weight));
+  }
+
+ private:
+  DyadType output_type_;
+  const ScaledBounds* bounds_;
+  const double* sqrt_weight_;
+};
+
 // The task in the scaled frames: Sigma' = E' = (Sigma - centroid) / L (E = Sigma at the first
 // point, so the first-point convention holds in the scaled frames too).
 struct ScaledTask {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> weights;  // divided by their mean
   std::vector<bool> exact;
-  std::vector<double> turns;  // psi_j - psi_0 (the prescribed timing, or the start's)
+  std::vector<double> turns;   // psi_j - psi_0 (the prescribed timing, or the start's)
+  ScaledBounds bounds;         // the design bounds (design_bounds.h)
+  double bounds_weight = 0.0;  // sqrt(mu) of their penalty; 0: not applied
 };
 
 // The unknowns (scaled frames).
@@ -292,12 +329,26 @@ bool PointErrors(const ScaledTask& task, const State& state, double sign,
   return true;
 }
 
+// The largest violation of the design bounds by `state` (scaled units).
+double Violation(const ScaledTask& task, const State& state) {
+  return BoundViolation(
+      task.bounds,
+      PathBoundGeometry(state.output.type, state.crank_pivot, state.crank_pin, state.output.point,
+                        state.output.second, state.output.scalar, state.coupler_point));
+}
+
 // One Levenberg-Marquardt solve, point weights `weights` (points of weight 0 left out: they
 // need not assemble), shifts `shifts`.
 void Solve(const ScaledTask& task, double sign, const std::vector<double>& weights,
            const std::vector<Eigen::Vector2d>& shifts, const ceres::Solver::Options& options,
            State* state, int* iterations, std::string* message) {
   ceres::Problem problem;
+  if (task.bounds_weight > 0.0) {
+    problem.AddResidualBlock(
+        PathBoundsResidual::Create(state->output.type, &task.bounds, &task.bounds_weight), nullptr,
+        state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
+        state->output.scalar, state->coupler_point);
+  }
   const bool free_timing = !state->steps.empty();
   const double direction =
       free_timing && Turn(task, *state, task.points.size() - 1) < 0.0 ? -1.0 : 1.0;
@@ -351,12 +402,22 @@ struct Judgement {
   double rms = kInfinity;   // sqrt(sum w e^2 / sum w)
   double max = kInfinity;
   double exact_max = 0.0;  // over the exact points
+  double violation = 0.0;  // of the design bounds, times L
 };
 
 Judgement Judge(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
                 const std::vector<double>& weights, const std::vector<bool>& exact,
-                const std::vector<double>& input_angles, double length, bool closed) {
+                const std::vector<double>& input_angles, double length, bool closed,
+                const DesignConstraints& constraints) {
   Judgement judgement;
+  const ScaledBounds bounds = ScaleBounds(constraints, length, Similarity2(), Similarity2());
+  const DyadBlocks output = ToBlocks(four_bar.output);
+  judgement.violation =
+      BoundViolation(
+          bounds, PathBoundGeometry(output.type, four_bar.input.fixed_pivot.data(),
+                                    four_bar.input.moving_pivot.data(), output.point, output.second,
+                                    output.scalar, four_bar.coupler_point.data())) /
+      length;
   PathAnalysisOptions analysis_options;
   analysis_options.closed = closed;
   const PathFourBarAnalysis analysis =
@@ -380,7 +441,8 @@ Judgement Judge(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>&
 }
 
 // Whether `result` may replace `seed`: it assembles at every point, has no defect the seed did
-// not have, meets the exact points (or comes nearer), and, the exact points alike, costs no more.
+// not have, meets the exact points (or comes nearer), keeps the design bounds when the seed does
+// not (and does not break them when the seed keeps them), and, all that alike, costs no more.
 bool NotWorse(const Judgement& result, const Judgement& seed, double exact_limit) {
   if (!result.assembles) return false;
   if (!seed.assembles) return true;
@@ -392,6 +454,9 @@ bool NotWorse(const Judgement& result, const Judgement& seed, double exact_limit
   const double result_exact = result.exact_max > exact_limit ? result.exact_max : 0.0;
   const double seed_exact = seed.exact_max > exact_limit ? seed.exact_max : 0.0;
   if (result_exact != seed_exact) return result_exact < seed_exact;
+  const bool result_keeps = result.violation <= kConstraintSlack;
+  const bool seed_keeps = seed.violation <= kConstraintSlack;
+  if (result_keeps != seed_keeps) return result_keeps;
   return result.cost <= seed.cost;
 }
 
@@ -445,8 +510,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
       CheckInput(points, weights, exact, length, free_timing, input_angles, *four_bar);
 
   RefinerSummary summary;
-  const Judgement initial =
-      Judge(*four_bar, points, weights, exact, *input_angles, length, options.closed);
+  const Judgement initial = Judge(*four_bar, points, weights, exact, *input_angles, length,
+                                  options.closed, options.constraints);
   summary.initial_cost = summary.final_cost = initial.cost;
   summary.initial_rms = summary.final_rms = initial.rms;
   summary.initial_max = summary.final_max = initial.max;
@@ -466,6 +531,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     task.exact.push_back(!exact.empty() && exact[j]);
     task.turns.push_back((*input_angles)[j] - input_angles->front());
   }
+  task.bounds = ScaleBounds(options.constraints, length, to_scaled, to_scaled);
+  if (AnyBound(task.bounds)) task.bounds_weight = std::sqrt(kBoundFirstWeight);
   State state;
   const PlanarDyad input = TransformDyad(four_bar->input, to_scaled, to_scaled);
   Eigen::Map<Eigen::Vector2d>(state.crank_pivot) = input.fixed_pivot;
@@ -500,6 +567,14 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   std::vector<Eigen::Vector2d> shifts(points.size(), Eigen::Vector2d::Zero()), errors;
   std::string message;
   Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
+  // The design bounds: the penalty raised until the design keeps them (design_bounds.h).
+  int bound_rounds = 0;
+  while (task.bounds_weight > 0.0 && bound_rounds < kBoundRounds &&
+         Violation(task, state) > kBoundSlack) {
+    task.bounds_weight *= std::sqrt(kBoundGrowth);
+    Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
+    ++bound_rounds;
+  }
   const auto worst_exact = [&]() {
     if (!PointErrors(task, state, sign, &errors)) return kInfinity;
     double worst = 0.0;
@@ -518,6 +593,10 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
   }
   std::string note = round > 0 ? std::to_string(round) + " multiplier rounds" : "";
+  if (bound_rounds > 0) {
+    note += std::string(note.empty() ? "" : "; ") + std::to_string(bound_rounds) +
+            " rounds onto the design bounds";
+  }
   // Where the multipliers stall (typically a fit pressed against the crank's reach), the exact
   // points alone, from there: the underdetermined solve moves the design least onto them.
   const double worst = worst_exact();
@@ -554,8 +633,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     for (size_t j = 1; free_timing && j < points.size(); ++j) {
       refined_angles[j] = input_angles->front() + Turn(task, state, j);
     }
-    const Judgement result =
-        Judge(refined, points, weights, exact, refined_angles, length, options.closed);
+    const Judgement result = Judge(refined, points, weights, exact, refined_angles, length,
+                                   options.closed, options.constraints);
     accept = NotWorse(result, initial, options.exact_tolerance * length);
     if (accept) {
       summary.final_cost = result.cost;

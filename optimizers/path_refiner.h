@@ -27,6 +27,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/path_motion.h"
 #include "optimizers/refiner_summary.h"
 
@@ -41,6 +42,10 @@ struct PathRefinerOptions {
   // A closed path (lib/path_motion.h): the seed and the result are judged with the closing step
   // back to the first point, so a refinement that costs the crank its whole turn is not taken.
   bool closed = false;
+  // The design bounds (lib/design_constraints.h) as penalties (design_bounds.h): link lengths
+  // (by default at most 100 L), the fixed pivots' box, the coupler point's offset, a crank input.
+  // A result that keeps them replaces a seed that does not, whatever its cost.
+  DesignConstraints constraints;
 };
 
 // Refines `four_bar` in place. `weights`/`exact` may be empty (all 1 / none). `input_angles`

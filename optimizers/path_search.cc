@@ -14,6 +14,7 @@
 #include "fitting/planar_burmester.h"
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "optimizers/design_bounds.h"
 #include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
 
@@ -43,7 +44,12 @@ struct ScaledTask {
   std::vector<Eigen::Vector2d> points;
   std::vector<double> weights;  // normalized to sum 1, exact points weighted up
   std::vector<double> turns;    // psi_j - psi_0
+  ScaledBounds bounds;          // the design bounds (design_bounds.h)
 };
+
+// Weight of the squared violation of the design bounds in the objective (the points' cost is a
+// weighted mean of squared errors in units of L).
+constexpr double kSearchBoundWeight = 1e2;
 
 // The objective over the crank x = (B, A) (scaled; A is the pin at the first point, in Sigma
 // and in E):
@@ -85,6 +91,14 @@ class Objective {
     }
     std::vector<PlanarDyad> dyads;
     SolvePlanarBurmester(poses, PlanarBurmesterOptions(), &dyads);
+    // The design bounds, each output dyad with the crank and the coupler point R_0.
+    const auto violation = [&](const PlanarDyad& output) {
+      const DyadBlocks blocks = ToBlocks(output);
+      return BoundViolation(
+          task_.bounds,
+          PathBoundGeometry(blocks.type, crank_pivot.data(), crank_pin.data(), blocks.point,
+                            blocks.second, blocks.scalar, task_.points.front().data()));
+    };
     double best = kLargeCost;
     for (const PlanarDyad& dyad : dyads) {
       if (dyad.type == DyadType::kRR && (dyad.fixed_pivot - crank_pivot).norm() < kCrankDyad &&
@@ -97,6 +111,8 @@ class Objective {
         const double residual = dyad.Residual(poses[j]);
         cost += task_.weights[j] * residual * residual;
       }
+      const double outside = violation(dyad);
+      cost += kSearchBoundWeight * outside * outside;
       if (!std::isfinite(cost)) continue;
       best = std::min(best, cost);
       if (outputs != nullptr) outputs->emplace_back(cost, dyad);
@@ -232,6 +248,7 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
     weight_sum += weight;
   }
   for (double& weight : task.weights) weight /= weight_sum;
+  task.bounds = ScaleBounds(options.refiner.constraints, length, to_scaled, to_scaled);
 
   // Fewer than five points give no output dyad (planar_burmester.h): nothing to search.
   std::vector<std::pair<double, PathFourBar>> refined;
@@ -243,8 +260,24 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
     run.archive = &archive;
     nlopt::srand(options.seed);
     nlopt::opt optimizer(ToNlopt(options.algorithm), 4);
-    optimizer.set_lower_bounds(std::vector<double>(4, -options.box_scale));
-    optimizer.set_upper_bounds(std::vector<double>(4, options.box_scale));
+    // The crank's box: B within box_scale of the centroid and in the fixed pivots' box (that
+    // box alone where the two do not meet), A within the longest link of B's box.
+    std::vector<double> lower(4, -options.box_scale), upper(4, options.box_scale);
+    if (task.bounds.fixed_box) {
+      for (int c = 0; c < 2; ++c) {
+        lower[c] = std::max(lower[c], task.bounds.fixed_min[c]);
+        upper[c] = std::min(upper[c], task.bounds.fixed_max[c]);
+        if (!(lower[c] <= upper[c])) {
+          lower[c] = task.bounds.fixed_min[c];
+          upper[c] = task.bounds.fixed_max[c];
+        }
+        const double reach = std::min(task.bounds.max_link, 2.0 * options.box_scale);
+        lower[2 + c] = lower[c] - reach;
+        upper[2 + c] = upper[c] + reach;
+      }
+    }
+    optimizer.set_lower_bounds(lower);
+    optimizer.set_upper_bounds(upper);
     optimizer.set_min_objective(EvaluateRun, &run);
     optimizer.set_maxeval(options.max_evaluations);
     optimizer.set_maxtime(options.time_limit);
@@ -254,8 +287,12 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
       descent.set_maxeval(1000);
       optimizer.set_local_optimizer(descent);
     }
-    // A crank from the centroid to half a unit away starts the run (B = A is no crank).
-    std::vector<double> x = {0.0, 0.0, 0.5 * std::min(options.box_scale, 1.0), 0.0};
+    // A crank from the centroid (the box's centre) to half a unit away starts the run (B = A is
+    // no crank).
+    const double centre[2] = {0.5 * (lower[0] + upper[0]), 0.5 * (lower[1] + upper[1])};
+    std::vector<double> x = {
+        centre[0], centre[1],
+        centre[0] + 0.5 * std::min({options.box_scale, 1.0, upper[2] - centre[0]}), centre[1]};
     double value = 0.0;
     try {
       optimizer.optimize(x, value);

@@ -422,7 +422,15 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
     }
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
-  if (task.effort == Effort::kThorough) {
+  // The search: thorough always; balanced too when the task has constraints and no refined
+  // four-bar keeps them (the seeds all lie outside, and the optimum on a bound is not near
+  // any of them).
+  const bool none_keeps =
+      task.constraints.given && task.effort == Effort::kBalanced &&
+      std::none_of(candidates.begin(), candidates.end(), [](const PathMechanismReport& report) {
+        return report.violates.empty() && report.max_point_error;
+      });
+  if (task.effort == Effort::kThorough || none_keeps) {
     const auto search_start = std::chrono::steady_clock::now();
     std::vector<PathFourBar> found;
     PathSearchOptions search = options.path_search;
@@ -818,6 +826,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   TaskSolverOptions options = given_options;
   options.timed_path.precision = task.precision;
   options.path_refiner.closed = task.closed;
+  options.path_refiner.constraints = task.constraints;
   result.precision = task.precision;
   result.closed = task.closed;
   result.constraints = task.constraints;

@@ -1,0 +1,195 @@
+// The design constraints of a task (lib/design_constraints.h) as smooth penalty residuals of the
+// mechanism-level refiners (four_bar_refiner.cc, path_refiner.cc), in their scaled frames.
+//
+// Each constraint is an inequality g(x) <= 0 on a four-bar's geometry (a link length against
+// its bound, a fixed or moving pivot against its box, the crank shorter than every other link
+// and Grashof with it); its residual is sqrt(mu) max(0, g), a quadratic penalty. The refiners
+// solve again with mu multiplied by kBoundGrowth until every g is within kBoundSlack (a fraction
+// of kConstraintSlack, so that the result keeps the constraint as the result file judges it),
+// at most kBoundRounds times: an optimum on a bound is approached from outside, to O(1/mu).
+// Constraints that are no inequality of the geometry (a Grashof class other than the crank's,
+// the transmission angle) are left to the ranking.
+#ifndef LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
+#define LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "lib/design_constraints.h"
+#include "lib/planar_pose.h"
+
+namespace linkfit {
+
+// The penalty weight of the first round (the points' cost is of order n in the scaled frames),
+// its growth per round and the rounds at most.
+inline constexpr double kBoundFirstWeight = 1e2;
+inline constexpr double kBoundGrowth = 1e2;
+inline constexpr int kBoundRounds = 5;
+// The violation (scaled, times L) a refinement stops at: inside the result file's slack.
+inline constexpr double kBoundSlack = 0.1 * kConstraintSlack;
+// Residuals of one DesignBounds functor (unused ones are 0).
+inline constexpr int kBoundResiduals = 24;
+
+// The constraints in a refiner's scaled frames: lengths divided by L, the fixed box in Sigma'
+// and the moving box in E'.
+struct ScaledBounds {
+  double max_link = std::numeric_limits<double>::infinity();
+  double min_link = 0.0;
+  double max_offset = std::numeric_limits<double>::infinity();
+  bool fixed_box = false, moving_box = false;
+  Eigen::Vector2d fixed_min = Eigen::Vector2d::Zero(), fixed_max = Eigen::Vector2d::Zero();
+  Eigen::Vector2d moving_min = Eigen::Vector2d::Zero(), moving_max = Eigen::Vector2d::Zero();
+  bool input_crank = false;  // input_rotates_fully (4R: the crank shortest, Grashof)
+};
+
+// `to_fixed` and `to_moving` map Sigma and E to the scaled frames (a scale and a shift).
+inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double length,
+                                const Similarity2& to_fixed, const Similarity2& to_moving) {
+  ScaledBounds bounds;
+  bounds.max_link = MaxLinkLength(constraints, length) * to_fixed.scale;
+  bounds.min_link = constraints.min_link_length.value_or(0.0) * to_fixed.scale;
+  if (constraints.max_coupler_point_offset) {
+    bounds.max_offset = *constraints.max_coupler_point_offset * to_fixed.scale;
+  }
+  if (constraints.fixed_pivots_box) {
+    bounds.fixed_box = true;
+    bounds.fixed_min = to_fixed.Apply(constraints.fixed_pivots_box->min);
+    bounds.fixed_max = to_fixed.Apply(constraints.fixed_pivots_box->max);
+  }
+  if (constraints.moving_pivots_box) {
+    bounds.moving_box = true;
+    bounds.moving_min = to_moving.Apply(constraints.moving_pivots_box->min);
+    bounds.moving_max = to_moving.Apply(constraints.moving_pivots_box->max);
+  }
+  bounds.input_crank = constraints.input_rotates_fully;
+  return bounds;
+}
+
+// A four-bar's geometry as the penalties see it, in the scaled frames: what the type has (see
+// lib/design_constraints.h for which links a type counts).
+template <typename T>
+struct BoundGeometry {
+  bool has_ground = false, has_coupler = false, has_input = false, has_output = false;
+  T ground = T(0.0), coupler = T(0.0), input = T(0.0), output = T(0.0);
+  int fixed_count = 0, moving_count = 0, offset_count = 0;
+  T fixed[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};   // fixed pivots (Sigma')
+  T moving[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};  // moving pivots (E'), motion only
+  T offsets[2] = {T(0.0), T(0.0)};                        // coupler point offsets (paths)
+};
+
+template <typename T>
+T Distance(const T* a, const T* b) {
+  using std::sqrt;
+  const T dx = a[0] - b[0], dy = a[1] - b[1];
+  const T squared = dx * dx + dy * dy;
+  return squared > T(0.0) ? T(sqrt(squared)) : T(0.0);
+}
+
+// The constraint values g (<= 0 where kept) of `geometry`; writes kBoundResiduals, 0 where
+// unused.
+template <typename T>
+void BoundValues(const ScaledBounds& bounds, const BoundGeometry<T>& geometry, T* g) {
+  int k = 0;
+  const auto put = [&](const T& value) { g[k++] = value; };
+  const auto link = [&](bool has, const T& length) {
+    if (!has) return;
+    if (std::isfinite(bounds.max_link)) put(length - T(bounds.max_link));
+    if (bounds.min_link > 0.0) put(T(bounds.min_link) - length);
+  };
+  link(geometry.has_ground, geometry.ground);
+  link(geometry.has_coupler, geometry.coupler);
+  link(geometry.has_input, geometry.input);
+  link(geometry.has_output, geometry.output);
+  if (bounds.fixed_box) {
+    for (int i = 0; i < geometry.fixed_count; ++i) {
+      for (int c = 0; c < 2; ++c) {
+        put(T(bounds.fixed_min[c]) - geometry.fixed[i][c]);
+        put(geometry.fixed[i][c] - T(bounds.fixed_max[c]));
+      }
+    }
+  }
+  if (bounds.moving_box) {
+    for (int i = 0; i < geometry.moving_count; ++i) {
+      for (int c = 0; c < 2; ++c) {
+        put(T(bounds.moving_min[c]) - geometry.moving[i][c]);
+        put(geometry.moving[i][c] - T(bounds.moving_max[c]));
+      }
+    }
+  }
+  if (std::isfinite(bounds.max_offset)) {
+    for (int i = 0; i < geometry.offset_count; ++i) put(geometry.offsets[i] - T(bounds.max_offset));
+  }
+  // A crank input of a 4R: the crank no longer than any other link, and with the longest no
+  // longer than the other two (Grashof with the crank shortest); with x each link in turn, the
+  // longest binds.
+  if (bounds.input_crank && geometry.has_ground && geometry.has_coupler && geometry.has_input &&
+      geometry.has_output) {
+    const T& s = geometry.input;
+    put(s - geometry.ground);
+    put(s - geometry.coupler);
+    put(s - geometry.output);
+    put(s + geometry.ground - geometry.coupler - geometry.output);
+    put(s + geometry.coupler - geometry.ground - geometry.output);
+    put(s + geometry.output - geometry.ground - geometry.coupler);
+  }
+  while (k < kBoundResiduals) put(T(0.0));
+}
+
+// A path four-bar's geometry from its blocks (planar_dyad_blocks.h; E = Sigma at the first
+// point): the crank B-A, the output's pivots, the coupler point c's offsets from the coupler
+// joints.
+template <typename T>
+BoundGeometry<T> PathBoundGeometry(DyadType output_type, const T* crank_pivot, const T* crank_pin,
+                                   const T* output_point, const T* output_second,
+                                   const T* output_scalar, const T* coupler_point) {
+  BoundGeometry<T> geometry;
+  geometry.has_input = true;
+  geometry.input = Distance(crank_pin, crank_pivot);
+  geometry.fixed_count = 1;
+  geometry.fixed[0][0] = crank_pivot[0];
+  geometry.fixed[0][1] = crank_pivot[1];
+  geometry.offset_count = 1;
+  geometry.offsets[0] = Distance(coupler_point, crank_pin);
+  const T* output_fixed = output_type == DyadType::kPR ? nullptr : output_point;
+  const T* output_moving = output_type == DyadType::kRR   ? output_second
+                           : output_type == DyadType::kPR ? output_point
+                                                          : nullptr;
+  if (output_type == DyadType::kRR) {
+    geometry.has_output = true;
+    geometry.output = output_scalar[0] < T(0.0) ? T(-output_scalar[0]) : output_scalar[0];
+  }
+  if (output_fixed != nullptr) {
+    geometry.has_ground = true;
+    geometry.ground = Distance(crank_pivot, output_fixed);
+    geometry.fixed_count = 2;
+    geometry.fixed[1][0] = output_fixed[0];
+    geometry.fixed[1][1] = output_fixed[1];
+  }
+  if (output_moving != nullptr) {
+    geometry.has_coupler = true;
+    geometry.coupler = Distance(crank_pin, output_moving);
+    geometry.offset_count = 2;
+    geometry.offsets[1] = Distance(coupler_point, output_moving);
+  }
+  return geometry;
+}
+
+// The largest violation max(0, g) of `geometry` (scaled units).
+inline double BoundViolation(const ScaledBounds& bounds, const BoundGeometry<double>& geometry) {
+  double g[kBoundResiduals];
+  BoundValues(bounds, geometry, g);
+  return std::max(0.0, *std::max_element(g, g + kBoundResiduals));
+}
+
+// Whether any bound applies.
+inline bool AnyBound(const ScaledBounds& bounds) {
+  return std::isfinite(bounds.max_link) || bounds.min_link > 0.0 ||
+         std::isfinite(bounds.max_offset) || bounds.fixed_box || bounds.moving_box ||
+         bounds.input_crank;
+}
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_

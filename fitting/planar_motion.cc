@@ -124,12 +124,7 @@ void JudgeMechanism(const DesignConstraints& constraints, const std::vector<Dyad
   kind.grashof = mechanism->grashof;
   kind.input_rotates_fully = mechanism->input_rotates_fully;
   mechanism->violates = MotionViolations(constraints, input, output, kind, length);
-  std::vector<std::string>& defects = mechanism->defects;
-  if (mechanism->transmission_min_deg &&
-      *mechanism->transmission_min_deg < MinTransmissionAngleDeg(constraints) &&
-      std::find(defects.begin(), defects.end(), "transmission") == defects.end()) {
-    defects.push_back("transmission");
-  }
+  JudgeTransmission(constraints, mechanism->transmission_min_deg, &mechanism->defects);
 }
 
 namespace {
@@ -319,14 +314,12 @@ RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit)
   return key;
 }
 
-void RankMechanisms(double precision_fit, std::vector<MechanismReport>* mechanisms) {
-  std::vector<RankKey> keys;
-  for (const MechanismReport& mechanism : *mechanisms) {
-    keys.push_back(MechanismRankKey(mechanism, precision_fit));
-  }
-  std::vector<MechanismReport> ranked;
-  for (int index : RankOrder(keys)) ranked.push_back((*mechanisms)[index]);
-  *mechanisms = std::move(ranked);
+int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>* mechanisms) {
+  return RankReports(
+      [precision_fit](const MechanismReport& mechanism) {
+        return MechanismRankKey(mechanism, precision_fit);
+      },
+      bound, mechanisms);
 }
 
 void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result) {
@@ -340,7 +333,7 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
       result->mechanisms.push_back(mechanism);
     }
   }
-  RankMechanisms(PoseFitTolerance(task.precision, length), &result->mechanisms);
+  RankMechanisms(PoseFitTolerance(task.precision, length), -1, &result->mechanisms);
 }
 
 std::vector<std::vector<int>> SpreadSubsets(int count, int subsets) {

@@ -74,10 +74,12 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
 // error is at most `precision_fit` (PoseFitTolerance).
 RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit);
 
-// Ranks mechanisms by the rule of lib/design_constraints.h (RankOrder): keeping the
+// Ranks mechanisms by the rule of lib/design_constraints.h (RankReports): keeping the
 // constraints, defect-free, by fit (RMS pose error for least squares, else the largest), near
-// ties by worst transmission angle. `precision_fit`: PoseFitTolerance.
-void RankMechanisms(double precision_fit, std::vector<MechanismReport>* mechanisms);
+// ties by worst transmission angle. `precision_fit`: PoseFitTolerance. With `bound` >= 0 at
+// most that many are kept, and the best fit of each group (ListedWithinBound); returns how many
+// were dropped.
+int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>* mechanisms);
 
 }  // namespace linkfit
 

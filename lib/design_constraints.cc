@@ -51,6 +51,16 @@ void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& 
   }
 }
 
+// A key's fit for ordering: infinity when absent or not finite.
+double FitOf(const RankKey& key) {
+  return key.fit && std::isfinite(*key.fit) ? *key.fit : std::numeric_limits<double>::infinity();
+}
+
+// A key's group in the rule: keeping or violating, then DefectLevel.
+std::pair<bool, int> GroupOf(const RankKey& key) {
+  return std::make_pair(key.violates, key.defect_level);
+}
+
 }  // namespace
 
 double MaxLinkLength(const DesignConstraints& constraints, double length) {
@@ -91,6 +101,15 @@ bool HasKinematicDefect(const std::vector<std::string>& defects) {
   return std::any_of(defects.begin(), defects.end(), [](const std::string& defect) {
     return defect == "circuit" || defect == "branch" || defect == "order";
   });
+}
+
+void JudgeTransmission(const DesignConstraints& constraints,
+                       const std::optional<double>& transmission_min_deg,
+                       std::vector<std::string>* defects) {
+  if (transmission_min_deg && *transmission_min_deg < MinTransmissionAngleDeg(constraints) &&
+      std::find(defects->begin(), defects->end(), "transmission") == defects->end()) {
+    defects->push_back("transmission");
+  }
 }
 
 int DefectLevel(const std::vector<std::string>& defects) {
@@ -181,11 +200,8 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   std::vector<int> order(keys.size());
   std::iota(order.begin(), order.end(), 0);
-  const auto fit = [&](int i) {
-    const std::optional<double>& value = keys[i].fit;
-    return value && std::isfinite(*value) ? *value : kInfinity;
-  };
-  const auto group = [&](int i) { return std::make_pair(keys[i].violates, keys[i].defect_level); };
+  const auto fit = [&](int i) { return FitOf(keys[i]); };
+  const auto group = [&](int i) { return GroupOf(keys[i]); };
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     if (group(a) != group(b)) return group(a) < group(b);
     if (keys[a].within_precision != keys[b].within_precision) return keys[a].within_precision;
@@ -228,14 +244,8 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
 }
 
 std::vector<int> ListedWithinBound(const std::vector<RankKey>& ranked, int bound) {
-  constexpr double kInfinity = std::numeric_limits<double>::infinity();
-  const auto fit = [&](int i) {
-    const std::optional<double>& value = ranked[i].fit;
-    return value && std::isfinite(*value) ? *value : kInfinity;
-  };
-  const auto group = [&](int i) {
-    return std::make_pair(ranked[i].violates, ranked[i].defect_level);
-  };
+  const auto fit = [&](int i) { return FitOf(ranked[i]); };
+  const auto group = [&](int i) { return GroupOf(ranked[i]); };
   std::vector<int> listed;
   const int count = static_cast<int>(ranked.size());
   for (int i = 0; i < count; ++i) {
@@ -251,6 +261,10 @@ std::vector<int> ListedWithinBound(const std::vector<RankKey>& ranked, int bound
     if (keep) listed.push_back(i);
   }
   return listed;
+}
+
+std::string DroppedNote(int dropped) {
+  return std::to_string(dropped) + " more four-bars, ranked below these, were found and dropped";
 }
 
 }  // namespace linkfit

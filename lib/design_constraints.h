@@ -99,6 +99,12 @@ std::vector<std::string> PathViolations(const DesignConstraints& constraints,
                                         const PathFourBar& four_bar, const FourBarClass& kind,
                                         double length);
 
+// Adds the defect "transmission" to `defects` (once) when the worst transmission angle is below
+// the constraints' minimum (MinTransmissionAngleDeg).
+void JudgeTransmission(const DesignConstraints& constraints,
+                       const std::optional<double>& transmission_min_deg,
+                       std::vector<std::string>* defects);
+
 // Whether `defects` holds a kinematic defect ("circuit", "branch" or "order"): the four-bar
 // cannot be driven through the task as listed. "transmission" is not one.
 bool HasKinematicDefect(const std::vector<std::string>& defects);
@@ -138,6 +144,32 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys);
 // violating, DefectLevel) not yet among them, so that an exact four-bar with a poor
 // transmission angle is not lost behind worse fits that have none.
 std::vector<int> ListedWithinBound(const std::vector<RankKey>& ranked, int bound);
+
+// Orders `reports` by the ranking rule (RankOrder of key_of(report)) and, with `bound` >= 0,
+// keeps those ListedWithinBound; returns how many were dropped (DroppedNote says so).
+template <typename Report, typename KeyOf>
+int RankReports(const KeyOf& key_of, int bound, std::vector<Report>* reports) {
+  std::vector<RankKey> keys;
+  for (const Report& report : *reports) keys.push_back(key_of(report));
+  std::vector<RankKey> ranked_keys;
+  std::vector<Report> ranked;
+  for (int index : RankOrder(keys)) {
+    ranked_keys.push_back(keys[index]);
+    ranked.push_back(std::move((*reports)[index]));
+  }
+  reports->clear();
+  if (bound < 0) {
+    *reports = std::move(ranked);
+    return 0;
+  }
+  for (int index : ListedWithinBound(ranked_keys, bound)) {
+    reports->push_back(std::move(ranked[index]));
+  }
+  return static_cast<int>(ranked.size() - reports->size());
+}
+
+// The note of a bounded list: how many more four-bars were found and dropped.
+std::string DroppedNote(int dropped);
 
 }  // namespace linkfit
 

@@ -2,7 +2,7 @@
 // mechanism-level refiners (four_bar_refiner.cc, path_refiner.cc), in their scaled frames.
 //
 // Each constraint is an inequality g(x) <= 0 on a four-bar's geometry (a link length against
-// its bound, a fixed or moving pivot against its box, the crank shorter than every other link
+// its bound, a fixed pivot against its box, the crank shorter than every other link
 // and Grashof with it); its residual is sqrt(mu) max(0, g), a quadratic penalty. The refiners
 // solve again with mu multiplied by kBoundGrowth until every g is within kBoundSlack (a fraction
 // of kConstraintSlack, so that the result keeps the constraint as the result file judges it),
@@ -32,21 +32,20 @@ inline constexpr double kBoundSlack = 0.1 * kConstraintSlack;
 // Residuals of one DesignBounds functor (unused ones are 0).
 inline constexpr int kBoundResiduals = 24;
 
-// The constraints in a refiner's scaled frames: lengths divided by L, the fixed box in Sigma'
-// and the moving box in E'.
+// The constraints in a refiner's scaled frames: lengths divided by L, the fixed box in Sigma'.
+// The link bound always applies (by default 100 L).
 struct ScaledBounds {
   double max_link = std::numeric_limits<double>::infinity();
   double min_link = 0.0;
   double max_offset = std::numeric_limits<double>::infinity();
-  bool fixed_box = false, moving_box = false;
+  bool fixed_box = false;
   Eigen::Vector2d fixed_min = Eigen::Vector2d::Zero(), fixed_max = Eigen::Vector2d::Zero();
-  Eigen::Vector2d moving_min = Eigen::Vector2d::Zero(), moving_max = Eigen::Vector2d::Zero();
   bool input_crank = false;  // input_rotates_fully (4R: the crank shortest, Grashof)
 };
 
-// `to_fixed` and `to_moving` map Sigma and E to the scaled frames (a scale and a shift).
+// `to_fixed` maps Sigma to the scaled frame (a scale and a shift).
 inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double length,
-                                const Similarity2& to_fixed, const Similarity2& to_moving) {
+                                const Similarity2& to_fixed) {
   ScaledBounds bounds;
   bounds.max_link = MaxLinkLength(constraints, length) * to_fixed.scale;
   bounds.min_link = constraints.min_link_length.value_or(0.0) * to_fixed.scale;
@@ -58,11 +57,6 @@ inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double len
     bounds.fixed_min = to_fixed.Apply(constraints.fixed_pivots_box->min);
     bounds.fixed_max = to_fixed.Apply(constraints.fixed_pivots_box->max);
   }
-  if (constraints.moving_pivots_box) {
-    bounds.moving_box = true;
-    bounds.moving_min = to_moving.Apply(constraints.moving_pivots_box->min);
-    bounds.moving_max = to_moving.Apply(constraints.moving_pivots_box->max);
-  }
   bounds.input_crank = constraints.input_rotates_fully;
   return bounds;
 }
@@ -73,14 +67,13 @@ template <typename T>
 struct BoundGeometry {
   bool has_ground = false, has_coupler = false, has_input = false, has_output = false;
   T ground = T(0.0), coupler = T(0.0), input = T(0.0), output = T(0.0);
-  int fixed_count = 0, moving_count = 0, offset_count = 0;
-  T fixed[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};   // fixed pivots (Sigma')
-  T moving[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};  // moving pivots (E'), motion only
-  T offsets[2] = {T(0.0), T(0.0)};                        // coupler point offsets (paths)
+  int fixed_count = 0, offset_count = 0;
+  T fixed[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};  // fixed pivots (Sigma')
+  T offsets[2] = {T(0.0), T(0.0)};                       // coupler point offsets (paths)
 };
 
 template <typename T>
-T Distance(const T* a, const T* b) {
+T BoundDistance(const T* a, const T* b) {
   using std::sqrt;
   const T dx = a[0] - b[0], dy = a[1] - b[1];
   const T squared = dx * dx + dy * dy;
@@ -107,14 +100,6 @@ void BoundValues(const ScaledBounds& bounds, const BoundGeometry<T>& geometry, T
       for (int c = 0; c < 2; ++c) {
         put(T(bounds.fixed_min[c]) - geometry.fixed[i][c]);
         put(geometry.fixed[i][c] - T(bounds.fixed_max[c]));
-      }
-    }
-  }
-  if (bounds.moving_box) {
-    for (int i = 0; i < geometry.moving_count; ++i) {
-      for (int c = 0; c < 2; ++c) {
-        put(T(bounds.moving_min[c]) - geometry.moving[i][c]);
-        put(geometry.moving[i][c] - T(bounds.moving_max[c]));
       }
     }
   }
@@ -146,12 +131,12 @@ BoundGeometry<T> PathBoundGeometry(DyadType output_type, const T* crank_pivot, c
                                    const T* output_scalar, const T* coupler_point) {
   BoundGeometry<T> geometry;
   geometry.has_input = true;
-  geometry.input = Distance(crank_pin, crank_pivot);
+  geometry.input = BoundDistance(crank_pin, crank_pivot);
   geometry.fixed_count = 1;
   geometry.fixed[0][0] = crank_pivot[0];
   geometry.fixed[0][1] = crank_pivot[1];
   geometry.offset_count = 1;
-  geometry.offsets[0] = Distance(coupler_point, crank_pin);
+  geometry.offsets[0] = BoundDistance(coupler_point, crank_pin);
   const T* output_fixed = output_type == DyadType::kPR ? nullptr : output_point;
   const T* output_moving = output_type == DyadType::kRR   ? output_second
                            : output_type == DyadType::kPR ? output_point
@@ -162,16 +147,16 @@ BoundGeometry<T> PathBoundGeometry(DyadType output_type, const T* crank_pivot, c
   }
   if (output_fixed != nullptr) {
     geometry.has_ground = true;
-    geometry.ground = Distance(crank_pivot, output_fixed);
+    geometry.ground = BoundDistance(crank_pivot, output_fixed);
     geometry.fixed_count = 2;
     geometry.fixed[1][0] = output_fixed[0];
     geometry.fixed[1][1] = output_fixed[1];
   }
   if (output_moving != nullptr) {
     geometry.has_coupler = true;
-    geometry.coupler = Distance(crank_pin, output_moving);
+    geometry.coupler = BoundDistance(crank_pin, output_moving);
     geometry.offset_count = 2;
-    geometry.offsets[1] = Distance(coupler_point, output_moving);
+    geometry.offsets[1] = BoundDistance(coupler_point, output_moving);
   }
   return geometry;
 }
@@ -181,13 +166,6 @@ inline double BoundViolation(const ScaledBounds& bounds, const BoundGeometry<dou
   double g[kBoundResiduals];
   BoundValues(bounds, geometry, g);
   return std::max(0.0, *std::max_element(g, g + kBoundResiduals));
-}
-
-// Whether any bound applies.
-inline bool AnyBound(const ScaledBounds& bounds) {
-  return std::isfinite(bounds.max_link) || bounds.min_link > 0.0 ||
-         std::isfinite(bounds.max_offset) || bounds.fixed_box || bounds.moving_box ||
-         bounds.input_crank;
 }
 
 }  // namespace linkfit

@@ -279,7 +279,7 @@ struct ScaledTask {
   std::vector<bool> exact;
   std::vector<double> turns;   // psi_j - psi_0 (the prescribed timing, or the start's)
   ScaledBounds bounds;         // the design bounds (design_bounds.h)
-  double bounds_weight = 0.0;  // sqrt(mu) of their penalty; 0: not applied
+  double bounds_weight = 0.0;  // sqrt(mu) of their penalty
 };
 
 // The unknowns (scaled frames).
@@ -343,12 +343,10 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
            const std::vector<Eigen::Vector2d>& shifts, const ceres::Solver::Options& options,
            State* state, int* iterations, std::string* message) {
   ceres::Problem problem;
-  if (task.bounds_weight > 0.0) {
-    problem.AddResidualBlock(
-        PathBoundsResidual::Create(state->output.type, &task.bounds, &task.bounds_weight), nullptr,
-        state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
-        state->output.scalar, state->coupler_point);
-  }
+  problem.AddResidualBlock(
+      PathBoundsResidual::Create(state->output.type, &task.bounds, &task.bounds_weight), nullptr,
+      state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
+      state->output.scalar, state->coupler_point);
   const bool free_timing = !state->steps.empty();
   const double direction =
       free_timing && Turn(task, *state, task.points.size() - 1) < 0.0 ? -1.0 : 1.0;
@@ -410,7 +408,7 @@ Judgement Judge(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>&
                 const std::vector<double>& input_angles, double length, bool closed,
                 const DesignConstraints& constraints) {
   Judgement judgement;
-  const ScaledBounds bounds = ScaleBounds(constraints, length, Similarity2(), Similarity2());
+  const ScaledBounds bounds = ScaleBounds(constraints, length, Similarity2());
   const DyadBlocks output = ToBlocks(four_bar.output);
   judgement.violation =
       BoundViolation(
@@ -531,8 +529,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     task.exact.push_back(!exact.empty() && exact[j]);
     task.turns.push_back((*input_angles)[j] - input_angles->front());
   }
-  task.bounds = ScaleBounds(options.constraints, length, to_scaled, to_scaled);
-  if (AnyBound(task.bounds)) task.bounds_weight = std::sqrt(kBoundFirstWeight);
+  task.bounds = ScaleBounds(options.constraints, length, to_scaled);
+  task.bounds_weight = std::sqrt(kBoundFirstWeight);
   State state;
   const PlanarDyad input = TransformDyad(four_bar->input, to_scaled, to_scaled);
   Eigen::Map<Eigen::Vector2d>(state.crank_pivot) = input.fixed_pivot;
@@ -569,8 +567,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
   // The design bounds: the penalty raised until the design keeps them (design_bounds.h).
   int bound_rounds = 0;
-  while (task.bounds_weight > 0.0 && bound_rounds < kBoundRounds &&
-         Violation(task, state) > kBoundSlack) {
+  while (bound_rounds < kBoundRounds && Violation(task, state) > kBoundSlack) {
     task.bounds_weight *= std::sqrt(kBoundGrowth);
     Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
     ++bound_rounds;

@@ -248,7 +248,7 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
     weight_sum += weight;
   }
   for (double& weight : task.weights) weight /= weight_sum;
-  task.bounds = ScaleBounds(options.refiner.constraints, length, to_scaled, to_scaled);
+  task.bounds = ScaleBounds(options.refiner.constraints, length, to_scaled);
 
   // Fewer than five points give no output dyad (planar_burmester.h): nothing to search.
   std::vector<std::pair<double, PathFourBar>> refined;

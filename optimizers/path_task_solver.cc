@@ -116,15 +116,10 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   return report;
 }
 
-// The defect "transmission" (the worst transmission angle below the task's minimum), given at
-// the end: the solver's own choices go by the kinematic defects.
+// The defect "transmission" (JudgeTransmission), given at the end: the solver's own choices go
+// by the kinematic defects.
 void JudgeTransmission(const PathData& data, PathMechanismReport* report) {
-  std::vector<std::string>& defects = report->defects;
-  if (report->transmission_min_deg &&
-      *report->transmission_min_deg < MinTransmissionAngleDeg(data.constraints) &&
-      std::find(defects.begin(), defects.end(), "transmission") == defects.end()) {
-    defects.push_back("transmission");
-  }
+  JudgeTransmission(data.constraints, report->transmission_min_deg, &report->defects);
 }
 
 // How far a four-bar may miss a point and still pass it within the data's precision:
@@ -156,14 +151,15 @@ RankKey PathRankKey(bool least_squares, double precision_fit, const PathMechanis
   return key;
 }
 
-void Rank(bool least_squares, double precision_fit, std::vector<PathMechanismReport>* mechanisms) {
-  std::vector<RankKey> keys;
-  for (const PathMechanismReport& report : *mechanisms) {
-    keys.push_back(PathRankKey(least_squares, precision_fit, report));
-  }
-  std::vector<PathMechanismReport> ranked;
-  for (int index : RankOrder(keys)) ranked.push_back((*mechanisms)[index]);
-  *mechanisms = std::move(ranked);
+// Ranks by PathRankKey (RankReports); with `bound` >= 0 a bounded list. Returns how many were
+// dropped.
+int Rank(bool least_squares, double precision_fit, int bound,
+         std::vector<PathMechanismReport>* mechanisms) {
+  return RankReports(
+      [&](const PathMechanismReport& report) {
+        return PathRankKey(least_squares, precision_fit, report);
+      },
+      bound, mechanisms);
 }
 
 // Two four-bars are one when their crank, coupler point and output agree within kSameFourBar
@@ -242,7 +238,7 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
       }
     }
   }
-  Rank(true, PassTolerance(data), &seeds);
+  Rank(true, PassTolerance(data), -1, &seeds);
   if (static_cast<int>(seeds.size()) > keep) seeds.resize(keep);
   return seeds;
 }
@@ -391,19 +387,10 @@ void Finish(const PathData& data, int reported, std::vector<PathMechanismReport>
   std::vector<PathMechanismReport> distinct;
   for (const PathMechanismReport& report : candidates) AddDistinct(report, data.length, &distinct);
   for (PathMechanismReport& report : distinct) JudgeTransmission(data, &report);
-  Rank(true, PassTolerance(data), &distinct);
   // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
-  std::vector<RankKey> keys;
-  for (const PathMechanismReport& report : distinct) {
-    keys.push_back(PathRankKey(true, PassTolerance(data), report));
-  }
-  const std::vector<int> listed = ListedWithinBound(keys, reported);
-  if (listed.size() < distinct.size()) {
-    result->notes.push_back(std::to_string(distinct.size() - listed.size()) +
-                            " more four-bars, ranked below these, were found and dropped");
-  }
-  result->mechanisms.clear();
-  for (int index : listed) result->mechanisms.push_back(distinct[index]);
+  const int dropped = Rank(true, PassTolerance(data), reported, &distinct);
+  if (dropped > 0) result->notes.push_back(DroppedNote(dropped));
+  result->mechanisms = std::move(distinct);
 }
 
 void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOptions& options,
@@ -891,7 +878,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
                              "points cannot tell them from their slider readings");
     }
     for (PathMechanismReport& report : result.mechanisms) JudgeTransmission(data, &report);
-    Rank(false, PassTolerance(data), &result.mechanisms);
+    Rank(false, PassTolerance(data), -1, &result.mechanisms);
     if (four_bars.empty() && !summary.degenerate) {
       result.notes.push_back("no real four-bar passes the five points with this timing");
     }

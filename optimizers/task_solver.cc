@@ -395,10 +395,11 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     // within the constraints, it is the answer: the others are not refined into near copies of
     // its dyads.
     stage_start = std::chrono::steady_clock::now();
-    const bool answered = !result.mechanisms.empty() && result.mechanisms.front().defects.empty() &&
-                          result.mechanisms.front().violates.empty() &&
-                          result.mechanisms.front().max_pose_error &&
-                          *result.mechanisms.front().max_pose_error <= precision_fit;
+    bool answered = false;
+    if (!result.mechanisms.empty()) {
+      const RankKey first = MechanismRankKey(result.mechanisms.front(), precision_fit);
+      answered = !first.violates && first.defect_level == 0 && first.within_precision;
+    }
     const int count =
         answered ? 0 : std::min<int>(options.refined_mechanisms, result.mechanisms.size());
     for (int m = 0; m < count; ++m) {
@@ -456,26 +457,14 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       if (!repeat) distinct.push_back(mechanism);
     }
     result.mechanisms = std::move(distinct);
-    RankMechanisms(precision_fit, &result.mechanisms);
     result.stages.push_back(Stage("four-bar refine", stage_start, result));
   }
-  // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
-  std::vector<RankKey> keys;
-  for (const MechanismReport& mechanism : result.mechanisms) {
-    keys.push_back(MechanismRankKey(mechanism, precision_fit));
-  }
-  const std::vector<int> listed = ListedWithinBound(keys, options.reported_mechanisms);
-  if (listed.size() < result.mechanisms.size()) {
-    result.notes.push_back(std::to_string(result.mechanisms.size() - listed.size()) +
-                           " more four-bars, ranked below these, were found and dropped");
-    std::vector<MechanismReport> kept;
-    for (int index : listed) kept.push_back(result.mechanisms[index]);
-    result.mechanisms = std::move(kept);
-  }
-  // How far the data's precision can move each dyad (fitting/model_choice.h).
-  for (DyadReport& report : result.dyads) {
-    report.error_bound = DyadErrorBound(report.dyad, poses, task.precision, length);
-  }
+  // Ranked, and a bounded list (ListedWithinBound): the best ranked, and the best fit of each
+  // group. (Every dyad has its error bound: the seeds' were set before the dyads were merged,
+  // the refined ones' when they were added.)
+  const int dropped =
+      RankMechanisms(precision_fit, options.reported_mechanisms, &result.mechanisms);
+  if (dropped > 0) result.notes.push_back(DroppedNote(dropped));
   if (result.dyads.empty()) result.notes.push_back("no dyad: the seeds failed (degenerate poses?)");
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

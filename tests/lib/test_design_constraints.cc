@@ -6,6 +6,7 @@
 #include "lib/design_constraints.h"
 #include "lib/path_motion.h"
 #include "lib/task_io.h"
+#include "tests/support/rounded_task.h"
 
 namespace linkfit {
 namespace {
@@ -122,14 +123,7 @@ TEST(DesignConstraints, PathCouplerPointOffset) {
   EXPECT_TRUE(PathViolations(constraints, four_bar, kind, 1.0).empty());
 }
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    ParseTask(text, "task.json");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "<no error>";
-}
+std::string ErrorOf(const std::string& text) { return testing::ParseErrorOf(text); }
 
 const char* kPoses =
     R"("poses": [{"x": 0, "y": 0, "theta_deg": 0}, {"x": 1, "y": 0.2, "theta_deg": 10},

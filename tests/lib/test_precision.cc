@@ -12,6 +12,7 @@
 
 #include "lib/precision.h"
 #include "lib/task_io.h"
+#include "tests/support/rounded_task.h"
 
 namespace linkfit {
 namespace {
@@ -38,14 +39,7 @@ std::string PrintedArray(const std::vector<double>& values, int digits, int deci
   return out + "]";
 }
 
-std::string ErrorOf(const std::string& text) {
-  try {
-    ParseTask(text, "task.json");
-  } catch (const InputError& error) {
-    return error.what();
-  }
-  return "<no error>";
-}
+std::string ErrorOf(const std::string& text) { return testing::ParseErrorOf(text); }
 
 bool HasNoteWith(const Task& task, const std::string& words) {
   for (const std::string& note : task.input_notes) {

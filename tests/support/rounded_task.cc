@@ -119,6 +119,15 @@ Task ReadRounded(const std::string& text, Effort effort) {
   return task;
 }
 
+std::string ParseErrorOf(const std::string& text) {
+  try {
+    ParseTask(text, "task.json");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "<no error>";
+}
+
 void TimedPoints(const Task& task, std::vector<Eigen::Vector2d>* points,
                  std::vector<double>* input_angles) {
   points->clear();

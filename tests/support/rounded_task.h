@@ -34,6 +34,9 @@ std::string PathText(const std::vector<Eigen::Vector2d>& points,
 // The text parsed as a user's file (source "rounded"); `effort` replaces the default.
 Task ReadRounded(const std::string& text, Effort effort = Effort::kBalanced);
 
+// The one-line InputError message of parsing `text` as "task.json", or "<no error>".
+std::string ParseErrorOf(const std::string& text);
+
 // A path task's points and their input angles (radians; only those given).
 void TimedPoints(const Task& task, std::vector<Eigen::Vector2d>* points,
                  std::vector<double>* input_angles);

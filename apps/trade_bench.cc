@@ -41,14 +41,8 @@ bool OnOneBranch(const std::vector<std::string>& defects) {
          std::find(defects.begin(), defects.end(), "branch") == defects.end();
 }
 
-// One solved task: its time and final error (trade_bench.h).
-struct Outcome {
-  double ms = 0.0;
-  double error = kInfinity;
-};
-
 // A generator makes task `t` of a cell (the same tasks for every effort level) and solves it.
-using CellRunner = std::function<Outcome(std::mt19937_64& rng, Effort effort)>;
+using CellRunner = std::function<TradeOutcome(std::mt19937_64& rng, Effort effort)>;
 
 TradeRow RunCell(const std::string& family, int items, double noise, const std::string& path,
                  const char* effort_name, Effort effort, int tasks, uint64_t seed,
@@ -64,7 +58,7 @@ TradeRow RunCell(const std::string& family, int items, double noise, const std::
   int success = 0;
   std::mt19937_64 rng(seed);
   for (int t = 0; t < tasks; ++t) {
-    const Outcome outcome = run(rng, effort);
+    const TradeOutcome outcome = run(rng, effort);
     times.push_back(outcome.ms);
     errors.push_back(outcome.error);
     success += outcome.error <= success_tolerance;
@@ -79,13 +73,13 @@ TradeRow RunCell(const std::string& family, int items, double noise, const std::
 
 // ---- planar motion ----
 
-Outcome RunPlanar(std::mt19937_64& rng, Effort effort, int count, double noise) {
+TradeOutcome RunPlanar(std::mt19937_64& rng, Effort effort, int count, double noise) {
   const testing::GeneratedTask generated = testing::RandomFourBarTask(rng, count);
   const double length = CharacteristicLength(generated.poses);
   std::vector<PlanarPose> poses = generated.poses;
   testing::PerturbPlanarPoses(rng, noise, length, &poses);
   const Task task = PlanarMotionTask(poses, effort);
-  Outcome outcome;
+  TradeOutcome outcome;
   const auto begin = std::chrono::steady_clock::now();
   const PlanarMotionResult result = SolvePlanarTask(task);
   outcome.ms = MillisecondsSince(begin);
@@ -120,7 +114,7 @@ double RmsResidual(const SpatialDyad& dyad, const std::vector<DualQuaternion>& p
   return std::sqrt(sum / poses.size());
 }
 
-Outcome RunSpatial(std::mt19937_64& rng, Effort effort, int count, double noise) {
+TradeOutcome RunSpatial(std::mt19937_64& rng, Effort effort, int count, double noise) {
   // A random 5-SS platform and `count` poses on its motion (redrawn when its motion is too short
   // for that many distinct poses).
   testing::PlantedSpatialTask platform = testing::RandomPlatformTask(rng, count);
@@ -128,7 +122,7 @@ Outcome RunSpatial(std::mt19937_64& rng, Effort effort, int count, double noise)
   std::vector<DualQuaternion>& poses = platform.poses;
   testing::PerturbSpatialPoses(rng, noise, &poses);
   const Task task = SpatialMotionTask(poses, effort);
-  Outcome outcome;
+  TradeOutcome outcome;
   const auto begin = std::chrono::steady_clock::now();
   const SpatialMotionResult result = SolveSpatialTask(task);
   outcome.ms = MillisecondsSince(begin);
@@ -152,7 +146,8 @@ Outcome RunSpatial(std::mt19937_64& rng, Effort effort, int count, double noise)
 
 // ---- path generation ----
 
-Outcome RunPath(std::mt19937_64& rng, Effort effort, int count, double noise, bool free_timing) {
+TradeOutcome RunPath(std::mt19937_64& rng, Effort effort, int count, double noise,
+                     bool free_timing) {
   const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, count);
   const double length = testing::PathLength(generated.points);
   std::normal_distribution<double> normal;
@@ -168,7 +163,7 @@ Outcome RunPath(std::mt19937_64& rng, Effort effort, int count, double noise, bo
     points.push_back(point.point_in_fixed);
     task.points.push_back(point);
   }
-  Outcome outcome;
+  TradeOutcome outcome;
   const auto begin = std::chrono::steady_clock::now();
   const PathResult result = SolvePathTask(task);
   outcome.ms = MillisecondsSince(begin);
@@ -196,9 +191,8 @@ Outcome RunPath(std::mt19937_64& rng, Effort effort, int count, double noise, bo
 // ---- the table ----
 
 struct Sizes {
-  int exact;     // tasks per cell of minimal data
-  int fitted;    // tasks per cell, fast and balanced
-  int thorough;  // tasks per cell, thorough
+  int exact;   // tasks per cell of minimal data
+  int fitted;  // tasks per cell, at every effort level
 };
 
 void PrintRow(std::FILE* table, const TradeRow& row) {
@@ -219,8 +213,15 @@ std::string FormatNumber(double value) {
 
 }  // namespace
 
+TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Effort effort,
+                          std::mt19937_64& rng) {
+  if (family == "planar motion") return RunPlanar(rng, effort, items, noise);
+  if (family == "spatial motion") return RunSpatial(rng, effort, items, noise);
+  return RunPath(rng, effort, items, noise, family == "untimed path");
+}
+
 std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* table) {
-  const Sizes sizes = options.quick ? Sizes{20, 6, 2} : Sizes{200, 24, 8};
+  const Sizes sizes = options.quick ? Sizes{20, 4} : Sizes{200, 24};
   if (table != nullptr) {
     std::fprintf(table,
                  "speed/accuracy trade (%s, seed %llu): error = noise 0: in L; noisy: against "
@@ -236,8 +237,7 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
       {"fast", Effort::kFast}, {"balanced", Effort::kBalanced}, {"thorough", Effort::kThorough}};
   auto run_family = [&](const std::string& family, int items, bool minimal,
                         const std::string& exact_path, const std::string& fitted_path,
-                        double exact_tolerance,
-                        const std::function<Outcome(std::mt19937_64&, Effort, double)>& solve) {
+                        double exact_tolerance) {
     // "family" (the trade family, e.g. "untimed path") or "family:number of items"
     if (!options.family.empty()) {
       const size_t colon = options.family.find(':');
@@ -251,7 +251,9 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
       const uint64_t seed = options.seed + 1000003ull * items + static_cast<uint64_t>(noise * 1e5) +
                             std::hash<std::string>()(family);
       const double tolerance = noise > 0.0 ? kNoisyRatio : exact_tolerance;
-      auto runner = [&](std::mt19937_64& rng, Effort effort) { return solve(rng, effort, noise); };
+      auto runner = [&](std::mt19937_64& rng, Effort effort) {
+        return RunTradeTask(family, items, noise, effort, rng);
+      };
       if (minimal) {
         rows.push_back(RunCell(family, items, noise, exact_path, "exact", Effort::kBalanced,
                                sizes.exact, seed, tolerance, runner));
@@ -259,8 +261,7 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
         continue;
       }
       for (const auto& [name, effort] : efforts) {
-        const int tasks = effort == Effort::kThorough ? sizes.thorough : sizes.fitted;
-        rows.push_back(RunCell(family, items, noise, fitted_path, name, effort, tasks, seed,
+        rows.push_back(RunCell(family, items, noise, fitted_path, name, effort, sizes.fitted, seed,
                                tolerance, runner));
         PrintRow(table, rows.back());
       }
@@ -268,27 +269,18 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
   };
   for (const int count : {5, 10, 50, 200}) {
     run_family("planar motion", count, count == 5, "planar exact", "planar least squares",
-               kExactTolerance, [count](std::mt19937_64& rng, Effort effort, double noise) {
-                 return RunPlanar(rng, effort, count, noise);
-               });
+               kExactTolerance);
   }
   for (const int count : {7, 10, 30}) {
     run_family("spatial motion", count, count == 7, "spatial exact", "spatial least squares",
-               kExactTolerance, [count](std::mt19937_64& rng, Effort effort, double noise) {
-                 return RunSpatial(rng, effort, count, noise);
-               });
+               kExactTolerance);
   }
   for (const int count : {5, 10, 20}) {
-    run_family("timed path", count, count == 5, "path exact", "path least squares", kExactTolerance,
-               [count](std::mt19937_64& rng, Effort effort, double noise) {
-                 return RunPath(rng, effort, count, noise, false);
-               });
+    run_family("timed path", count, count == 5, "path exact", "path least squares",
+               kExactTolerance);
   }
   for (const int count : {10, 20}) {
-    run_family("untimed path", count, false, "", "path free timing", kFreeTimingTolerance,
-               [count](std::mt19937_64& rng, Effort effort, double noise) {
-                 return RunPath(rng, effort, count, noise, true);
-               });
+    run_family("untimed path", count, false, "", "path free timing", kFreeTimingTolerance);
   }
   return rows;
 }

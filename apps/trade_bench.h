@@ -20,13 +20,17 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <limits>
+#include <random>
 #include <string>
 #include <vector>
+
+#include "lib/task.h"
 
 namespace linkfit {
 
 struct BenchOptions {
-  bool quick = false;            // few tasks per cell: about a minute on one core
+  bool quick = false;            // few tasks per cell, at every effort: about a minute, one core
   std::string output_dir = ".";  // trade.csv, trade.svg and extremes.csv are written here
   uint64_t seed = 2026;          // random task families
   bool trade = true;             // the speed/accuracy table
@@ -54,6 +58,19 @@ struct TradeRow {
   double median_error = 0.0, worst_error = 0.0;  // see the header comment
   double success_share = 0.0;
 };
+
+// One task of a cell: its time and final error (see the header comment).
+struct TradeOutcome {
+  double ms = 0.0;
+  double error = std::numeric_limits<double>::infinity();
+};
+
+// Draws the next task of a family ("planar motion", "spatial motion", "timed path", "untimed
+// path") with `items` poses or points and noise sigma / L from `rng`, and solves it at `effort`
+// (minimal data: exactly, whatever the effort). The same state of `rng` gives the same task at
+// every effort level.
+TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Effort effort,
+                          std::mt19937_64& rng);
 
 // Runs every cell, printing each row to `table` (if not null) as it finishes.
 std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* table);

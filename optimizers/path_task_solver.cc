@@ -6,6 +6,7 @@
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
 
 #include "fitting/model_choice.h"
 #include "fitting/nine_point_path.h"
@@ -187,15 +188,17 @@ bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
          std::abs(u.x() * v.y() - u.y() * v.x()) <= kSameFourBar;
 }
 
-// Adds `report` unless an equal four-bar is listed (then the better of the two stays).
+// Adds `report` unless an equal four-bar is listed (then the better of the two stays: defect-free
+// first, then by RMS error).
 void AddDistinct(const PathMechanismReport& report, double length,
                  std::vector<PathMechanismReport>* reports) {
   for (PathMechanismReport& listed : *reports) {
     if (!SameFourBar(listed.design, report.design, length)) continue;
-    if (report.rms_point_error.value_or(std::numeric_limits<double>::infinity()) <
-        listed.rms_point_error.value_or(std::numeric_limits<double>::infinity())) {
-      listed = report;
-    }
+    const auto key = [](const PathMechanismReport& r) {
+      return std::make_tuple(!r.defects.empty(),
+                             r.rms_point_error.value_or(std::numeric_limits<double>::infinity()));
+    };
+    if (key(report) < key(listed)) listed = report;
     return;
   }
   reports->push_back(report);
@@ -401,12 +404,16 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
   result->stages.push_back(Stage("seed", stage_start, candidates));
   if (task.effort != Effort::kFast) {
     const auto refine_start = std::chrono::steady_clock::now();
-    const int simplified = RefineAll(data, options.path_refiner, &candidates);
+    // The refined four-bars join the seeds rather than replace them: fast's four-bars stay
+    // candidates (a refinement can end worse, on a defect).
+    std::vector<PathMechanismReport> refined = candidates;
+    const int simplified = RefineAll(data, options.path_refiner, &refined);
     if (simplified > 0) {
       result->notes.push_back(std::to_string(simplified) +
                               " refined output circle(s) reported as sliders: at the data's "
                               "precision the points cannot tell them from their slider readings");
     }
+    candidates.insert(candidates.end(), refined.begin(), refined.end());
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
   // The search: thorough always; balanced too when the task has constraints and no refined
@@ -679,16 +686,18 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       RefineFreeTiming(data, options.path_refiner, &candidate);
     }
     // A four-bar through every point within the data's precision: the guessed timings' seeds
-    // can only come to the same curve or to a worse fit; they are not refined.
+    // can only come to the same curve or to a worse fit; they are not refined. Refined ones join
+    // the seeds rather than replace them (fast's answer stays a candidate).
     const std::optional<double> best = BestDefectFreeMaxError(homotopy_seeds);
-    if (best && *best <= tolerance) {
-      candidates = homotopy_seeds;
-    } else {
-      for (PathMechanismReport& candidate : candidates) {
+    std::vector<PathMechanismReport> refined;
+    if (!(best && *best <= tolerance)) {
+      refined = candidates;
+      for (PathMechanismReport& candidate : refined) {
         RefineFreeTiming(data, options.path_refiner, &candidate);
       }
-      candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
     }
+    candidates.insert(candidates.end(), refined.begin(), refined.end());
+    candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
     result->stages.push_back(Stage("refine", refine_start, candidates));
     // Still no four-bar through the points: the nine-point solve again on the other nine (a
     // path the tracker lost, or a curve coarse data moved out of reach of the refinement from

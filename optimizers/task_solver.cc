@@ -281,6 +281,80 @@ StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point
   return stage;
 }
 
+// The best `count` distinct dyads of `found` in the order `before` (of two that are `same`, the
+// first in that order); `dropped` gets how many more distinct ones there are.
+template <typename Before, typename Same>
+std::vector<DyadReport> BestDistinct(std::vector<DyadReport> found, int count, Before before,
+                                     Same same, int* dropped) {
+  std::stable_sort(found.begin(), found.end(), before);
+  std::vector<DyadReport> kept;
+  for (const DyadReport& report : found) {
+    bool repeat = false;
+    for (const DyadReport& other : kept) repeat |= same(report, other);
+    if (!repeat) kept.push_back(report);
+  }
+  *dropped = std::max(0, static_cast<int>(kept.size()) - count);
+  kept.resize(kept.size() - *dropped);
+  return kept;
+}
+
+// A four-bar the motion can follow: no circuit or branch defect (an order defect only reorders
+// the poses).
+bool OnOneBranch(const MechanismReport& mechanism) {
+  const std::vector<std::string>& defects = mechanism.defects;
+  return std::find(defects.begin(), defects.end(), "circuit") == defects.end() &&
+         std::find(defects.begin(), defects.end(), "branch") == defects.end();
+}
+
+// Keeps the four-bars of effort level `top` (both dyads among its own: `mechanism_levels` has
+// its bit) and of each lower level its best fit, the four-bar of least RMS pose error on one
+// branch, where that fits better than the kept ones: so a higher effort never fits worse. Drops
+// the dyads no kept four-bar uses, but for the level's own.
+void KeepLevel(int top, const std::vector<int>& dyad_levels,
+               const std::vector<int>& mechanism_levels, PlanarMotionResult* result) {
+  const std::vector<MechanismReport>& mechanisms = result->mechanisms;
+  const auto fit = [&mechanisms](size_t m) {
+    return OnOneBranch(mechanisms[m]) ? mechanisms[m].rms_pose_error.value_or(1e300) : 1e300;
+  };
+  std::vector<bool> keep(mechanisms.size());
+  double best_fit = 1e300;
+  for (size_t m = 0; m < mechanisms.size(); ++m) {
+    keep[m] = mechanism_levels[m] >> top & 1;
+    if (keep[m]) best_fit = std::min(best_fit, fit(m));
+  }
+  for (int level = top - 1; level >= 0; --level) {
+    size_t best = mechanisms.size();
+    for (size_t m = 0; m < mechanisms.size(); ++m) {
+      if ((mechanism_levels[m] >> level & 1) && fit(m) < best_fit) {
+        best = m;
+        best_fit = fit(m);
+      }
+    }
+    if (best < mechanisms.size()) keep[best] = true;
+  }
+  std::vector<bool> used(result->dyads.size(), false);
+  for (size_t i = 0; i < dyad_levels.size(); ++i) used[i] = dyad_levels[i] >> top & 1;
+  std::vector<MechanismReport> kept;
+  for (size_t m = 0; m < mechanisms.size(); ++m) {
+    if (!keep[m]) continue;
+    kept.push_back(mechanisms[m]);
+    used[mechanisms[m].input_dyad] = used[mechanisms[m].output_dyad] = true;
+  }
+  std::vector<int> index(result->dyads.size(), -1);
+  std::vector<DyadReport> dyads;
+  for (size_t i = 0; i < result->dyads.size(); ++i) {
+    if (!used[i]) continue;
+    index[i] = static_cast<int>(dyads.size());
+    dyads.push_back(result->dyads[i]);
+  }
+  for (MechanismReport& mechanism : kept) {
+    mechanism.input_dyad = index[mechanism.input_dyad];
+    mechanism.output_dyad = index[mechanism.output_dyad];
+  }
+  result->dyads = std::move(dyads);
+  result->mechanisms = std::move(kept);
+}
+
 }  // namespace
 
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options) {
@@ -308,6 +382,9 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   }
   result.stages.push_back(Stage("seed", stage_start, result));
 
+  // The dyads found by each effort level: fast the seeds, balanced also their refinements,
+  // thorough also the search's.
+  std::vector<size_t> found_count = {result.dyads.size()};
   if (task.effort != Effort::kFast) {
     stage_start = std::chrono::steady_clock::now();
     // The refined dyads join the seeds rather than replace them: seeds often refine to the same
@@ -338,6 +415,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
                              "the poses cannot tell them from their slider readings");
     }
     result.stages.push_back(Stage("refine", stage_start, result));
+    found_count.push_back(result.dyads.size());
   }
   if (task.effort == Effort::kThorough) {
     stage_start = std::chrono::steady_clock::now();
@@ -350,61 +428,104 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       result.dyads.push_back(report);
     }
     result.stages.push_back(Stage("search", stage_start, result));
+    found_count.push_back(result.dyads.size());
   }
 
-  // Distinct dyads, those within the constraints that bound a single dyad first (seeds
-  // filtered), then best fit first; the best few make the four-bars. Dyads the data's precision
-  // cannot tell apart (SameDyad within their error bounds) are one, the best-fitting listed.
+  // Each effort level's dyads: the best few distinct ones it found, those within the constraints
+  // that bound a single dyad first (seeds filtered), then best fit first. Dyads the data's
+  // precision cannot tell apart (SameDyad within their error bounds) are one, the best listed.
+  // A level's four-bars are the pairs of its dyads, and each level above fast refines its
+  // best-ranked ones (below); the result lists the effort's own and, where better, the best fit
+  // of a lower level (KeepLevel), so that a higher effort is never worse. `levels` marks, per
+  // dyad, the levels it is one of (bit 0 fast, 1 balanced, 2 thorough).
   for (DyadReport& report : result.dyads) {
     report.error_bound = DyadErrorBound(report.dyad, poses, task.precision, length);
   }
   const auto keeps = [&](const DyadReport& report) {
     return DyadKeeps(task.constraints, report.dyad, length);
   };
-  std::stable_sort(result.dyads.begin(), result.dyads.end(),
-                   [&](const DyadReport& a, const DyadReport& b) {
-                     if (keeps(a) != keeps(b)) return keeps(a);
-                     return a.rms_residual.value_or(1e300) < b.rms_residual.value_or(1e300);
-                   });
+  const auto before = [&](const DyadReport& a, const DyadReport& b) {
+    if (keeps(a) != keeps(b)) return keeps(a);
+    return a.rms_residual.value_or(1e300) < b.rms_residual.value_or(1e300);
+  };
   const auto same = [&](const DyadReport& a, const DyadReport& b) {
     const double bound = std::min(a.error_bound.value_or(0.0), b.error_bound.value_or(0.0));
     return SameDyad(a.dyad, b.dyad, task.precision, length, bound);
   };
   std::vector<DyadReport> kept;
-  for (const DyadReport& report : result.dyads) {
-    bool repeat = false;
-    for (const DyadReport& other : kept) repeat |= same(report, other);
-    if (!repeat) kept.push_back(report);
+  std::vector<int> levels;
+  int dropped_dyads = 0;
+  for (size_t level = 0; level < found_count.size(); ++level) {
+    const std::vector<DyadReport> best =
+        BestDistinct({result.dyads.begin(), result.dyads.begin() + found_count[level]},
+                     options.max_dyads, before, same, &dropped_dyads);
+    for (const DyadReport& report : best) {
+      size_t k = 0;
+      while (k < kept.size() && !same(report, kept[k])) ++k;
+      if (k == kept.size()) {
+        kept.push_back(report);
+        levels.push_back(0);
+      }
+      levels[k] |= 1 << level;
+    }
   }
-  if (static_cast<int>(kept.size()) > options.max_dyads) {
-    result.notes.push_back(std::to_string(kept.size() - options.max_dyads) +
+  if (dropped_dyads > 0) {
+    result.notes.push_back(std::to_string(dropped_dyads) +
                            " more dyads with larger residuals were found and dropped");
-    kept.resize(options.max_dyads);
   }
-  result.dyads = std::move(kept);
+  std::vector<size_t> order(kept.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return before(kept[a], kept[b]); });
+  result.dyads.clear();
+  std::vector<int> dyad_levels;
+  for (size_t k : order) {
+    result.dyads.push_back(kept[k]);
+    dyad_levels.push_back(levels[k]);
+  }
   for (DyadReport& report : result.dyads) report.max_residual = report.dyad.MaxResidual(poses);
   stage_start = std::chrono::steady_clock::now();
-  BuildMechanisms(task, length, &result);
-  result.stages.push_back(Stage("four-bars", stage_start, result));
   const double precision_fit = PoseFitTolerance(task.precision, length);
+  for (size_t i = 0; i < result.dyads.size(); ++i) {
+    for (size_t j = i + 1; j < result.dyads.size(); ++j) {
+      if ((dyad_levels[i] & dyad_levels[j]) == 0) continue;
+      MechanismReport mechanism =
+          AnalyzeDyadPair(result.dyads, static_cast<int>(i), static_cast<int>(j), poses, length);
+      JudgeMechanism(task.constraints, result.dyads, length, &mechanism);
+      result.mechanisms.push_back(mechanism);
+    }
+  }
+  RankMechanisms(precision_fit, -1, &result.mechanisms);
+  std::vector<int> mechanism_levels;
+  for (const MechanismReport& mechanism : result.mechanisms) {
+    mechanism_levels.push_back(dyad_levels[mechanism.input_dyad] &
+                               dyad_levels[mechanism.output_dyad]);
+  }
+  result.stages.push_back(Stage("four-bars", stage_start, result));
 
   if (task.effort != Effort::kFast) {
-    // Mechanism level: the best-ranked four-bars refined on their pose error. A refined
-    // four-bar gets its own two dyads, appended to the list (or the listed ones it repeats).
-    // When the first already meets the poses within their precision, without defect and
-    // within the constraints, it is the answer: the others are not refined into near copies of
-    // its dyads.
+    // Mechanism level: the best-ranked four-bars refined on their pose error, the first
+    // refined_mechanisms of each level above fast. A refined four-bar gets its own two dyads,
+    // appended to the list (or the listed ones it repeats). When the first already meets the
+    // poses within their precision, without defect and within the constraints, it is the
+    // answer: the others are not refined into near copies of its dyads.
     stage_start = std::chrono::steady_clock::now();
     bool answered = false;
     if (!result.mechanisms.empty()) {
       const RankKey first = MechanismRankKey(result.mechanisms.front(), precision_fit);
       answered = !first.violates && first.defect_level == 0 && first.within_precision;
     }
-    const int count =
-        answered ? 0 : std::min<int>(options.refined_mechanisms, result.mechanisms.size());
-    for (int m = 0; m < count; ++m) {
+    std::vector<int> chosen(found_count.size(), 0);
+    for (size_t m = 0; m < result.mechanisms.size() && !answered; ++m) {
       MechanismReport& mechanism = result.mechanisms[m];
-      if (!mechanism.max_pose_error) continue;
+      bool refine = false;
+      for (size_t level = 1; level < found_count.size(); ++level) {
+        if ((mechanism_levels[m] >> level & 1) && chosen[level] < options.refined_mechanisms) {
+          ++chosen[level];
+          refine = true;
+        }
+      }
+      if (!refine || !mechanism.max_pose_error) continue;
       PlanarDyad input = result.dyads[mechanism.input_dyad].dyad;
       PlanarDyad output = result.dyads[mechanism.output_dyad].dyad;
       const RefinerSummary summary =
@@ -431,32 +552,49 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         }
         ++k;
       }
+      // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and its
+      // errors are those of that drive: a refinement that adds a defect, breaks a constraint, or
+      // is not better on them, is dropped.
       MechanismReport refined;
       if (index[0] != index[1]) {
         refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length);
         JudgeMechanism(task.constraints, result.dyads, length, &refined);
       }
-      // A refinement that adds a defect or breaks a constraint is not better.
-      if (index[0] == index[1] || !refined.max_pose_error ||
-          refined.defects.size() > mechanism.defects.size() ||
-          refined.violates.size() > mechanism.violates.size()) {
+      const bool adds_defect = std::any_of(
+          refined.defects.begin(), refined.defects.end(), [&mechanism](const std::string& defect) {
+            return std::find(mechanism.defects.begin(), mechanism.defects.end(), defect) ==
+                   mechanism.defects.end();
+          });
+      if (index[0] == index[1] || !refined.max_pose_error || adds_defect ||
+          refined.violates.size() > mechanism.violates.size() ||
+          !(*refined.max_pose_error < seed_error) ||
+          refined.rms_pose_error.value_or(1e300) > mechanism.rms_pose_error.value_or(1e300)) {
         result.dyads.resize(listed);
         continue;
       }
       refined.seed_max_pose_error = seed_error;
       mechanism = refined;
     }
-    // Two refinements can end on one four-bar: listed once, the first (best ranked) kept.
+    // Two refinements can end on one four-bar: listed once, the first (best ranked) kept, with
+    // the levels of both.
     std::vector<MechanismReport> distinct;
-    for (const MechanismReport& mechanism : result.mechanisms) {
-      bool repeat = false;
-      for (const MechanismReport& other : distinct) {
-        repeat |= std::minmax(mechanism.input_dyad, mechanism.output_dyad) ==
-                  std::minmax(other.input_dyad, other.output_dyad);
+    std::vector<int> distinct_levels;
+    for (size_t m = 0; m < result.mechanisms.size(); ++m) {
+      const MechanismReport& mechanism = result.mechanisms[m];
+      size_t k = 0;
+      while (k < distinct.size() &&
+             std::minmax(mechanism.input_dyad, mechanism.output_dyad) !=
+                 std::minmax(distinct[k].input_dyad, distinct[k].output_dyad)) {
+        ++k;
       }
-      if (!repeat) distinct.push_back(mechanism);
+      if (k == distinct.size()) {
+        distinct.push_back(mechanism);
+        distinct_levels.push_back(0);
+      }
+      distinct_levels[k] |= mechanism_levels[m];
     }
     result.mechanisms = std::move(distinct);
+    KeepLevel(static_cast<int>(found_count.size()) - 1, dyad_levels, distinct_levels, &result);
     result.stages.push_back(Stage("four-bar refine", stage_start, result));
   }
   // Ranked, and a bounded list (ListedWithinBound): the best ranked, and the best fit of each

@@ -15,6 +15,9 @@
 //     thorough = as balanced plus an NLopt search over the crank (path_search.h). Points without
 //     input angles (free timing) are fitted with the angles as unknowns, from timing guesses
 //     (evenly spaced angles over several spans, both directions) solved as above.
+// A higher effort keeps what a lower one finds (planar motion: the lower level's best-fitting
+// four-bar where it fits better; paths: the seeds beside their refinements), so it never fits
+// worse (spatial motion aside: there fast's dyads are replaced by their refinements).
 #ifndef LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 #define LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 
@@ -40,8 +43,8 @@ struct TaskSolverOptions {
   FourBarRefinerOptions four_bar_refiner;   // planar least squares, mechanism level
   GlobalSearchOptions search;               // planar least squares, effort thorough
   int seed_subsets = 6;                     // five-pose subsets solved exactly for seeds
-  int max_dyads = 10;               // dyads kept (best RMS residual first) to build four-bars from
-  int refined_mechanisms = 3;       // best-ranked four-bars refined at the mechanism level
+  int max_dyads = 10;               // dyads kept per effort level (best RMS first) for four-bars
+  int refined_mechanisms = 3;       // best-ranked four-bars refined per level (mechanism level)
   int reported_mechanisms = 12;     // four-bars listed at most (least squares)
   TimedPathOptions timed_path;      // path problems: the five-point solver
   PathRefinerOptions path_refiner;  // path problems, least squares

@@ -20,13 +20,13 @@
 // (optimizers/design_bounds.h). The result is re-analysed as AnalyzeFourBar does, and the seed
 // returned unchanged unless the result is not worse: it assembles at the first pose, has no
 // circuit defect the seed did not have, meets the exact poses (or comes nearer), keeps the
-// design bounds when the seed does not (or both do or both do not), and has no higher cost. A seed that does not
-// assemble at the first pose, or whose two dyads coincide (no four-bar), is returned with a
-// message. On noisy poses the cost can keep falling toward a degenerate four-bar (a crank running
-// off toward a slider, or the two dyads toward one); the refiner then stops (at max_iterations,
-// or just short of coincident dyads) and says so in the message. PR+PR and RP+RP four-bars
-// (Cardan motion and its inverse) are reached as motions only: a one-parameter family of dyad
-// pairs gives the same motion.
+// design bounds when the seed does not (or both do or both do not), and has no higher cost. A seed
+// that does not assemble at the first pose, or whose two dyads coincide (no four-bar), is returned
+// with a message. On noisy poses the cost can keep falling toward a degenerate four-bar (a crank
+// running off toward a slider, or the two dyads toward one); the refiner then stops (at
+// max_iterations, or just short of coincident dyads) and says so in the message. PR+PR and RP+RP
+// four-bars (Cardan motion and its inverse) are reached as motions only: a one-parameter family of
+// dyad pairs gives the same motion.
 #ifndef LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 #define LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 

@@ -23,36 +23,71 @@ int Gh(int j) { return 16 + j; }
 int D(int j) { return j; }
 int Dh(int j) { return 8 + j; }
 
-// One dyad's unknowns: (x, x^, a, a^) or (y, y^, b, b^).
-struct DyadUnknowns {
-  Complex x, xh, a, ah;
+// A complex number for the tracker's inner loops, with the plain formulas: std::complex's
+// product checks every result for NaN (C99 Annex G recovery of infinities) and its quotient
+// calls the library, which took a third of a linearisation's time; the tracker's values are
+// finite and far from overflow (a path beyond NinePointTrackOptions::infinity has failed).
+struct Plain {
+  double re = 0.0, im = 0.0;
+  Plain() = default;
+  Plain(double real, double imaginary) : re(real), im(imaginary) {}
+  Plain(const Complex& z) : re(z.real()), im(z.imag()) {}  // NOLINT(google-explicit-constructor)
+  Complex ToComplex() const { return {re, im}; }
 };
+inline Plain operator+(const Plain& a, const Plain& b) { return {a.re + b.re, a.im + b.im}; }
+inline Plain operator-(const Plain& a, const Plain& b) { return {a.re - b.re, a.im - b.im}; }
+inline Plain operator-(const Plain& a) { return {-a.re, -a.im}; }
+inline Plain operator*(const Plain& a, const Plain& b) {
+  return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+}
+inline Plain operator*(double a, const Plain& b) { return {a * b.re, a * b.im}; }
+inline Plain& operator+=(Plain& a, const Plain& b) { return a = a + b; }
+inline Plain& operator-=(Plain& a, const Plain& b) { return a = a - b; }
+inline double SquaredNorm(const Plain& z) { return z.re * z.re + z.im * z.im; }
+// 1 / z (no scaling against overflow).
+inline Plain Reciprocal(const Plain& z) {
+  const double size = SquaredNorm(z);
+  return {z.re / size, -z.im / size};
+}
 
-DyadUnknowns Dyad(const State& state, int dyad) {
+// One dyad's unknowns: (x, x^, a, a^) or (y, y^, b, b^).
+template <typename T>
+struct DyadOf {
+  T x, xh, a, ah;
+};
+using DyadUnknowns = DyadOf<Complex>;
+
+template <typename T = Complex>
+DyadOf<T> Dyad(const State& state, int dyad) {
   const int o = 4 * dyad;
   return {state[o], state[o + 1], state[o + 2], state[o + 3]};
 }
 
 // D1 (or D2) at point j: g x (a^ - d^) + g^ x^ (a - d) + d (a^ - x^) + d^ (a - x) - d d^.
-Complex DyadEquation(const DyadUnknowns& u, Complex g, Complex gh, Complex d, Complex dh) {
+inline Plain DyadEquation(const DyadOf<Plain>& u, Plain g, Plain gh, Plain d, Plain dh) {
   return g * u.x * (u.ah - dh) + gh * u.xh * (u.a - d) + d * (u.ah - u.xh) + dh * (u.a - u.x) -
          d * dh;
 }
 
 // LU factorisation with partial pivoting of an 8 x 8 complex matrix, in place (the reduced
-// system of every Newton step; measured 2026-11-24: Eigen::PartialPivLU took 0.75 us of the
-// 1.4 us a linearisation cost, this loop a third of that).
+// system of every Newton step). Real and imaginary parts are kept apart and the pivots'
+// reciprocals stored, so that the elimination is plain real arithmetic and a solve divides
+// nothing (measured 2026-11-24: a linearisation and solve took 1.1 us with std::complex
+// entries, whose products check for NaN and whose quotients call the library; 0.6 us so).
 class Lu8 {
  public:
-  // The matrix to factor: fill it, then Factor().
-  Complex& operator()(int row, int column) { return a_[row][column]; }
+  // The matrix to factor: set every entry, then Factor().
+  void Set(int row, int column, const Plain& value) {
+    re_[row][column] = value.re;
+    im_[row][column] = value.im;
+  }
   // False when a pivot is zero or not finite.
   bool Factor() {
     for (int k = 0; k < 8; ++k) {
       int pivot = k;
-      double largest = std::norm(a_[k][k]);
+      double largest = re_[k][k] * re_[k][k] + im_[k][k] * im_[k][k];
       for (int r = k + 1; r < 8; ++r) {
-        const double size = std::norm(a_[r][k]);
+        const double size = re_[r][k] * re_[r][k] + im_[r][k] * im_[r][k];
         if (size > largest) {
           largest = size;
           pivot = r;
@@ -60,88 +95,117 @@ class Lu8 {
       }
       if (!(largest > 0.0) || !std::isfinite(largest)) return false;
       pivot_[k] = pivot;
-      if (pivot != k) std::swap(a_[pivot], a_[k]);
-      const Complex inverse = 1.0 / a_[k][k];
+      if (pivot != k) {
+        std::swap(re_[pivot], re_[k]);
+        std::swap(im_[pivot], im_[k]);
+      }
+      const double inverse_re = re_[k][k] / largest, inverse_im = -im_[k][k] / largest;
+      inverse_re_[k] = inverse_re;
+      inverse_im_[k] = inverse_im;
       for (int r = k + 1; r < 8; ++r) {
-        const Complex factor = a_[r][k] * inverse;
-        a_[r][k] = factor;
-        for (int c = k + 1; c < 8; ++c) a_[r][c] -= factor * a_[k][c];
+        const double factor_re = re_[r][k] * inverse_re - im_[r][k] * inverse_im;
+        const double factor_im = re_[r][k] * inverse_im + im_[r][k] * inverse_re;
+        re_[r][k] = factor_re;
+        im_[r][k] = factor_im;
+        for (int c = k + 1; c < 8; ++c) {
+          re_[r][c] -= factor_re * re_[k][c] - factor_im * im_[k][c];
+          im_[r][c] -= factor_re * im_[k][c] + factor_im * re_[k][c];
+        }
       }
     }
     return true;
   }
-  Eigen::Matrix<Complex, 8, 1> Solve(Eigen::Matrix<Complex, 8, 1> b) const {
+  std::array<Plain, 8> Solve(const std::array<Plain, 8>& rhs) const {
+    double b_re[8], b_im[8];
+    for (int k = 0; k < 8; ++k) {
+      b_re[k] = rhs[k].re;
+      b_im[k] = rhs[k].im;
+    }
     // Whole rows were swapped during the factorisation: P A = L U, P applied first.
     for (int k = 0; k < 8; ++k) {
-      if (pivot_[k] != k) std::swap(b[k], b[pivot_[k]]);
+      if (pivot_[k] != k) {
+        std::swap(b_re[k], b_re[pivot_[k]]);
+        std::swap(b_im[k], b_im[pivot_[k]]);
+      }
     }
     for (int k = 0; k < 8; ++k) {
-      for (int r = k + 1; r < 8; ++r) b[r] -= a_[r][k] * b[k];
+      for (int r = k + 1; r < 8; ++r) {
+        b_re[r] -= re_[r][k] * b_re[k] - im_[r][k] * b_im[k];
+        b_im[r] -= re_[r][k] * b_im[k] + im_[r][k] * b_re[k];
+      }
     }
+    std::array<Plain, 8> x;
     for (int k = 7; k >= 0; --k) {
-      for (int c = k + 1; c < 8; ++c) b[k] -= a_[k][c] * b[c];
-      b[k] /= a_[k][k];
+      double sum_re = b_re[k], sum_im = b_im[k];
+      for (int c = k + 1; c < 8; ++c) {
+        sum_re -= re_[k][c] * b_re[c] - im_[k][c] * b_im[c];
+        sum_im -= re_[k][c] * b_im[c] + im_[k][c] * b_re[c];
+      }
+      b_re[k] = sum_re * inverse_re_[k] - sum_im * inverse_im_[k];
+      b_im[k] = sum_re * inverse_im_[k] + sum_im * inverse_re_[k];
+      x[k] = Plain(b_re[k], b_im[k]);
     }
-    return b;
+    return x;
   }
 
  private:
-  std::array<std::array<Complex, 8>, 8> a_;
+  double re_[8][8], im_[8][8];            // the factors L (below the diagonal) and U
+  double inverse_re_[8], inverse_im_[8];  // 1 / U's diagonal
   std::array<int, 8> pivot_;
 };
 
 // The linearisation of the system at a point: per point j, the dyad equations' derivatives in
-// their dyad's four unknowns (z1, z2), in g_j and g^_j (the 3 x 2 block with D3's row), and in
-// the parameters d_j, d^_j (for the homotopy's velocity).
+// their dyad's four unknowns (z1, z2) and in g_j and g^_j (the 3 x 2 block with D3's row), the
+// block's left null vector, and the two of its rows that determine g_j, g^_j best.
 struct Linearization {
-  std::array<std::array<Complex, 4>, kPoints> z1, z2;
-  std::array<Eigen::Matrix<Complex, 3, 2>, kPoints> g;
-  std::array<std::array<Complex, 2>, kPoints> p1, p2;  // d(D1)/d(d, d^), d(D2)/d(d, d^)
+  std::array<std::array<Plain, 4>, kPoints> z1, z2;
+  std::array<std::array<Plain, 2>, kPoints> g0, g1, g2;  // the rows of the 3 x 2 blocks
   Lu8 lu;  // the reduced system in the dyad unknowns, factored
-  std::array<Eigen::Matrix<Complex, 1, 3>, kPoints> null;  // left null vector of g[j]
+  std::array<std::array<Plain, 3>, kPoints> null;  // left null vector of the blocks
+  std::array<std::array<int, 2>, kPoints> rows;    // the rows of largest 2 x 2 determinant
+  std::array<Plain, kPoints> inverse_det;          // 1 / that determinant
 };
 
-inline void DyadDerivatives(const DyadUnknowns& u, Complex g, Complex gh, Complex d, Complex dh,
-                            std::array<Complex, 4>* z, Complex* dg, Complex* dgh,
-                            std::array<Complex, 2>* p) {
+inline void DyadDerivatives(const DyadOf<Plain>& u, Plain g, Plain gh, Plain d, Plain dh,
+                            std::array<Plain, 4>* z, std::array<Plain, 2>* dg) {
   (*z)[0] = g * (u.ah - dh) - dh;  // x
   (*z)[1] = gh * (u.a - d) - d;    // x^
   (*z)[2] = gh * u.xh + dh;        // a
   (*z)[3] = g * u.x + d;           // a^
-  *dg = u.x * (u.ah - dh);
-  *dgh = u.xh * (u.a - d);
-  (*p)[0] = -gh * u.xh + u.ah - u.xh - dh;
-  (*p)[1] = -g * u.x + u.a - u.x - d;
+  (*dg)[0] = u.x * (u.ah - dh);    // g
+  (*dg)[1] = u.xh * (u.a - d);     // g^
 }
 
 // Builds the linearisation; false when the reduced 8 x 8 system is singular.
 bool Linearize(const State& state, const Parameters& parameters, Linearization* lin) {
-  const DyadUnknowns u1 = Dyad(state, 0), u2 = Dyad(state, 1);
+  const DyadOf<Plain> u1 = Dyad<Plain>(state, 0), u2 = Dyad<Plain>(state, 1);
   for (int j = 0; j < kPoints; ++j) {
-    const Complex g = state[G(j)], gh = state[Gh(j)];
-    const Complex d = parameters[D(j)], dh = parameters[Dh(j)];
-    Complex a, b, c, e;
-    DyadDerivatives(u1, g, gh, d, dh, &lin->z1[j], &a, &b, &lin->p1[j]);
-    DyadDerivatives(u2, g, gh, d, dh, &lin->z2[j], &c, &e, &lin->p2[j]);
-    Eigen::Matrix<Complex, 3, 2>& block = lin->g[j];
-    block(0, 0) = a;
-    block(0, 1) = b;
-    block(1, 0) = c;
-    block(1, 1) = e;
-    block(2, 0) = gh + 1.0;
-    block(2, 1) = g + 1.0;
-    // The left null vector of the 3 x 2 block: the (bilinear) cross product of its columns.
-    const auto& p = lin->g[j].col(0);
-    const auto& q = lin->g[j].col(1);
-    Eigen::Matrix<Complex, 1, 3> n;
-    n << p[1] * q[2] - p[2] * q[1], p[2] * q[0] - p[0] * q[2], p[0] * q[1] - p[1] * q[0];
-    const double norm = std::sqrt(std::norm(n[0]) + std::norm(n[1]) + std::norm(n[2]));
+    const Plain g = state[G(j)], gh = state[Gh(j)];
+    const Plain d = parameters[D(j)], dh = parameters[Dh(j)];
+    std::array<Plain, 2>&row0 = lin->g0[j], &row1 = lin->g1[j], &row2 = lin->g2[j];
+    DyadDerivatives(u1, g, gh, d, dh, &lin->z1[j], &row0);
+    DyadDerivatives(u2, g, gh, d, dh, &lin->z2[j], &row1);
+    row2 = {Plain(gh.re + 1.0, gh.im), Plain(g.re + 1.0, g.im)};  // D3
+    // The left null vector of the 3 x 2 block: the (bilinear) cross product of its columns,
+    // whose entries are the 2 x 2 determinants of the block's rows (up to sign). The largest
+    // picks the two rows that determine g_j, g^_j best.
+    const Plain det01 = row0[0] * row1[1] - row0[1] * row1[0];
+    const Plain det02 = row0[0] * row2[1] - row0[1] * row2[0];
+    const Plain det12 = row1[0] * row2[1] - row1[1] * row2[0];
+    const double norms[3] = {SquaredNorm(det01), SquaredNorm(det02), SquaredNorm(det12)};
+    const double norm = std::sqrt(norms[0] + norms[1] + norms[2]);
     if (!(norm > 0.0)) return false;
-    n *= 1.0 / norm;
+    int best = norms[1] > norms[0] ? 1 : 0;
+    if (norms[2] > norms[best]) best = 2;
+    static constexpr std::array<std::array<int, 2>, 3> kPairs = {{{0, 1}, {0, 2}, {1, 2}}};
+    lin->rows[j] = kPairs[best];
+    lin->inverse_det[j] = Reciprocal(best == 0 ? det01 : best == 1 ? det02 : det12);
+    const double scale = 1.0 / norm;
+    const std::array<Plain, 3> n = {scale * det12, scale * -det02, scale * det01};
     lin->null[j] = n;
     for (int k = 0; k < 4; ++k) {
-      lin->lu(j, k) = n[0] * lin->z1[j][k];
-      lin->lu(j, 4 + k) = n[1] * lin->z2[j][k];
+      lin->lu.Set(j, k, n[0] * lin->z1[j][k]);
+      lin->lu.Set(j, 4 + k, n[1] * lin->z2[j][k]);
     }
   }
   return lin->lu.Factor();
@@ -152,48 +216,45 @@ bool Linearize(const State& state, const Parameters& parameters, Linearization* 
 // them from its three rows, leaving one row per point in the eight dyad unknowns; then each
 // point's pair from its best-conditioned two rows.
 State SolveLinearized(const Linearization& lin, const State& rhs) {
-  Eigen::Matrix<Complex, 8, 1> reduced;
+  std::array<Plain, 8> reduced;
   for (int j = 0; j < kPoints; ++j) {
-    reduced[j] =
-        lin.null[j][0] * rhs[j] + lin.null[j][1] * rhs[8 + j] + lin.null[j][2] * rhs[16 + j];
+    const std::array<Plain, 3>& n = lin.null[j];
+    reduced[j] = n[0] * rhs[j] + n[1] * rhs[8 + j] + n[2] * rhs[16 + j];
   }
-  const Eigen::Matrix<Complex, 8, 1> dz = lin.lu.Solve(reduced);
+  const std::array<Plain, 8> dz = lin.lu.Solve(reduced);
   State delta;
-  delta.head<8>() = dz;
+  for (int k = 0; k < 8; ++k) delta[k] = dz[k].ToComplex();
   for (int j = 0; j < kPoints; ++j) {
-    Eigen::Matrix<Complex, 3, 1> r;
-    r[0] = rhs[j];
-    r[1] = rhs[8 + j];
-    r[2] = rhs[16 + j];
+    Plain r[3] = {rhs[j], rhs[8 + j], rhs[16 + j]};
     for (int k = 0; k < 4; ++k) {
       r[0] -= lin.z1[j][k] * dz[k];
       r[1] -= lin.z2[j][k] * dz[4 + k];
     }
-    // The two rows with the largest 2 x 2 determinant.
-    const auto& g = lin.g[j];
-    int best_first = 0, best_second = 1;
-    double best = -1.0;
-    for (const auto& [first, second] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}}) {
-      const double det = std::norm(g(first, 0) * g(second, 1) - g(first, 1) * g(second, 0));
-      if (det > best) {
-        best = det;
-        best_first = first;
-        best_second = second;
-      }
-    }
-    const Complex det = g(best_first, 0) * g(best_second, 1) - g(best_first, 1) * g(best_second, 0);
-    delta[G(j)] = (r[best_first] * g(best_second, 1) - g(best_first, 1) * r[best_second]) / det;
-    delta[Gh(j)] = (g(best_first, 0) * r[best_second] - r[best_first] * g(best_second, 0)) / det;
+    const std::array<Plain, 2>* block[3] = {&lin.g0[j], &lin.g1[j], &lin.g2[j]};
+    const std::array<Plain, 2>& first = *block[lin.rows[j][0]];
+    const std::array<Plain, 2>& second = *block[lin.rows[j][1]];
+    const Plain r_first = r[lin.rows[j][0]], r_second = r[lin.rows[j][1]];
+    const Plain inverse = lin.inverse_det[j];
+    delta[G(j)] = ((r_first * second[1] - first[1] * r_second) * inverse).ToComplex();
+    delta[Gh(j)] = ((first[0] * r_second - r_first * second[0]) * inverse).ToComplex();
   }
   return delta;
 }
 
-// d residual / ds along the parameter line with direction `dp`.
-State ParameterVelocity(const Linearization& lin, const Parameters& dp) {
+// d residual / ds at `state` along the parameter line with direction `dp`: D1_j and D2_j
+// change with d_j, d^_j (at the rates -g^ x^ + a^ - x^ - d^ and -g x + a - x - d), D3_j not.
+State ParameterVelocity(const State& state, const Parameters& parameters, const Parameters& dp) {
   State v = State::Zero();
+  const DyadOf<Plain> u1 = Dyad<Plain>(state, 0), u2 = Dyad<Plain>(state, 1);
   for (int j = 0; j < kPoints; ++j) {
-    v[j] = lin.p1[j][0] * dp[D(j)] + lin.p1[j][1] * dp[Dh(j)];
-    v[8 + j] = lin.p2[j][0] * dp[D(j)] + lin.p2[j][1] * dp[Dh(j)];
+    const Plain g = state[G(j)], gh = state[Gh(j)];
+    const Plain d = parameters[D(j)], dh = parameters[Dh(j)];
+    const Plain rate = dp[D(j)], rate_h = dp[Dh(j)];
+    const auto velocity = [&](const DyadOf<Plain>& u) {
+      return (-gh * u.xh + u.ah - u.xh - dh) * rate + (-g * u.x + u.a - u.x - d) * rate_h;
+    };
+    v[j] = velocity(u1).ToComplex();
+    v[8 + j] = velocity(u2).ToComplex();
   }
   return v;
 }
@@ -272,13 +333,13 @@ const NinePointStart& BuiltInNinePointStart() {
 NinePointState NinePointResidual(const NinePointState& state,
                                  const NinePointParameters& parameters) {
   State residual;
-  const DyadUnknowns u1 = Dyad(state, 0), u2 = Dyad(state, 1);
+  const DyadOf<Plain> u1 = Dyad<Plain>(state, 0), u2 = Dyad<Plain>(state, 1);
   for (int j = 0; j < kPoints; ++j) {
-    const Complex g = state[G(j)], gh = state[Gh(j)];
-    const Complex d = parameters[D(j)], dh = parameters[Dh(j)];
-    residual[j] = DyadEquation(u1, g, gh, d, dh);
-    residual[8 + j] = DyadEquation(u2, g, gh, d, dh);
-    residual[16 + j] = g * gh + g + gh;
+    const Plain g = state[G(j)], gh = state[Gh(j)];
+    const Plain d = parameters[D(j)], dh = parameters[Dh(j)];
+    residual[j] = DyadEquation(u1, g, gh, d, dh).ToComplex();
+    residual[8 + j] = DyadEquation(u2, g, gh, d, dh).ToComplex();
+    residual[16 + j] = (g * gh + g + gh).ToComplex();
   }
   return residual;
 }
@@ -346,8 +407,9 @@ bool TrackNinePoint(const NinePointParameters& from, const NinePointParameters& 
   Linearization lin;
   // dx/ds = -J^-1 dF/ds.
   const auto velocity = [&](double s, const State& x, State* v) {
-    if (!Linearize(x, from + s * dp, &lin)) return false;
-    *v = SolveLinearized(lin, -ParameterVelocity(lin, dp));
+    const Parameters parameters = from + s * dp;
+    if (!Linearize(x, parameters, &lin)) return false;
+    *v = SolveLinearized(lin, -ParameterVelocity(x, parameters, dp));
     return v->allFinite();
   };
   double s = 0.0, h = options.initial_step;
@@ -373,7 +435,12 @@ bool TrackNinePoint(const NinePointParameters& from, const NinePointParameters& 
     s += h;
     *state = next;
     if (Norm(*state) > options.infinity) return false;
-    if (s < 1.0 && !velocity(s, *state, &k1)) return false;
+    // The next step's velocity with the corrector's last linearization, made at most
+    // options.corrector_tolerance (relative) away: as good as a fresh one for the predictor.
+    if (s < 1.0) {
+      k1 = SolveLinearized(lin, -ParameterVelocity(*state, from + s * dp, dp));
+      if (!k1.allFinite()) return false;
+    }
     // The predictor's error grows as h^5: the next step aims at options.predictor_tolerance.
     const double factor =
         error > 0.0 ? 0.9 * std::pow(options.predictor_tolerance / error, 0.2) : 2.0;

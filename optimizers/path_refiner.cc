@@ -88,13 +88,14 @@ class PathPointResidual {
                     coupler_point, T(turn_), residual);
   }
 
-  // Free timing: the six blocks above, then this point's steps.
+  // Free timing: the six blocks above, then the turn t_j (the sum of this point's steps,
+  // FreeTimingPointCost).
   template <typename T>
-  bool operator()(T const* const* parameters, T* residual) const {
-    T turn(0.0);
-    for (int k = 0; k < steps_; ++k) turn += parameters[6 + k][0];
-    return Evaluate(parameters[0], parameters[1], parameters[2], parameters[3], parameters[4],
-                    parameters[5], turn, residual);
+  bool operator()(const T* crank_pivot, const T* crank_pin, const T* output_point,
+                  const T* output_second, const T* output_scalar, const T* coupler_point,
+                  const T* turn, T* residual) const {
+    return Evaluate(crank_pivot, crank_pin, output_point, output_second, output_scalar,
+                    coupler_point, turn[0], residual);
   }
 
   // The coupler point's position at turn t, and the coupler's (cos, sin) of theta.
@@ -151,22 +152,11 @@ class PathPointResidual {
     return SolveTurn(p, q, k, sign_, cos_theta, sin_theta);
   }
 
-  // `steps` = 0: the fixed-size function of the first overload; otherwise the dynamic one with
-  // `steps` step blocks of size 1.
+  // `steps` = 0: the fixed-size function of the first overload; otherwise FreeTimingPointCost
+  // with `steps` step blocks of size 1.
   static ceres::CostFunction* Create(DyadType output_type, double sign,
                                      const Eigen::Vector2d& target, double sqrt_weight, double turn,
-                                     const Eigen::Vector2d& shift, int steps) {
-    auto* functor = new PathPointResidual(output_type, sign, target, sqrt_weight, turn, shift);
-    if (steps == 0) {
-      return new ceres::AutoDiffCostFunction<PathPointResidual, 2, 2, 2, 2, 2, 1, 2>(functor);
-    }
-    functor->steps_ = steps;
-    auto* cost = new ceres::DynamicAutoDiffCostFunction<PathPointResidual, kDynamicStride>(functor);
-    for (int size : {2, 2, 2, 2, 1, 2}) cost->AddParameterBlock(size);
-    for (int k = 0; k < steps; ++k) cost->AddParameterBlock(1);
-    cost->SetNumResiduals(2);
-    return cost;
-  }
+                                     const Eigen::Vector2d& shift, int steps);
 
  private:
   DyadType output_type_;
@@ -175,8 +165,63 @@ class PathPointResidual {
   double sqrt_weight_;
   double turn_;  // prescribed psi_j - psi_0
   Eigen::Vector2d shift_;
-  int steps_ = 0;
 };
+
+// Free timing, point j: PathPointResidual with t_j = delta_1 + ... + delta_j. Every step moves
+// the residual alike (d e / d delta_k = d e / d t_j), so the residual and its derivative in t_j
+// are evaluated once, by automatic differentiation over the six blocks and t_j, and that
+// column is copied to each step's block. (Differentiating in every step, as a dynamic
+// automatic differentiation does, computes the same column j times: its passes took most of
+// a free-timing refinement of 20 points; the values are the same to the bit.)
+class FreeTimingPointCost : public ceres::CostFunction {
+ public:
+  FreeTimingPointCost(PathPointResidual* functor, int steps) : steps_(steps), cost_(functor) {
+    for (int size : {2, 2, 2, 2, 1, 2}) mutable_parameter_block_sizes()->push_back(size);
+    for (int k = 0; k < steps; ++k) mutable_parameter_block_sizes()->push_back(1);
+    set_num_residuals(2);
+  }
+
+  bool Evaluate(double const* const* parameters, double* residuals,
+                double** jacobians) const override {
+    double turn = 0.0;
+    for (int k = 0; k < steps_; ++k) turn += parameters[6 + k][0];
+    const double* blocks[7] = {parameters[0], parameters[1], parameters[2], parameters[3],
+                               parameters[4], parameters[5], &turn};
+    if (jacobians == nullptr) return cost_.Evaluate(blocks, residuals, nullptr);
+    bool any_step = false;
+    for (int k = 0; k < steps_; ++k) any_step = any_step || jacobians[6 + k] != nullptr;
+    double turn_jacobian[2];
+    double* block_jacobians[7] = {jacobians[0],
+                                  jacobians[1],
+                                  jacobians[2],
+                                  jacobians[3],
+                                  jacobians[4],
+                                  jacobians[5],
+                                  any_step ? turn_jacobian : nullptr};
+    if (!cost_.Evaluate(blocks, residuals, block_jacobians)) return false;
+    for (int k = 0; k < steps_; ++k) {
+      if (jacobians[6 + k] == nullptr) continue;
+      jacobians[6 + k][0] = turn_jacobian[0];
+      jacobians[6 + k][1] = turn_jacobian[1];
+    }
+    return true;
+  }
+
+ private:
+  int steps_;
+  ceres::AutoDiffCostFunction<PathPointResidual, 2, 2, 2, 2, 2, 1, 2, 1> cost_;
+};
+
+ceres::CostFunction* PathPointResidual::Create(DyadType output_type, double sign,
+                                               const Eigen::Vector2d& target, double sqrt_weight,
+                                               double turn, const Eigen::Vector2d& shift,
+                                               int steps) {
+  auto* functor = new PathPointResidual(output_type, sign, target, sqrt_weight, turn, shift);
+  if (steps == 0) {
+    return new ceres::AutoDiffCostFunction<PathPointResidual, 2, 2, 2, 2, 2, 1, 2>(functor);
+  }
+  return new FreeTimingPointCost(functor, steps);
+}
 
 // The coupler's turn at the first point, which the first-point convention makes 0 (the
 // parameters leave it free: E turned about the crank pin A at the first point changes no

@@ -440,64 +440,121 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
   Finish(data, options.path_reported, candidates, result);
 }
 
+// A four-bar's coupler point over one turn of its crank from the first point's angle, on the
+// first point's assembly: every 1/kProjectionSamples turn, and anywhere on demand.
+class CouplerTurn {
+ public:
+  // False when the four-bar does not assemble at the first point.
+  bool Sample(const PathFourBar& four_bar, double length) {
+    four_bar_ = &four_bar;
+    alpha0_ = FirstCrankAngle(four_bar);
+    tolerance_ = 1e-9 * length;
+    std::vector<PlanarPose> first;
+    const int count = AssembleFourBar(four_bar.input, four_bar.output, alpha0_, tolerance_, &first);
+    if (count == 0) return false;
+    label_ = count == 2 && PoseError(first[1], PlanarPose(), length) <
+                               PoseError(first[0], PlanarPose(), length)
+                 ? 1
+                 : 0;
+    curve_.assign(kProjectionSamples, Eigen::Vector2d::Zero());
+    assembled_.assign(kProjectionSamples, false);
+    for (int k = 0; k < kProjectionSamples; ++k) {
+      assembled_[k] = At(k * Step(), &curve_[k]);
+    }
+    return true;
+  }
+  static double Step() { return 2.0 * kPi / kProjectionSamples; }
+  // The sample `k` steps from the first point's angle in `direction` (1 <= k < samples);
+  // false where the four-bar does not assemble.
+  bool Sampled(int k, double direction, Eigen::Vector2d* point) const {
+    const int index = direction > 0.0 ? k : kProjectionSamples - k;
+    *point = curve_[index];
+    return assembled_[index];
+  }
+  // The coupler point at crank offset t from the first point's angle; false where the
+  // four-bar does not assemble.
+  bool At(double t, Eigen::Vector2d* point) const {
+    const int here =
+        AssembleFourBar(four_bar_->input, four_bar_->output, alpha0_ + t, tolerance_, &poses_);
+    if (here == 0) return false;
+    *point = poses_[std::min(label_, here - 1)].ToFixed(four_bar_->coupler_point);
+    return true;
+  }
+
+ private:
+  const PathFourBar* four_bar_ = nullptr;
+  double alpha0_ = 0.0, tolerance_ = 0.0;
+  int label_ = 0;
+  std::vector<Eigen::Vector2d> curve_;  // at alpha0 + k * Step(), k < kProjectionSamples
+  std::vector<bool> assembled_;
+  mutable std::vector<PlanarPose> poses_;  // scratch
+};
+
 // The timing a four-bar gives the points: for each point the crank angle (relative to the first
 // point's, on the first point's assembly) at which the coupler point passes nearest, sampled
-// every 1/kProjectionSamples turn and refined by golden-section search over a sample step,
-// turning in `direction`. Nothing when the four-bar does not assemble at the first point.
-std::optional<std::vector<double>> ProjectTiming(const PathFourBar& four_bar, const PathData& data,
-                                                 double direction) {
-  const double alpha0 = FirstCrankAngle(four_bar);
-  std::vector<PlanarPose> first;
-  const double tolerance = 1e-9 * data.length;
-  const int count = AssembleFourBar(four_bar.input, four_bar.output, alpha0, tolerance, &first);
-  if (count == 0) return std::nullopt;
-  const int label = count == 2 && PoseError(first[1], PlanarPose(), data.length) <
-                                      PoseError(first[0], PlanarPose(), data.length)
-                        ? 1
-                        : 0;
-  std::vector<PlanarPose> poses;
-  // The squared distance of point j from the coupler point at crank offset t (infinity where
-  // the four-bar does not assemble).
-  const auto distance = [&](size_t j, double t) {
-    const int here =
-        AssembleFourBar(four_bar.input, four_bar.output, alpha0 + t, tolerance, &poses);
-    if (here == 0) return std::numeric_limits<double>::infinity();
-    return (poses[std::min(label, here - 1)].ToFixed(four_bar.coupler_point) - data.points[j])
-        .squaredNorm();
-  };
-  const double step = 2.0 * kPi / kProjectionSamples;
-  std::vector<Eigen::Vector2d> curve(kProjectionSamples);
-  std::vector<bool> assembled(kProjectionSamples, false);
-  for (int k = 0; k < kProjectionSamples; ++k) {
-    const int here = AssembleFourBar(four_bar.input, four_bar.output, alpha0 + direction * k * step,
-                                     tolerance, &poses);
-    if (here == 0) continue;
-    assembled[k] = true;
-    curve[k] = poses[std::min(label, here - 1)].ToFixed(four_bar.coupler_point);
-  }
+// every 1/kProjectionSamples turn (`turn`) and refined by golden-section search over a sample
+// step, turning in `direction`.
+std::vector<double> ProjectTiming(const CouplerTurn& turn, const PathData& data, double direction) {
   std::vector<double> angles = {0.0};
   for (size_t j = 1; j < data.points.size(); ++j) {
+    // The squared distance of point j from the coupler point at crank offset t (infinity where
+    // the four-bar does not assemble).
+    const auto distance = [&](double t) {
+      Eigen::Vector2d point;
+      return turn.At(direction * t, &point) ? (point - data.points[j]).squaredNorm()
+                                            : std::numeric_limits<double>::infinity();
+    };
     int nearest = -1;
+    double least = 0.0;
     for (int k = 1; k < kProjectionSamples; ++k) {
-      if (assembled[k] && (nearest < 0 || (curve[k] - data.points[j]).squaredNorm() <
-                                              (curve[nearest] - data.points[j]).squaredNorm())) {
+      Eigen::Vector2d point;
+      if (!turn.Sampled(k, direction, &point)) continue;
+      const double squared = (point - data.points[j]).squaredNorm();
+      if (nearest < 0 || squared < least) {
         nearest = k;
+        least = squared;
       }
     }
-    if (nearest < 0) return std::nullopt;
-    // Golden section over [nearest - 1, nearest + 1] steps.
+    if (nearest < 0) return {};
+    // Golden section over [nearest - 1, nearest + 1] steps, each interior point's distance
+    // kept for the next bracket.
+    const double step = CouplerTurn::Step();
     double a = (nearest - 1) * step, b = (nearest + 1) * step;
     const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-    for (int iteration = 0; iteration < 30; ++iteration) {
-      const double c = b - ratio * (b - a), d = a + ratio * (b - a);
-      if (distance(j, direction * c) < distance(j, direction * d)) {
+    double c = b - ratio * (b - a), d = a + ratio * (b - a);
+    double at_c = distance(c), at_d = distance(d);
+    constexpr int kIterations = 30;
+    for (int iteration = 0; iteration < kIterations; ++iteration) {
+      const bool last = iteration + 1 == kIterations;
+      if (at_c < at_d) {
         b = d;
+        if (last) break;
+        d = c;
+        at_d = at_c;
+        c = b - ratio * (b - a);
+        at_c = distance(c);
       } else {
         a = c;
+        if (last) break;
+        c = d;
+        at_c = at_d;
+        d = a + ratio * (b - a);
+        at_d = distance(d);
       }
     }
     angles.push_back(direction * 0.5 * (a + b));
   }
+  return angles;
+}
+
+// ProjectTiming of a four-bar; nothing when it does not assemble at the first point or no
+// sample of its turn does.
+std::optional<std::vector<double>> ProjectTiming(const PathFourBar& four_bar, const PathData& data,
+                                                 double direction) {
+  CouplerTurn turn;
+  if (!turn.Sample(four_bar, data.length)) return std::nullopt;
+  std::vector<double> angles = ProjectTiming(turn, data, direction);
+  if (angles.empty()) return std::nullopt;
   return angles;
 }
 
@@ -582,11 +639,14 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
   for (const PathFourBar& four_bar : four_bars) {
     std::vector<PathMechanismReport> designs;
     for (const PathFourBar& design : CurveCognates(four_bar)) {
+      // One turn's samples for both directions.
+      CouplerTurn turn;
+      if (!turn.Sample(design, data.length)) continue;
       for (const double direction : {1.0, -1.0}) {
-        const std::optional<std::vector<double>> angles = ProjectTiming(design, data, direction);
-        if (!angles || !Monotonic(*angles)) continue;
-        PathMechanismReport report = Report(design, data, *angles);
-        report.input_angles = *angles;
+        const std::vector<double> angles = ProjectTiming(turn, data, direction);
+        if (angles.empty() || !Monotonic(angles)) continue;
+        PathMechanismReport report = Report(design, data, angles);
+        report.input_angles = angles;
         if (report.max_point_error) designs.push_back(report);
       }
     }

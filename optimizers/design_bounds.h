@@ -1,14 +1,15 @@
 // The design constraints of a task (lib/design_constraints.h) as smooth penalty residuals of the
-// mechanism-level refiners (four_bar_refiner.cc, path_refiner.cc), in their scaled frames.
+// refiners (planar_dyad_refiner.cc, four_bar_refiner.cc, path_refiner.cc), in their scaled
+// frames.
 //
-// Each constraint is an inequality g(x) <= 0 on a four-bar's geometry (a link length against
-// its bound, a fixed pivot against its box, the crank shorter than every other link
-// and Grashof with it); its residual is sqrt(mu) max(0, g), a quadratic penalty. The refiners
-// solve again with mu multiplied by kBoundGrowth until every g is within kBoundSlack (a fraction
-// of kConstraintSlack, so that the result keeps the constraint as the result file judges it),
-// at most kBoundRounds times: an optimum on a bound is approached from outside, to O(1/mu).
-// Constraints that are no inequality of the geometry (a Grashof class other than the crank's,
-// the transmission angle) are left to the ranking.
+// Each constraint is an inequality g(x) <= 0 on a dyad's or a four-bar's geometry (a link length
+// against its bound, a fixed pivot against its box, a moving pivot against its box in E, the
+// crank shorter than every other link and Grashof with it); its residual is sqrt(mu) max(0, g), a
+// quadratic penalty. The refiners solve again with mu multiplied by kBoundGrowth until every g is
+// within kBoundSlack (a fraction of kConstraintSlack, so that the result keeps the constraint as
+// the result file judges it), at most kBoundRounds times: an optimum on a bound is approached from
+// outside, to O(1/mu). Constraints that are no inequality of the geometry (a Grashof class other
+// than the crank's, the transmission angle) are left to the ranking.
 #ifndef LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
 #define LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
 
@@ -30,22 +31,25 @@ inline constexpr int kBoundRounds = 5;
 // The violation (scaled, times L) a refinement stops at: inside the result file's slack.
 inline constexpr double kBoundSlack = 0.1 * kConstraintSlack;
 // Residuals of one DesignBounds functor (unused ones are 0).
-inline constexpr int kBoundResiduals = 24;
+inline constexpr int kBoundResiduals = 32;
 
-// The constraints in a refiner's scaled frames: lengths divided by L, the fixed box in Sigma'.
-// The link bound always applies (by default 100 L).
+// The constraints in a refiner's scaled frames: lengths divided by L, the fixed box in Sigma',
+// the moving box in E'. The link bound always applies (by default 100 L).
 struct ScaledBounds {
   double max_link = std::numeric_limits<double>::infinity();
   double min_link = 0.0;
   double max_offset = std::numeric_limits<double>::infinity();
   bool fixed_box = false;
   Eigen::Vector2d fixed_min = Eigen::Vector2d::Zero(), fixed_max = Eigen::Vector2d::Zero();
+  bool moving_box = false;
+  Eigen::Vector2d moving_min = Eigen::Vector2d::Zero(), moving_max = Eigen::Vector2d::Zero();
   bool input_crank = false;  // input_rotates_fully (4R: the crank shortest, Grashof)
 };
 
-// `to_fixed` maps Sigma to the scaled frame (a scale and a shift).
+// `to_fixed` maps Sigma to the scaled frame Sigma', `to_moving` E to E' (each a scale and a
+// shift, of the same scale).
 inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double length,
-                                const Similarity2& to_fixed) {
+                                const Similarity2& to_fixed, const Similarity2& to_moving) {
   ScaledBounds bounds;
   bounds.max_link = MaxLinkLength(constraints, length) * to_fixed.scale;
   bounds.min_link = constraints.min_link_length.value_or(0.0) * to_fixed.scale;
@@ -57,8 +61,19 @@ inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double len
     bounds.fixed_min = to_fixed.Apply(constraints.fixed_pivots_box->min);
     bounds.fixed_max = to_fixed.Apply(constraints.fixed_pivots_box->max);
   }
+  if (constraints.moving_pivots_box) {
+    bounds.moving_box = true;
+    bounds.moving_min = to_moving.Apply(constraints.moving_pivots_box->min);
+    bounds.moving_max = to_moving.Apply(constraints.moving_pivots_box->max);
+  }
   bounds.input_crank = constraints.input_rotates_fully;
   return bounds;
+}
+
+// Paths: one scaled frame for Sigma and E (E = Sigma at the first point; no moving box).
+inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double length,
+                                const Similarity2& to_fixed) {
+  return ScaleBounds(constraints, length, to_fixed, to_fixed);
 }
 
 // A four-bar's geometry as the penalties see it, in the scaled frames: what the type has (see
@@ -67,9 +82,10 @@ template <typename T>
 struct BoundGeometry {
   bool has_ground = false, has_coupler = false, has_input = false, has_output = false;
   T ground = T(0.0), coupler = T(0.0), input = T(0.0), output = T(0.0);
-  int fixed_count = 0, offset_count = 0;
-  T fixed[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};  // fixed pivots (Sigma')
-  T offsets[2] = {T(0.0), T(0.0)};                       // coupler point offsets (paths)
+  int fixed_count = 0, moving_count = 0, offset_count = 0;
+  T fixed[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};   // fixed pivots (Sigma')
+  T moving[2][2] = {{T(0.0), T(0.0)}, {T(0.0), T(0.0)}};  // moving pivots (E'; motion)
+  T offsets[2] = {T(0.0), T(0.0)};                        // coupler point offsets (paths)
 };
 
 template <typename T>
@@ -100,6 +116,14 @@ void BoundValues(const ScaledBounds& bounds, const BoundGeometry<T>& geometry, T
       for (int c = 0; c < 2; ++c) {
         put(T(bounds.fixed_min[c]) - geometry.fixed[i][c]);
         put(geometry.fixed[i][c] - T(bounds.fixed_max[c]));
+      }
+    }
+  }
+  if (bounds.moving_box) {
+    for (int i = 0; i < geometry.moving_count; ++i) {
+      for (int c = 0; c < 2; ++c) {
+        put(T(bounds.moving_min[c]) - geometry.moving[i][c]);
+        put(geometry.moving[i][c] - T(bounds.moving_max[c]));
       }
     }
   }
@@ -157,6 +181,63 @@ BoundGeometry<T> PathBoundGeometry(DyadType output_type, const T* crank_pivot, c
     geometry.coupler = BoundDistance(crank_pin, output_moving);
     geometry.offset_count = 2;
     geometry.offsets[1] = BoundDistance(coupler_point, output_moving);
+  }
+  return geometry;
+}
+
+// The pivots of a motion dyad from its blocks (planar_dyad_blocks.h: RR (F, M, r), PR (M, n, h),
+// RP (F, n, h)): the fixed one, the moving one (null where the type has none).
+template <typename T>
+const T* BlocksFixedPivot(DyadType type, const T* point) {
+  return type == DyadType::kPR ? nullptr : point;
+}
+template <typename T>
+const T* BlocksMovingPivot(DyadType type, const T* point, const T* second) {
+  return type == DyadType::kRR ? second : type == DyadType::kPR ? point : nullptr;
+}
+
+// A motion four-bar's geometry from its dyads' blocks (planar_dyad_blocks.h): the links its
+// types have (lib/design_constraints.h), its fixed pivots (Sigma') and moving pivots (E'). With
+// `output_type` absent (has_output false), one dyad alone: its crank, fixed and moving pivot.
+template <typename T>
+BoundGeometry<T> MotionBoundGeometry(DyadType input_type, const T* input_point,
+                                     const T* input_second, const T* input_scalar, bool has_output,
+                                     DyadType output_type, const T* output_point,
+                                     const T* output_second, const T* output_scalar) {
+  BoundGeometry<T> geometry;
+  const auto add = [&geometry](DyadType type, const T* point, const T* second) {
+    if (const T* fixed = BlocksFixedPivot(type, point)) {
+      geometry.fixed[geometry.fixed_count][0] = fixed[0];
+      geometry.fixed[geometry.fixed_count++][1] = fixed[1];
+    }
+    if (const T* moving = BlocksMovingPivot(type, point, second)) {
+      geometry.moving[geometry.moving_count][0] = moving[0];
+      geometry.moving[geometry.moving_count++][1] = moving[1];
+    }
+  };
+  const auto crank = [](const T* scalar) { return scalar[0] < T(0.0) ? T(-scalar[0]) : scalar[0]; };
+  add(input_type, input_point, input_second);
+  if (input_type == DyadType::kRR) {
+    geometry.has_input = true;
+    geometry.input = crank(input_scalar);
+  }
+  if (!has_output) return geometry;
+  add(output_type, output_point, output_second);
+  if (output_type == DyadType::kRR) {
+    geometry.has_output = true;
+    geometry.output = crank(output_scalar);
+  }
+  const T* input_fixed = BlocksFixedPivot(input_type, input_point);
+  const T* output_fixed = BlocksFixedPivot(output_type, output_point);
+  if (input_fixed != nullptr && output_fixed != nullptr) {
+    geometry.has_ground = true;
+    geometry.ground = BoundDistance(input_fixed, output_fixed);
+  }
+  const T* input_moving = BlocksMovingPivot(input_type, input_point, input_second);
+  const T* output_moving = BlocksMovingPivot(output_type, output_point, output_second);
+  if (input_moving != nullptr && output_moving != nullptr) {
+    geometry.has_coupler = true;
+    geometry.coupler = BoundDistance(input_moving, output_moving);
   }
   return geometry;
 }

@@ -21,12 +21,14 @@ struct DyadFit {
   double max = std::numeric_limits<double>::infinity();        // max |e'|
   double exact_max = std::numeric_limits<double>::infinity();  // max |e'| over the exact poses
   bool meets_exact = false;                                    // exact_max <= exact_tolerance
+  bool keeps_bounds = true;  // keeps the design bounds (planar: design_bounds.h)
 };
 
-// The order of designs: one that meets the exact poses beats one that does not; then the lower
-// cost wins.
+// The order of designs: one that meets the exact poses beats one that does not; then one that
+// keeps the design bounds; then the lower cost wins.
 inline bool Better(const DyadFit& a, const DyadFit& b) {
   if (a.meets_exact != b.meets_exact) return a.meets_exact;
+  if (a.keeps_bounds != b.keeps_bounds) return a.keeps_bounds;
   return a.cost < b.cost;
 }
 

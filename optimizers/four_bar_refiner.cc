@@ -13,6 +13,7 @@
 
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
+#include "optimizers/design_bounds.h"
 #include "optimizers/planar_dyad_blocks.h"
 #include "optimizers/refiner_input.h"
 #include "optimizers/solver_options.h"
@@ -351,12 +352,58 @@ class AssembledPoseResidual {
   Eigen::Vector3d shift_;  // multiplier shift of an exact pose (zero otherwise)
 };
 
+// The design bounds of the four-bar (design_bounds.h): sqrt(mu) max(0, g) for every g of
+// MotionBoundGeometry, mu read through `sqrt_weight` (raised round by round).
+class MotionBoundsResidual {
+ public:
+  MotionBoundsResidual(DyadType input_type, DyadType output_type, const ScaledBounds* bounds,
+                       const double* sqrt_weight)
+      : input_type_(input_type),
+        output_type_(output_type),
+        bounds_(bounds),
+        sqrt_weight_(sqrt_weight) {}
+
+  template <typename T>
+  bool operator()(const T* input_point, const T* input_second, const T* input_scalar,
+                  const T* output_point, const T* output_second, const T* output_scalar,
+                  T* residual) const {
+    const BoundGeometry<T> geometry =
+        MotionBoundGeometry(input_type_, input_point, input_second, input_scalar, true,
+                            output_type_, output_point, output_second, output_scalar);
+    T g[kBoundResiduals];
+    BoundValues(*bounds_, geometry, g);
+    for (int k = 0; k < kBoundResiduals; ++k) {
+      residual[k] = g[k] > T(0.0) ? T(*sqrt_weight_) * g[k] : T(0.0);
+    }
+    return true;
+  }
+
+  static ceres::CostFunction* Create(DyadType input_type, DyadType output_type,
+                                     const ScaledBounds* bounds, const double* sqrt_weight) {
+    return new ceres::AutoDiffCostFunction<MotionBoundsResidual, kBoundResiduals, 2, 2, 1, 2, 2, 1>(
+        new MotionBoundsResidual(input_type, output_type, bounds, sqrt_weight));
+  }
+
+ private:
+  DyadType input_type_, output_type_;
+  const ScaledBounds* bounds_;
+  const double* sqrt_weight_;
+};
+
 // The task in the scaled frames: Sigma' = (Sigma - centroid) / L, E' = E / L.
 struct ScaledTask {
   std::vector<PlanarPose> poses;
   std::vector<double> weights;  // divided by their mean
   std::vector<bool> exact;
+  ScaledBounds bounds;  // the design bounds (design_bounds.h)
 };
+
+// The largest violation of the design bounds by the dyads' blocks (scaled units).
+double Violation(const ScaledBounds& bounds, const DyadBlocks& input, const DyadBlocks& output) {
+  return BoundViolation(
+      bounds, MotionBoundGeometry(input.type, input.point, input.second, input.scalar, true,
+                                  output.type, output.point, output.second, output.scalar));
+}
 
 // Whether the two dyads are (nearly) the same constraint: same type, pivots and radius or line.
 bool Coincident(const PlanarDyad& a, const PlanarDyad& b, double length) {
@@ -396,13 +443,18 @@ struct Judgement {
   double rms = kInfinity;   // sqrt(sum w e^2 / sum w)
   double max = kInfinity;   // max e
   double exact_max = 0.0;   // max e over the exact poses
+  double violation = 0.0;   // of the design bounds, times L
 };
 
 Judgement Judge(const PlanarDyad& input, const PlanarDyad& output,
                 const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
-                const std::vector<bool>& exact, double length) {
+                const std::vector<bool>& exact, double length,
+                const DesignConstraints& constraints) {
   Judgement judgement;
   if (!input.AllFinite() || !output.AllFinite()) return judgement;
+  judgement.violation = Violation(ScaleBounds(constraints, length, Similarity2(), Similarity2()),
+                                  ToBlocks(input), ToBlocks(output)) /
+                        length;
   judgement.coincident = Coincident(input, output, length);
   if (judgement.coincident) return judgement;
   const FourBarMotion motion = TraceFourBar(input, output, poses, length);
@@ -532,7 +584,7 @@ class CoincidenceGuard : public ceres::IterationCallback {
 
 // Penalty stage, one round: pose errors at free configurations, dyads (with the input-value
 // condition) weighted by `penalty`. The configurations are eliminated first (Schur).
-void SolvePenalty(const ScaledTask& task, double penalty,
+void SolvePenalty(const ScaledTask& task, double penalty, const double* bounds_weight,
                   const ceres::Solver::Options& base_options, Unknowns* unknowns, int* iterations,
                   std::string* message) {
   ceres::Problem problem;
@@ -549,6 +601,9 @@ void SolvePenalty(const ScaledTask& task, double penalty,
         output.second, output.scalar);
     ordering->AddElementToGroup(configuration, 0);
   }
+  problem.AddResidualBlock(
+      MotionBoundsResidual::Create(input.type, output.type, &task.bounds, bounds_weight), nullptr,
+      input.point, input.second, input.scalar, output.point, output.second, output.scalar);
   for (DyadBlocks* blocks : {&input, &output}) {
     for (double* block : {blocks->point, blocks->second, blocks->scalar}) {
       ordering->AddElementToGroup(block, 1);
@@ -574,8 +629,8 @@ void SolvePenalty(const ScaledTask& task, double penalty,
 // `shifts`. Returns whether it stopped short of coincident dyads.
 bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
                     const std::vector<double>& weights, const std::vector<Eigen::Vector3d>& shifts,
-                    const ceres::Solver::Options& base_options, DyadBlocks* input,
-                    DyadBlocks* output, int* iterations, std::string* message) {
+                    const double* bounds_weight, const ceres::Solver::Options& base_options,
+                    DyadBlocks* input, DyadBlocks* output, int* iterations, std::string* message) {
   ceres::Problem problem;
   for (size_t j = 0; j < task.poses.size(); ++j) {
     problem.AddResidualBlock(
@@ -584,6 +639,9 @@ bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
         nullptr, input->point, input->second, input->scalar, output->point, output->second,
         output->scalar);
   }
+  problem.AddResidualBlock(
+      MotionBoundsResidual::Create(input->type, output->type, &task.bounds, bounds_weight), nullptr,
+      input->point, input->second, input->scalar, output->point, output->second, output->scalar);
   for (DyadBlocks* blocks : {input, output}) {
     if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
   }
@@ -741,12 +799,13 @@ struct Candidate {
   std::string origin;   // which start it came from
   std::string message;  // Ceres's, of its last solve
   int exact_rounds = 0;
+  int bound_rounds = 0;               // rounds of a raised penalty onto the design bounds
   bool short_of_coincidence = false;  // stopped where the dyads were about to coincide
 };
 
 // Whether design `a` is better than design `b` as a solution of the task: it assembles at the
 // first pose, then has no circuit defect, then meets the exact poses (or comes nearer), then
-// has the lower cost.
+// keeps the design bounds (within kConstraintSlack), then has the lower cost.
 bool Better(const Judgement& a, const Judgement& b, double exact_limit) {
   if (a.assembles != b.assembles) return a.assembles;
   if (!a.assembles) return false;
@@ -754,6 +813,9 @@ bool Better(const Judgement& a, const Judgement& b, double exact_limit) {
   const double a_exact = a.exact_max > exact_limit ? a.exact_max : 0.0;
   const double b_exact = b.exact_max > exact_limit ? b.exact_max : 0.0;
   if (a_exact != b_exact) return a_exact < b_exact;
+  const bool a_keeps = a.violation <= kConstraintSlack;
+  const bool b_keeps = b.violation <= kConstraintSlack;
+  if (a_keeps != b_keeps) return a_keeps;
   return a.cost < b.cost;
 }
 
@@ -808,7 +870,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   if (!input->AllFinite() || !output->AllFinite()) {
     return give_up("seed not finite: returned unchanged");
   }
-  const Judgement initial = Judge(*input, *output, poses, weights, exact, length);
+  const Judgement initial =
+      Judge(*input, *output, poses, weights, exact, length, options.constraints);
   if (!initial.assembles) {
     return give_up(initial.coincident
                        ? "seed dyads coincide (no four-bar): returned unchanged"
@@ -837,6 +900,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
         configuration.origin_in_fixed.x(), configuration.origin_in_fixed.y(),
         poses[j].theta + WrapAngle(configuration.theta - poses[j].theta));
   }
+  task.bounds = ScaleBounds(options.constraints, length, to_sigma, to_epsilon);
   seed.input = ToBlocks(TransformDyad(*input, to_sigma, to_epsilon));
   seed.output = ToBlocks(TransformDyad(*output, to_sigma, to_epsilon));
 
@@ -862,13 +926,24 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
       if (task.exact[j]) pose_weights[j] *= kExactWeight;
     }
     // A start with a pose past the input's reach cannot be refined this way: it is judged as
-    // it is.
+    // it is. The design bounds: their penalty raised until the design keeps them
+    // (design_bounds.h).
+    double bounds_weight = std::sqrt(kBoundFirstWeight);
     std::vector<Eigen::Vector3d> errors;
     const bool reachable = AssembledErrors(task, labels, input_blocks, output_blocks, &errors);
     if (reachable) {
       candidate.short_of_coincidence =
-          SolveAssembled(task, labels, pose_weights, shifts, solver_options, &input_blocks,
-                         &output_blocks, &summary.iterations, &candidate.message);
+          SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
+                         &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
+      for (int bound_round = 0; bound_round < kBoundRounds &&
+                                Violation(task.bounds, input_blocks, output_blocks) > kBoundSlack;
+           ++bound_round) {
+        bounds_weight *= std::sqrt(kBoundGrowth);
+        candidate.short_of_coincidence |=
+            SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
+                           &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
+        candidate.bound_rounds = bound_round + 1;
+      }
     } else {
       candidate.message = "start past the input's reach";
     }
@@ -880,8 +955,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
         if (task.exact[j]) shifts[j] += errors[j];
       }
       candidate.short_of_coincidence |=
-          SolveAssembled(task, labels, pose_weights, shifts, solver_options, &input_blocks,
-                         &output_blocks, &summary.iterations, &candidate.message);
+          SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
+                         &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
       ++round;
     }
     if (reachable) {
@@ -891,7 +966,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
     candidate.exact_rounds = round;
     candidate.input = TransformDyad(FromBlocks(input_blocks), sigma, epsilon);
     candidate.output = TransformDyad(FromBlocks(output_blocks), sigma, epsilon);
-    candidate.judgement = Judge(candidate.input, candidate.output, poses, weights, exact, length);
+    candidate.judgement = Judge(candidate.input, candidate.output, poses, weights, exact, length,
+                                options.constraints);
     return candidate;
   };
   Candidate best = refine_from(seed, "exact elimination from the seed");
@@ -910,8 +986,9 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   penalty_options.function_tolerance = kPenaltyTolerance;
   penalty_options.parameter_tolerance = kPenaltyTolerance;
   std::string penalty_message;
-  SolvePenalty(task, kPenaltyWeight, penalty_options, &relaxed, &summary.iterations,
-               &penalty_message);
+  const double first_bounds_weight = std::sqrt(kBoundFirstWeight);
+  SolvePenalty(task, kPenaltyWeight, &first_bounds_weight, penalty_options, &relaxed,
+               &summary.iterations, &penalty_message);
   Candidate relaxed_candidate = refine_from(relaxed, "exact elimination after a penalty stage");
   if (Better(relaxed_candidate.judgement, best.judgement, exact_limit)) {
     best = std::move(relaxed_candidate);
@@ -923,6 +1000,9 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   note = best.origin;
   if (best.exact_rounds > 0) {
     note += "; exact poses: " + std::to_string(best.exact_rounds) + " multiplier rounds";
+  }
+  if (best.bound_rounds > 0) {
+    note += "; " + std::to_string(best.bound_rounds) + " rounds onto the design bounds";
   }
   if (best.short_of_coincidence) {
     note += "; stopped short of coincident dyads, toward which the cost keeps falling";

@@ -15,20 +15,24 @@
 // method of multipliers and a few least-norm Gauss-Newton steps until their pose error is within
 // exact_tolerance * L. Data are centred (pose origins' centroid) and scaled by L internally.
 //
-// The result is re-analysed as AnalyzeFourBar does, and the seed returned unchanged unless the
-// result is not worse: it assembles at the first pose, has no circuit defect the seed did not
-// have, meets the exact poses (or comes nearer), and has no higher cost. A seed that does not
-// assemble at the first pose, or whose two dyads coincide (no four-bar), is returned with a
-// message. On noisy poses the cost can keep falling toward a degenerate four-bar (a crank running
-// off toward a slider, or the two dyads toward one); the refiner then stops (at max_iterations,
-// or just short of coincident dyads) and says so in the message. PR+PR and RP+RP four-bars
-// (Cardan motion and its inverse) are reached as motions only: a one-parameter family of dyad
-// pairs gives the same motion.
+// The task's design constraints (options.constraints; the link bound of 100 L by default) are
+// quadratic penalties on the dyads, raised round by round until the design keeps them
+// (optimizers/design_bounds.h). The result is re-analysed as AnalyzeFourBar does, and the seed
+// returned unchanged unless the result is not worse: it assembles at the first pose, has no
+// circuit defect the seed did not have, meets the exact poses (or comes nearer), keeps the
+// design bounds when the seed does not (or both do or both do not), and has no higher cost. A seed
+// that does not assemble at the first pose, or whose two dyads coincide (no four-bar), is returned
+// with a message. On noisy poses the cost can keep falling toward a degenerate four-bar (a crank
+// running off toward a slider, or the two dyads toward one); the refiner then stops (at
+// max_iterations, or just short of coincident dyads) and says so in the message. PR+PR and RP+RP
+// four-bars (Cardan motion and its inverse) are reached as motions only: a one-parameter family of
+// dyad pairs gives the same motion.
 #ifndef LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 #define LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
 #include "optimizers/refiner_summary.h"
@@ -44,6 +48,9 @@ struct FourBarRefinerOptions {
   double constraint_tolerance = 1e-12;
   double exact_tolerance = 1e-9;  // exact poses' pose error, times L
   int max_penalty_rounds = 8;     // method-of-multipliers rounds for exact poses, per start
+  // The task's design constraints (lib/design_constraints.h) as penalties raised until kept
+  // (optimizers/design_bounds.h); the link bound applies by default (100 L).
+  DesignConstraints constraints;
 };
 
 // Refines the four-bar (input, output) in place. `weights`/`exact` may be empty. Costs in the

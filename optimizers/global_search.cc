@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <nlopt.hpp>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -59,6 +60,11 @@ struct ScaledTask {
   std::vector<Eigen::Matrix2d> rotations;
   std::vector<Eigen::Vector2d> origins;
   std::vector<double> weights;  // normalized to sum 1
+  // The crank's bounds (an RR's radius; lib/design_constraints.h), scaled.
+  double min_radius = 0.0;
+  double max_radius = std::numeric_limits<double>::infinity();
+  // The pivots' boxes (fixed in Sigma', moving in E'), where the task has them.
+  std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>> fixed_box, moving_box;
 };
 
 int Dimension(DyadType type) { return type == DyadType::kRR ? 4 : 3; }
@@ -75,7 +81,9 @@ class Objective {
   int dimension() const { return Dimension(type_); }
 
   // Weighted sum of squared residuals about their weighted mean:
-  //   RR: rho_j = |R_j M + d_j - F|, r = sum w rho,            f = sum w (rho_j - r)^2;
+  //   RR: rho_j = |R_j M + d_j - F|, r = sum w rho (clamped to the crank's bounds: the cost is
+  //       a convex quadratic in r, so the clamped mean is the bounded optimum),
+  //                                                            f = sum w (rho_j - r)^2;
   //   PR: s_j = n . (R_j M + d_j),   h = sum w s,              f = sum w (s_j - h)^2;
   //   RP: s_j = n . R_j^T (F - d_j), h = sum w s (line in E),  f = sum w (s_j - h)^2.
   // Two passes (not sum w s^2 - h^2), so that a near-zero optimum keeps its relative accuracy.
@@ -101,6 +109,7 @@ class Objective {
         mean += task_.weights[j] * values_[j];
       }
     }
+    if (type_ == DyadType::kRR) mean = ClampRadius(mean);
     double sum = 0.0;
     for (size_t j = 0; j < count; ++j) {
       const double deviation = values_[j] - mean;
@@ -150,8 +159,12 @@ class Objective {
     }
     const Eigen::Map<const Eigen::VectorXd> weights(task_.weights.data(), count);
     const Eigen::VectorXd roots = weights.cwiseSqrt();
-    const double mean = weights.dot(values);
-    const Eigen::RowVectorXd mean_derivative = weights.transpose() * derivatives;
+    double mean = weights.dot(values);
+    Eigen::RowVectorXd mean_derivative = weights.transpose() * derivatives;
+    if (type_ == DyadType::kRR && ClampRadius(mean) != mean) {
+      mean = ClampRadius(mean);  // a radius on its bound: a constant
+      mean_derivative.setZero();
+    }
     *residuals = roots.cwiseProduct((values.array() - mean).matrix());
     *jacobian = roots.asDiagonal() * (derivatives.rowwise() - mean_derivative);
     return residuals->allFinite() && jacobian->allFinite();
@@ -168,7 +181,7 @@ class Objective {
         mean += task_.weights[j] *
                 (task_.rotations[j] * moving_pivot + task_.origins[j] - point).norm();
       }
-      return PlanarDyad::RR(point, moving_pivot, mean);
+      return PlanarDyad::RR(point, moving_pivot, ClampRadius(mean));
     }
     const Eigen::Vector2d direction(std::cos(x[2]), std::sin(x[2]));
     const Eigen::Vector2d normal(-direction.y(), direction.x());
@@ -183,6 +196,10 @@ class Objective {
   }
 
  private:
+  double ClampRadius(double radius) const {
+    return std::clamp(radius, task_.min_radius, std::max(task_.min_radius, task_.max_radius));
+  }
+
   const ScaledTask& task_;
   DyadType type_;
   mutable std::vector<double> values_;  // rho_j or s_j of the last evaluation
@@ -193,11 +210,19 @@ class Objective {
 // 3^d - 1 neighbours is a local minimum of the sampled objective.
 class Archive {
  public:
-  Archive(int dimension, double half_width, bool periodic_last)
-      : dimension_(dimension), half_width_(half_width), periodic_last_(periodic_last) {
-    const int spatial_cells =
-        std::max(1, static_cast<int>(std::ceil(2.0 * half_width / kCellWidth)));
-    for (int i = 0; i < dimension; ++i) cells_[i] = spatial_cells;
+  // The box [lower, upper] (a line angle last when `periodic_last`), at most `max_cells` cells a
+  // side.
+  Archive(const std::vector<double>& lower, const std::vector<double>& upper, int max_cells,
+          bool periodic_last)
+      : dimension_(static_cast<int>(lower.size())),
+        lower_(lower),
+        upper_(upper),
+        periodic_last_(periodic_last) {
+    const int dimension = dimension_;
+    for (int i = 0; i < dimension; ++i) {
+      cells_[i] =
+          std::clamp(static_cast<int>(std::ceil((upper[i] - lower[i]) / kCellWidth)), 1, max_cells);
+    }
     if (periodic_last) {
       cells_[dimension - 1] = std::max(1, static_cast<int>(std::lround(M_PI / kCellWidth)));
     }
@@ -262,8 +287,9 @@ class Archive {
       const int index = static_cast<int>(std::floor((value - period * M_PI) / M_PI * cells_[i]));
       return std::clamp(index, 0, cells_[i] - 1);
     }
+    const double width = upper_[i] - lower_[i];
     const int index =
-        static_cast<int>(std::floor((value + half_width_) / (2.0 * half_width_) * cells_[i]));
+        width > 0.0 ? static_cast<int>(std::floor((value - lower_[i]) / width * cells_[i])) : 0;
     return std::clamp(index, 0, cells_[i] - 1);
   }
   std::uint64_t Key(const std::array<int, kMaxDimension>& index) const {
@@ -275,7 +301,7 @@ class Archive {
   }
 
   int dimension_;
-  double half_width_;
+  std::vector<double> lower_, upper_;
   bool periodic_last_;
   std::array<int, kMaxDimension> cells_{};
   std::unordered_map<std::uint64_t, Entry> entries_;
@@ -461,6 +487,22 @@ bool IsFinite(const PlanarDyad& dyad) {
 // NLopt run over the box (kGlobalShare of the evaluations and of the time) fills the archive,
 // Gauss-Newton descents from the archive's local minima spend the rest, and up to
 // options.polish_count distinct optima are kept.
+// The search box of a pivot: [-half_width, half_width]^2 about the frame's origin, within the
+// task's box for that pivot (scaled) where they overlap, else the task's box.
+void PivotBox(double half_width,
+              const std::optional<std::pair<Eigen::Vector2d, Eigen::Vector2d>>& bound,
+              double* lower, double* upper) {
+  for (int c = 0; c < 2; ++c) {
+    lower[c] = -half_width;
+    upper[c] = half_width;
+    if (!bound) continue;
+    const double low = std::max(lower[c], bound->first[c]);
+    const double high = std::min(upper[c], bound->second[c]);
+    lower[c] = low <= high ? low : bound->first[c];
+    upper[c] = low <= high ? high : bound->second[c];
+  }
+}
+
 std::vector<PlanarDyad> SearchType(const ScaledTask& task, DyadType type,
                                    const GlobalSearchOptions& options, int* evaluations) {
   const auto start = Clock::now();
@@ -472,14 +514,20 @@ std::vector<PlanarDyad> SearchType(const ScaledTask& task, DyadType type,
   const double half_width = options.box_scale;
   const bool angular = type != DyadType::kRR;
   std::vector<double> lower(dimension, -half_width), upper(dimension, half_width);
+  // The pivots' boxes: RR (F, M), PR (M), RP (F).
+  if (type != DyadType::kPR) PivotBox(half_width, task.fixed_box, &lower[0], &upper[0]);
+  if (type == DyadType::kRR) PivotBox(half_width, task.moving_box, &lower[2], &upper[2]);
+  if (type == DyadType::kPR) PivotBox(half_width, task.moving_box, &lower[0], &upper[0]);
   if (angular) {
     lower[dimension - 1] = 0.0;
     upper[dimension - 1] = M_PI;
   }
   std::vector<double> x(dimension, 0.0);
+  for (int i = 0; i < dimension; ++i) x[i] = std::clamp(0.0, lower[i], upper[i]);
   if (angular) x[dimension - 1] = 0.5 * M_PI;
 
-  Archive archive(dimension, half_width, angular);
+  const int max_cells = std::max(1, static_cast<int>(std::ceil(2.0 * half_width / kCellWidth)));
+  Archive archive(lower, upper, max_cells, angular);
   Run global;
   global.objective = &objective;
   global.archive = &archive;
@@ -598,6 +646,17 @@ int SearchPlanarDyads(const std::vector<PlanarPose>& poses, const std::vector<do
   to_fixed.scale = to_moving.scale = length;
   to_fixed.translation = centroid;
   const Similarity2 from_fixed = to_fixed.Inverse(), from_moving = to_moving.Inverse();
+  const DesignConstraints& constraints = options.refiner.constraints;
+  task.max_radius = MaxLinkLength(constraints, length) / length;
+  task.min_radius = constraints.min_link_length.value_or(0.0) / length;
+  if (constraints.fixed_pivots_box) {
+    task.fixed_box.emplace(from_fixed.Apply(constraints.fixed_pivots_box->min),
+                           from_fixed.Apply(constraints.fixed_pivots_box->max));
+  }
+  if (constraints.moving_pivots_box) {
+    task.moving_box.emplace(from_moving.Apply(constraints.moving_pivots_box->min),
+                            from_moving.Apply(constraints.moving_pivots_box->max));
+  }
 
   // Search each type, polish its distinct optima, and keep the distinct polished dyads.
   struct Polished {
@@ -610,7 +669,8 @@ int SearchPlanarDyads(const std::vector<PlanarPose>& poses, const std::vector<do
     for (DyadType type : options.types) {
       for (const PlanarDyad& scaled : SearchType(task, type, options, &report.evaluations)) {
         PlanarDyad dyad = TransformDyad(scaled, to_fixed, to_moving);
-        const RefinerSummary refined = RefinePlanarDyad(poses, weights, exact, length, &dyad);
+        const RefinerSummary refined =
+            RefinePlanarDyad(poses, weights, exact, length, &dyad, options.refiner);
         if (!IsFinite(dyad) || !std::isfinite(refined.final_cost)) continue;
         polished.push_back(
             {refined.final_cost, dyad, TransformDyad(dyad, from_fixed, from_moving)});

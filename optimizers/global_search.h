@@ -26,6 +26,7 @@
 
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "optimizers/planar_dyad_refiner.h"
 
 namespace linkfit {
 
@@ -46,6 +47,10 @@ struct GlobalSearchOptions {
   int polish_count = 4;         // best distinct optima polished by RefinePlanarDyad, per type
   std::uint64_t seed = 1;       // NLopt's random seed (results are reproducible)
   std::vector<DyadType> types = {DyadType::kRR, DyadType::kPR, DyadType::kRP};  // searched
+  // The polish's options; its constraints also bound the search: the pivots' boxes within the
+  // task's boxes (fixed_pivots_box, moving_pivots_box, where they overlap the search box, else
+  // the task's), an RR's radius within [min_link_length, max_link_length].
+  PlanarDyadRefinerOptions refiner;
 };
 
 struct GlobalSearchSummary {

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "optimizers/design_bounds.h"
 #include "optimizers/exact_poses.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
@@ -39,6 +40,7 @@ struct ScaledTask {
   std::vector<double> weights;  // divided by their mean
   std::vector<bool> exact;      // one per pose
   int exact_count = 0;
+  ScaledBounds bounds;  // the design bounds of one dyad (design_bounds.h)
 };
 
 using internal::Better;
@@ -161,6 +163,37 @@ class MovingLineResiduals {
   const std::vector<double>* sqrt_weights_;
 };
 
+// The design bounds of one dyad (design_bounds.h, MotionBoundGeometry of the dyad alone):
+// sqrt(mu) max(0, g), mu read through `sqrt_weight`; blocks as Parameters below.
+class DyadBoundsResidual {
+ public:
+  DyadBoundsResidual(DyadType type, const ScaledBounds* bounds, const double* sqrt_weight)
+      : type_(type), bounds_(bounds), sqrt_weight_(sqrt_weight) {}
+
+  template <typename T>
+  bool operator()(const T* first, const T* second, const T* third, T* residual) const {
+    const BoundGeometry<T> geometry =
+        MotionBoundGeometry(type_, first, second, third, false, type_, first, second, third);
+    T g[kBoundResiduals];
+    BoundValues(*bounds_, geometry, g);
+    for (int k = 0; k < kBoundResiduals; ++k) {
+      residual[k] = g[k] > T(0.0) ? T(*sqrt_weight_) * g[k] : T(0.0);
+    }
+    return true;
+  }
+
+  static ceres::CostFunction* Create(DyadType type, const ScaledBounds* bounds,
+                                     const double* sqrt_weight) {
+    return new ceres::AutoDiffCostFunction<DyadBoundsResidual, kBoundResiduals, 2, 2, 1>(
+        new DyadBoundsResidual(type, bounds, sqrt_weight));
+  }
+
+ private:
+  DyadType type_;
+  const ScaledBounds* bounds_;
+  const double* sqrt_weight_;
+};
+
 // The solver's parameter blocks of a dyad: RR (F, M, r); PR (M, n, h); RP (F, n, h), with n the
 // unit normal of the line and h its offset, n . X = h. The line of a PlanarDyad (point p,
 // direction u) has n = (-u_y, u_x), the normal its signed residual is measured along, and
@@ -196,11 +229,20 @@ PlanarDyad FromParameters(const Parameters& p) {
                                  : PlanarDyad::RP(p.first, p.third * normal, direction);
 }
 
+// The largest violation of the design bounds by `p` (scaled units).
+double Violation(const ScaledTask& task, const Parameters& p) {
+  return BoundViolation(
+      task.bounds, MotionBoundGeometry(p.type, p.first.data(), p.second.data(), &p.third, false,
+                                       p.type, p.first.data(), p.second.data(), &p.third));
+}
+
 Fit Evaluate(const ScaledTask& task, const PlanarDyad& dyad, double exact_tolerance) {
   if (!dyad.AllFinite()) return Fit();
-  return internal::EvaluateFit(task.weights, task.exact, exact_tolerance, [&](size_t j) {
+  Fit fit = internal::EvaluateFit(task.weights, task.exact, exact_tolerance, [&](size_t j) {
     return dyad.Residual(task.rotations[j], task.origins[j]);
   });
+  fit.keeps_bounds = Violation(task, ToParameters(dyad)) <= kBoundSlack;
+  return fit;
 }
 
 // Refines one model from `start`, with the penalty continuation on the exact poses: solve,
@@ -249,10 +291,17 @@ Attempt RefineModel(const ScaledTask& task, const PlanarDyad& start,
       problem.SetManifold(second, UnitCircle());
       break;
   }
+  double bounds_weight = std::sqrt(kBoundFirstWeight);
+  problem.AddResidualBlock(DyadBoundsResidual::Create(p.type, &task.bounds, &bounds_weight),
+                           nullptr, first, second, third);
 
+  // The exact poses' penalty rounds, then the design bounds' (design_bounds.h).
   const int rounds = task.exact_count > 0 ? 1 + std::max(0, options.max_penalty_rounds) : 1;
-  for (int round = 0; round < rounds; ++round) {
-    if (round > 0) {
+  for (int round = 0; round < rounds + kBoundRounds; ++round) {
+    if (round >= rounds) {
+      if (Violation(task, p) <= kBoundSlack) break;
+      bounds_weight *= std::sqrt(kBoundGrowth);
+    } else if (round > 0) {
       penalty *= kPenaltyGrowth;
       set_weights();
     }
@@ -268,7 +317,7 @@ Attempt RefineModel(const ScaledTask& task, const PlanarDyad& start,
       best.fit = fit;
       best.improved = true;
     }
-    if (fit.meets_exact) break;
+    if (round < rounds && fit.meets_exact) round = rounds - 1;  // on to the bounds' rounds
   }
   return best;
 }
@@ -372,6 +421,7 @@ RefinerSummary RefinePlanarDyad(const std::vector<PlanarPose>& poses,
   sigma.translation = centroid;
   Similarity2 epsilon;
   epsilon.scale = length;
+  task.bounds = ScaleBounds(options.constraints, length, sigma.Inverse(), epsilon.Inverse());
   PlanarDyad seed = TransformDyad(*dyad, sigma.Inverse(), epsilon.Inverse());
   if (seed.type != DyadType::kRR) seed.line_direction.normalize();
   const Fit initial = Evaluate(task, seed, options.exact_tolerance);

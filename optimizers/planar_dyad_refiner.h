@@ -29,6 +29,7 @@
 
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
 #include "optimizers/refiner_summary.h"
@@ -45,6 +46,11 @@ struct PlanarDyadRefinerOptions {
   double slider_radius_ratio = 10.0;
   double exact_tolerance = 1e-9;  // poses marked exact are met to this times L
   int max_penalty_rounds = 8;     // penalty continuation: exact weights x 1e3 per round
+  // The task's design constraints that bound one dyad (its crank's length, its fixed pivot's
+  // box, its moving pivot's box; lib/design_constraints.h) as penalties raised until kept
+  // (optimizers/design_bounds.h); the link bound applies by default (100 L). A design that
+  // keeps them is better than one that does not (after the exact poses).
+  DesignConstraints constraints;
 };
 
 // Refines `dyad` in place. `weights` and `exact` may be empty (all 1, none exact). `length` is

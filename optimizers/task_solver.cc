@@ -369,6 +369,11 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   result.effort = EffortName(task.effort);
   const std::vector<double>& weights = task.pose_weights;
   const std::vector<bool>& exact = task.pose_exact;
+  // The refiners and the search carry the task's design constraints (optimizers/design_bounds.h).
+  PlanarDyadRefinerOptions dyad_refiner = options.planar_refiner;
+  dyad_refiner.constraints = task.constraints;
+  FourBarRefinerOptions four_bar_refiner = options.four_bar_refiner;
+  four_bar_refiner.constraints = task.constraints;
 
   // Seeds: the algebraic least-squares fit and exact solves of spread five-pose subsets.
   auto stage_start = std::chrono::steady_clock::now();
@@ -395,11 +400,11 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     for (size_t i = 0; i < seed_count; ++i) {
       DyadReport report = result.dyads[i];
       report.seed_rms_residual = report.rms_residual;
-      RefinePlanarDyad(poses, weights, exact, length, &report.dyad, options.planar_refiner);
+      RefinePlanarDyad(poses, weights, exact, length, &report.dyad, dyad_refiner);
       // A circle the data cannot tell from a slider at their precision is the slider, refined.
       PlanarDyad slider;
       if (SimplerModel(report.dyad, poses, task.precision, length, &slider)) {
-        RefinePlanarDyad(poses, weights, exact, length, &slider, options.planar_refiner);
+        RefinePlanarDyad(poses, weights, exact, length, &slider, dyad_refiner);
         if (slider.type != DyadType::kRR &&
             PrecisionRatio(slider, poses, task.precision, length) <= kModelUnits) {
           report.dyad = slider;
@@ -417,10 +422,15 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     result.stages.push_back(Stage("refine", stage_start, result));
     found_count.push_back(result.dyads.size());
   }
-  if (task.effort == Effort::kThorough) {
+  // The search: thorough always; balanced too when the task has constraints (an optimum on a
+  // bound is rarely near a seed: the seeds fit the poses, not the bounds).
+  if (task.effort == Effort::kThorough ||
+      (task.effort == Effort::kBalanced && task.constraints.given)) {
     stage_start = std::chrono::steady_clock::now();
     std::vector<PlanarDyad> found;
-    SearchPlanarDyads(poses, weights, exact, length, options.search, &found);
+    GlobalSearchOptions search = options.search;
+    search.refiner = dyad_refiner;
+    SearchPlanarDyads(poses, weights, exact, length, search, &found);
     for (const PlanarDyad& dyad : found) {
       DyadReport report;
       report.dyad = dyad;
@@ -515,23 +525,31 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       const RankKey first = MechanismRankKey(result.mechanisms.front(), precision_fit);
       answered = !first.violates && first.defect_level == 0 && first.within_precision;
     }
-    std::vector<int> chosen(found_count.size(), 0);
-    for (size_t m = 0; m < result.mechanisms.size() && !answered; ++m) {
-      MechanismReport& mechanism = result.mechanisms[m];
+    // A four-bar that breaks a constraint is refined onto the bounds too (the penalties of
+    // FourBarRefinerOptions::constraints), the first refined_mechanisms of them per level: the
+    // constrained optimum is often the unconstrained one pulled onto a bound. What it gives is
+    // listed beside it (an exact four-bar that breaks a constraint is never hidden).
+    std::vector<int> chosen(found_count.size(), 0), chosen_onto(found_count.size(), 0);
+    const size_t ranked = result.mechanisms.size();
+    for (size_t m = 0; m < ranked && !answered; ++m) {
+      const MechanismReport seed = result.mechanisms[m];
+      const bool onto_bounds = !seed.violates.empty();
       bool refine = false;
       for (size_t level = 1; level < found_count.size(); ++level) {
-        if ((mechanism_levels[m] >> level & 1) && chosen[level] < options.refined_mechanisms) {
-          ++chosen[level];
+        if (!(mechanism_levels[m] >> level & 1)) continue;
+        int& count = onto_bounds ? chosen_onto[level] : chosen[level];
+        if (count < options.refined_mechanisms) {
+          ++count;
           refine = true;
         }
       }
-      if (!refine || !mechanism.max_pose_error) continue;
-      PlanarDyad input = result.dyads[mechanism.input_dyad].dyad;
-      PlanarDyad output = result.dyads[mechanism.output_dyad].dyad;
+      if (!refine || !seed.max_pose_error) continue;
+      PlanarDyad input = result.dyads[seed.input_dyad].dyad;
+      PlanarDyad output = result.dyads[seed.output_dyad].dyad;
       const RefinerSummary summary =
-          RefineFourBar(poses, weights, exact, length, &input, &output, options.four_bar_refiner);
-      if (!(summary.final_max < *mechanism.max_pose_error)) continue;
-      const double seed_error = *mechanism.max_pose_error;
+          RefineFourBar(poses, weights, exact, length, &input, &output, four_bar_refiner);
+      if (!onto_bounds && !(summary.final_max < *seed.max_pose_error)) continue;
+      const double seed_error = *seed.max_pose_error;
       // The refined dyads, each the listed one it repeats or a new one appended.
       const size_t listed = result.dyads.size();
       int index[2];
@@ -554,26 +572,35 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       }
       // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and its
       // errors are those of that drive: a refinement that adds a defect, breaks a constraint, or
-      // is not better on them, is dropped.
+      // is not better on them, is dropped; one onto the bounds is kept when it keeps them all
+      // and adds no kinematic defect.
       MechanismReport refined;
       if (index[0] != index[1]) {
         refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length);
         JudgeMechanism(task.constraints, result.dyads, length, &refined);
       }
       const bool adds_defect = std::any_of(
-          refined.defects.begin(), refined.defects.end(), [&mechanism](const std::string& defect) {
-            return std::find(mechanism.defects.begin(), mechanism.defects.end(), defect) ==
-                   mechanism.defects.end();
+          refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
+            return (!onto_bounds || defect != "transmission") &&
+                   std::find(seed.defects.begin(), seed.defects.end(), defect) ==
+                       seed.defects.end();
           });
-      if (index[0] == index[1] || !refined.max_pose_error || adds_defect ||
-          refined.violates.size() > mechanism.violates.size() ||
-          !(*refined.max_pose_error < seed_error) ||
-          refined.rms_pose_error.value_or(1e300) > mechanism.rms_pose_error.value_or(1e300)) {
+      const bool worse = onto_bounds ? !refined.violates.empty()
+                                     : refined.violates.size() > seed.violates.size() ||
+                                           !(*refined.max_pose_error < seed_error) ||
+                                           refined.rms_pose_error.value_or(1e300) >
+                                               seed.rms_pose_error.value_or(1e300);
+      if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
         result.dyads.resize(listed);
         continue;
       }
       refined.seed_max_pose_error = seed_error;
-      mechanism = refined;
+      if (onto_bounds) {
+        result.mechanisms.push_back(refined);
+        mechanism_levels.push_back(mechanism_levels[m]);
+      } else {
+        result.mechanisms[m] = refined;
+      }
     }
     // Two refinements can end on one four-bar: listed once, the first (best ranked) kept, with
     // the levels of both.

@@ -449,27 +449,38 @@ int Run(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
 
   BenchOptions bench_options;
-  bool trade_only = false, extremes_only = false;
+  bool trade_only = false, extremes_only = false, constrained_only = false;
   CLI::App* bench = app.add_subcommand(
       "bench",
       "Measure the speed/accuracy trade of every solver path and effort level on generated "
-      "tasks (trade.csv, trade.svg) and the stability sweep at the numerical extremes "
-      "(extremes.csv).");
+      "tasks (trade.csv, trade.svg), the stability sweep at the numerical extremes "
+      "(extremes.csv) and the first design on tasks whose design constraints bind "
+      "(constrained.csv).");
   bench->add_flag("--quick", bench_options.quick, "few tasks per cell: about a minute on one core");
   bench->add_option("-o,--output-dir", bench_options.output_dir,
-                    "directory for trade.csv, trade.svg and extremes.csv (default: .)");
+                    "directory for trade.csv, trade.svg, extremes.csv and constrained.csv "
+                    "(default: .)");
   bench->add_option("--seed", bench_options.seed, "seed of the random task families");
   CLI::Option* trade_flag =
       bench->add_flag("--trade-only", trade_only, "only the speed/accuracy trade");
-  bench->add_flag("--extremes-only", extremes_only, "only the extremes sweep")
-      ->excludes(trade_flag);
-  bench->add_option(
-      "--wrong-dir", bench_options.wrong_dir,
-      "write the task files the extremes sweep answered wrongly (or with a note) here");
+  CLI::Option* extremes_flag =
+      bench->add_flag("--extremes-only", extremes_only, "only the extremes sweep")
+          ->excludes(trade_flag);
+  bench->add_flag("--constrained-only", constrained_only, "only the constrained families")
+      ->excludes(trade_flag)
+      ->excludes(extremes_flag);
+  bench
+      ->add_option("--constrained-tasks", bench_options.constrained_tasks,
+                   "tasks per random constrained family (default 40, quick 3)")
+      ->check(CLI::PositiveNumber);
+  bench->add_option("--wrong-dir", bench_options.wrong_dir,
+                    "write the task files the extremes sweep answered wrongly (or with a note), "
+                    "and those of the constrained families a target missed, here");
   bench->add_option("--family", bench_options.family,
                     "run only this family of the extremes sweep (e.g. rounded), or its rows whose "
                     "variant contains a text (rounded:path 5 points); of the trade, this family "
-                    "(untimed path), or its rows of a number of items (untimed path:10)");
+                    "(untimed path), or its rows of a number of items (untimed path:10); of the "
+                    "constrained part, constrained or constrained:<part of a family name>");
 
   try {
     app.parse(argc, argv);
@@ -483,8 +494,9 @@ int Run(int argc, char** argv) {
   if (solve->parsed()) return Solve(task_path, outputs);
   if (refine->parsed()) return Refine(refine_task, design_path, refine_output, refine_index);
   if (bench->parsed()) {
-    bench_options.trade = !extremes_only;
-    bench_options.extremes = !trade_only;
+    bench_options.trade = !extremes_only && !constrained_only;
+    bench_options.extremes = !trade_only && !constrained_only;
+    bench_options.constrained = !trade_only && !extremes_only;
     return RunBench(bench_options);
   }
   return kExitBadInput;  // unreachable: a subcommand is required

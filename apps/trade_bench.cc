@@ -12,6 +12,7 @@
 #include <random>
 #include <sstream>
 
+#include "apps/constrained_bench.h"
 #include "apps/extremes_bench.h"
 #include "apps/percentile.h"
 #include "lib/design_constraints.h"
@@ -514,6 +515,10 @@ int RunBench(const BenchOptions& options) {
   if (options.extremes) {
     const std::vector<ExtremeRow> rows = RunExtremesBench(options, stdout);
     if (!write("extremes.csv", ExtremesCsv(rows))) return 2;
+  }
+  if (options.constrained) {
+    const std::vector<ConstrainedRow> rows = RunConstrainedBench(options, stdout);
+    if (!write("constrained.csv", ConstrainedCsv(rows))) return 2;
   }
   return 0;
 }

@@ -31,17 +31,22 @@ namespace linkfit {
 
 struct BenchOptions {
   bool quick = false;            // few tasks per cell, at every effort: about a minute, one core
-  std::string output_dir = ".";  // trade.csv, trade.svg and extremes.csv are written here
+  std::string output_dir = ".";  // trade.csv, trade.svg, extremes.csv, constrained.csv go here
   uint64_t seed = 2026;          // random task families
   bool trade = true;             // the speed/accuracy table
   bool extremes = true;          // the extremes sweep
+  bool constrained = true;       // the constrained families (constrained_bench.h)
+  int constrained_tasks = 0;     // tasks per random constrained family (0: 40, quick 3)
   // When set, the extremes sweep writes each wrongly answered task that has a task file (the
   // rounded-data family) here, as <row>-<task>.json (noted ones as <row>-<task>-noted.json),
-  // with the generating mechanism beside it, to reproduce it with `linkfit solve`.
+  // with the generating mechanism beside it, to reproduce it with `linkfit solve`; the
+  // constrained families write each task a target missed at some effort, as
+  // constrained_<family>-<task>.json.
   std::string wrong_dir;
   // When set, the extremes sweep runs only this family ("rounded"), or only its rows whose
   // variant contains a text ("rounded:path 5 points"); the trade runs only this family
-  // ("untimed path"), or only its rows of a number of items ("untimed path:10").
+  // ("untimed path"), or only its rows of a number of items ("untimed path:10"); the constrained
+  // part runs only with "constrained", or "constrained:<part of a family name>".
   std::string family;
 };
 

@@ -38,6 +38,10 @@ constexpr double kDistinct = 1e-3;
 constexpr double kCrankDyad = 1e-2;
 // A crank or coupler link shorter than this (scaled) is degenerate.
 constexpr double kShortLink = 1e-9;
+// DrivableOutput: the radius this fraction of the allowed range inside it.
+constexpr double kDrivableMargin = 1e-3;
+// Seconds every NLopt run gets at least, whatever the runs before it took.
+constexpr double kLeastRunTime = 1e-3;
 
 // The task in the scaled frames Sigma' = E' = (Sigma - centroid) / L.
 struct ScaledTask {
@@ -192,6 +196,32 @@ nlopt::algorithm ToNlopt(GlobalAlgorithm algorithm) {
   return kAlgorithms[static_cast<int>(algorithm)];
 }
 
+// An output circle the crank cannot close at some point (its least-squares radius, fitted to the
+// coupler poses, is out of reach there near a toggle) makes a four-bar that cannot be driven
+// through the points, and the refiner keeps such a seed unchanged. With its radius moved into the
+// range every point allows, kDrivableMargin of that range inside it, the four-bar assembles at
+// every point and the refinement can start. False for another output type or an empty range.
+bool DrivableOutput(const PlanarDyad& output, const Eigen::Vector2d& crank_pivot,
+                    const Eigen::Vector2d& crank_pin, const std::vector<double>& turns,
+                    PlanarDyad* drivable) {
+  if (output.type != DyadType::kRR) return false;
+  // The output's moving pivot is its coupler side's length from the crank pin; at point j the
+  // pin is d_j from the fixed pivot, so the radius must lie in [|d_j - c|, d_j + c].
+  const double side = (output.moving_pivot - crank_pin).norm();
+  double low = 0.0, high = std::numeric_limits<double>::infinity();
+  for (const double turn : turns) {
+    const Eigen::Vector2d pin = crank_pivot + Rotation2(turn) * (crank_pin - crank_pivot);
+    const double distance = (pin - output.fixed_pivot).norm();
+    low = std::max(low, std::abs(distance - side));
+    high = std::min(high, distance + side);
+  }
+  if (!(low < high)) return false;
+  const double margin = kDrivableMargin * (high - low);
+  *drivable = output;
+  drivable->radius = std::clamp(std::abs(output.radius), low + margin, high - margin);
+  return true;
+}
+
 // Whether two four-bars (task units) agree to kDistinct * length in every parameter.
 bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
   if (a.output.type != b.output.type) return false;
@@ -226,9 +256,9 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
     }
   }
   if (options.max_evaluations < 1 || !(options.time_limit > 0.0) || !(options.box_scale > 0.0) ||
-      !std::isfinite(options.box_scale) || options.refine_count < 1) {
+      !std::isfinite(options.box_scale) || options.refine_count < 1 || options.runs < 1) {
     throw std::invalid_argument(where + "options need max_evaluations >= 1, time_limit > 0, " +
-                                "finite box_scale > 0 and refine_count >= 1");
+                                "finite box_scale > 0, refine_count >= 1 and runs >= 1");
   }
   four_bars->clear();
   PathSearchSummary report;
@@ -258,8 +288,6 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
     Run run;
     run.objective = &objective;
     run.archive = &archive;
-    nlopt::srand(options.seed);
-    nlopt::opt optimizer(ToNlopt(options.algorithm), 4);
     // The crank's box: B within box_scale of the centroid and in the fixed pivots' box (that
     // box alone where the two do not meet), A within the longest link of B's box.
     std::vector<double> lower(4, -options.box_scale), upper(4, options.box_scale);
@@ -276,28 +304,36 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
         upper[2 + c] = upper[c] + reach;
       }
     }
-    optimizer.set_lower_bounds(lower);
-    optimizer.set_upper_bounds(upper);
-    optimizer.set_min_objective(EvaluateRun, &run);
-    optimizer.set_maxeval(options.max_evaluations);
-    optimizer.set_maxtime(options.time_limit);
-    if (options.algorithm == GlobalAlgorithm::kMlsl) {
-      nlopt::opt descent(nlopt::LN_BOBYQA, 4);
-      descent.set_xtol_rel(1e-8);
-      descent.set_maxeval(1000);
-      optimizer.set_local_optimizer(descent);
-    }
-    // A crank from the centroid (the box's centre) to half a unit away starts the run (B = A is
-    // no crank).
-    const double centre[2] = {0.5 * (lower[0] + upper[0]), 0.5 * (lower[1] + upper[1])};
-    std::vector<double> x = {
-        centre[0], centre[1],
-        centre[0] + 0.5 * std::min({options.box_scale, 1.0, upper[2] - centre[0]}), centre[1]};
-    double value = 0.0;
-    try {
-      optimizer.optimize(x, value);
-    } catch (const std::exception&) {
-      // roundoff_limited, forced_stop and failures: the archive holds what was found.
+    // The runs share the budget: each its part of the evaluations and of the time left.
+    const auto search_start = Clock::now();
+    for (int r = 0; r < options.runs; ++r) {
+      nlopt::srand(options.seed + static_cast<std::uint64_t>(r));
+      nlopt::opt optimizer(ToNlopt(options.algorithm), 4);
+      optimizer.set_lower_bounds(lower);
+      optimizer.set_upper_bounds(upper);
+      optimizer.set_min_objective(EvaluateRun, &run);
+      optimizer.set_maxeval(std::max(1, options.max_evaluations / options.runs));
+      const double spent = std::chrono::duration<double>(Clock::now() - search_start).count();
+      optimizer.set_maxtime(
+          std::max(kLeastRunTime, (options.time_limit - spent) / (options.runs - r)));
+      if (options.algorithm == GlobalAlgorithm::kMlsl) {
+        nlopt::opt descent(nlopt::LN_BOBYQA, 4);
+        descent.set_xtol_rel(1e-8);
+        descent.set_maxeval(1000);
+        optimizer.set_local_optimizer(descent);
+      }
+      // A crank from the centroid (the box's centre) to half a unit away starts each run (B = A
+      // is no crank).
+      const double centre[2] = {0.5 * (lower[0] + upper[0]), 0.5 * (lower[1] + upper[1])};
+      std::vector<double> x = {
+          centre[0], centre[1],
+          centre[0] + 0.5 * std::min({options.box_scale, 1.0, upper[2] - centre[0]}), centre[1]};
+      double value = 0.0;
+      try {
+        optimizer.optimize(x, value);
+      } catch (const std::exception&) {
+        // roundoff_limited, forced_stop and failures: the archive holds what was found.
+      }
     }
     report.evaluations = run.evaluations;
 
@@ -316,8 +352,16 @@ int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
         four_bar.output = TransformDyad(output.second, to_task, to_task);
         four_bar.coupler_point = points.front();
         std::vector<double> angles = input_angles;
-        const RefinerSummary result = RefinePathFourBar(points, weights, exact, length, false,
-                                                        &angles, &four_bar, options.refiner);
+        RefinerSummary result = RefinePathFourBar(points, weights, exact, length, false, &angles,
+                                                  &four_bar, options.refiner);
+        PlanarDyad drivable;
+        if (!std::isfinite(result.final_cost) &&
+            DrivableOutput(output.second, crank_pivot, crank_pin, task.turns, &drivable)) {
+          four_bar.output = TransformDyad(drivable, to_task, to_task);
+          angles = input_angles;
+          result = RefinePathFourBar(points, weights, exact, length, false, &angles, &four_bar,
+                                     options.refiner);
+        }
         if (std::isfinite(result.final_cost)) refined.emplace_back(result.final_cost, four_bar);
       }
     }

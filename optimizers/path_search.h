@@ -10,10 +10,15 @@
 // + the best output dyad's cost on the poses q_j (the algebraic least-squares dyads of
 //   fitting/planar_burmester.h for the poses, measured by their geometric residuals),
 // in data centred and scaled by L; a point it cannot evaluate gets a large finite value, never
-// NaN. NLopt runs (algorithm from GlobalSearchOptions) within the budget and keeps an archive of
-// the best crank of each basin (cranks more than 0.1 L apart); the best refine_count of them,
-// each with every output dyad of its coupler poses and the coupler point R_0, are refined by
-// RefinePathFourBar and returned best first (four-bars within 1e-3 L after refinement are one).
+// NaN. NLopt (algorithm from GlobalSearchOptions) runs `runs` times from seeds seed, seed + 1,
+// ..., each with an equal share of the evaluations and of the time left (one run of CRS2 can
+// collapse onto a poor basin early and spend its budget there; runs from other seeds reach other
+// basins), filling one archive of the best crank of each basin (cranks more than 0.1 L apart);
+// the best refine_count of them, each with every output dyad of its coupler poses and the coupler
+// point R_0, are refined by RefinePathFourBar and returned best first (four-bars within 1e-3 L
+// after refinement are one). An output circle the crank cannot close at some point (a
+// least-squares radius out of reach near a toggle: a four-bar the refiner cannot drive) is
+// refined with its radius moved into the range every point allows.
 #ifndef LINKFIT_OPTIMIZERS_PATH_SEARCH_H_
 #define LINKFIT_OPTIMIZERS_PATH_SEARCH_H_
 
@@ -34,6 +39,7 @@ struct PathSearchOptions {
   double time_limit = 1.0;     // seconds for the NLopt run (the refinement comes on top)
   double box_scale = 3.0;      // half-width of the crank's box, times L
   int refine_count = 4;        // best distinct cranks refined as four-bars
+  int runs = 8;                // NLopt runs from seeds seed, seed + 1, ..., sharing the budget
   std::uint64_t seed = 1;      // NLopt's random seed (results are reproducible)
   PathRefinerOptions refiner;  // for the refinement of the found four-bars
 };

@@ -1,8 +1,10 @@
 // `linkfit bench`: the extremes sweep must find no wrong and no non-finite answer, the planar /
-// spatial switch must not flap, the trade table must come out as CSV and SVG, and on the trade's
-// tasks a higher effort level must never be worse than a lower one.
+// spatial switch must not flap, the trade table must come out as CSV and SVG, on the trade's
+// tasks a higher effort level must never be worse than a lower one, and the constrained families
+// must come out as CSV (their targets are measured by the bench, not here).
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
@@ -11,7 +13,9 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <vector>
 
+#include "apps/constrained_bench.h"
 #include "apps/extremes_bench.h"
 #include "apps/trade_bench.h"
 #include "gtest/gtest.h"
@@ -202,6 +206,41 @@ TEST(EffortOrder, PathFreeTiming) {
   ExpectEffortOrder("untimed path", 10, 1e-2, 100, 4);
 }
 
+// A tiny constrained bench: two tasks of one random family and one classic problem, each row
+// with finite figures, the CSV with its header and one line per row.
+TEST(ConstrainedBench, RowsComeOutAsCsv) {
+  BenchOptions options;
+  options.constrained_tasks = 2;
+  for (const std::string family :
+       {"constrained:10 points, fixed box", "constrained:classic: 5 points timed"}) {
+    options.family = family;
+    const std::vector<ConstrainedRow> rows = RunConstrainedBench(options, nullptr);
+    ASSERT_EQ(rows.size(), 2u) << family;  // balanced and thorough
+    for (const ConstrainedRow& row : rows) {
+      SCOPED_TRACE(row.family + ", " + row.effort);
+      EXPECT_EQ(row.tasks, family.find("classic") != std::string::npos ? 1 : 2);
+      for (const double figure :
+           {row.median_ms, row.worst_ms, row.share_within_10pct, row.share_first_is_best,
+            row.share_bound_active, row.long_median_ms}) {
+        EXPECT_TRUE(std::isfinite(figure)) << figure;
+        EXPECT_GE(figure, 0.0);
+      }
+      EXPECT_LE(row.share_within_10pct, 1.0);
+      EXPECT_LE(row.share_first_is_best, 1.0);
+      EXPECT_LE(row.median_ms, row.worst_ms);
+      EXPECT_GT(row.median_ratio, 0.0);  // inf where the first does not keep the constraints
+    }
+    const std::string csv = ConstrainedCsv(rows);
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "family,effort,tasks,median_ms,worst_ms,share_within_10pct,share_first_is_best,"
+              "median_ratio,worst_ratio,share_bound_active,long_median_ms,detail");
+    EXPECT_EQ(Count(csv, "\n"), 3);
+    EXPECT_EQ(Count(csv, "nan"), 0);
+  }
+  options.family = "rounded";  // another part's family: no constrained rows
+  EXPECT_TRUE(RunConstrainedBench(options, nullptr).empty());
+}
+
 TEST(BenchCli, WritesTheSweepAndRefusesAnUnwritableDirectory) {
   char pattern[] = "/tmp/linkfit_bench_XXXXXX";
   ASSERT_NE(mkdtemp(pattern), nullptr);
@@ -216,6 +255,17 @@ TEST(BenchCli, WritesTheSweepAndRefusesAnUnwritableDirectory) {
   const std::string csv = ReadFile(dir + "/out/extremes.csv");
   EXPECT_EQ(csv.rfind("family,variant,", 0), 0u);
   EXPECT_NE(ReadFile(dir + "/stdout").find("stability at the extremes"), std::string::npos);
+  // The constrained part alone, one classic problem (five timed points: solved exactly).
+  raw = std::system((std::string("'") + LINKFIT_BINARY +
+                     "' bench --constrained-only --family 'constrained:5 points timed' -o '" + dir +
+                     "/constrained' >'" + dir + "/stdout' 2>'" + dir + "/stderr'")
+                        .c_str());
+  ASSERT_TRUE(WIFEXITED(raw));
+  EXPECT_EQ(WEXITSTATUS(raw), 0) << ReadFile(dir + "/stderr");
+  const std::string constrained = ReadFile(dir + "/constrained/constrained.csv");
+  EXPECT_EQ(constrained.rfind("family,effort,tasks,", 0), 0u);
+  EXPECT_EQ(Count(constrained, "\n"), 3) << constrained;
+  EXPECT_FALSE(std::filesystem::exists(dir + "/constrained/trade.csv"));
   // A file where the directory should be: exit 2, one line.
   std::ofstream(dir + "/file") << "x";
   raw = std::system((std::string("'") + LINKFIT_BINARY + "' bench --quick -o '" + dir +
@@ -226,13 +276,16 @@ TEST(BenchCli, WritesTheSweepAndRefusesAnUnwritableDirectory) {
   const std::string error = ReadFile(dir + "/stderr");
   EXPECT_EQ(Count(error, "\n"), 1) << error;
   EXPECT_NE(error.find("cannot create the output directory"), std::string::npos) << error;
-  // Both "only" flags: a usage error.
-  raw = std::system((std::string("'") + LINKFIT_BINARY +
-                     "' bench --trade-only --extremes-only >/dev/null 2>'" + dir + "/stderr'")
-                        .c_str());
-  ASSERT_TRUE(WIFEXITED(raw));
-  EXPECT_EQ(WEXITSTATUS(raw), 2);
-  EXPECT_EQ(Count(ReadFile(dir + "/stderr"), "\n"), 1);
+  // Two "only" flags: a usage error.
+  for (const char* flags : {"--trade-only --extremes-only", "--constrained-only --trade-only",
+                            "--extremes-only --constrained-only"}) {
+    raw = std::system((std::string("'") + LINKFIT_BINARY + "' bench " + flags + " >/dev/null 2>'" +
+                       dir + "/stderr'")
+                          .c_str());
+    ASSERT_TRUE(WIFEXITED(raw));
+    EXPECT_EQ(WEXITSTATUS(raw), 2) << flags;
+    EXPECT_EQ(Count(ReadFile(dir + "/stderr"), "\n"), 1) << flags;
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -31,10 +31,13 @@ using linkfit::testing::RandomPathTask;
 
 constexpr std::uint64_t kSeed = 20240801;  // task k is drawn from kSeed + k
 constexpr int kTasks = 5;                  // random 4Rs per point count
-// The seeds are the first kTasks after kSeed, not picked. The target was 4 of 5; the search as it
-// stands (0.25 s of CRS2) finds a four-bar with max point error <= kFound * L in 3 of 5 for 10
-// and for 20 points (misses: no candidate assembling at every point, or a local minimum at
-// 7e-5 .. 3e-2 L). kRequired states that measured rate, as a guard against regressions.
+// The seeds are the first kTasks after kSeed, not picked. The target was 4 of 5; one run of CRS2
+// (0.25 s) found a four-bar with max point error <= kFound * L in 3 of 5 for 10 and for 20 points
+// (misses: no candidate assembling at every point, or a local minimum at 7e-5 .. 3e-2 L). Eight
+// shorter runs from other seeds, and output circles moved into the crank's reach, find it in 5 of
+// 5 for 10 points and 4 of 5 for 20 (the miss a local minimum at 9e-3 L) when the evaluations end
+// the runs; on a loaded machine the time limit ends them first (9000 of 20000 evaluations: 3 of 5
+// for 20 points). kRequired states the loaded rate, as a guard against regressions.
 constexpr int kRequired = 3;
 constexpr double kFound = 1e-6;
 constexpr double kTimeLimit = 0.25;  // seconds of NLopt per task

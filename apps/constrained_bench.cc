@@ -52,7 +52,15 @@ constexpr int kQuickTasks = 3;
 constexpr int kDigits = 17;
 
 // The classic problems, compiled in from data/classic_path_*.json (apps/CMakeLists.txt):
-// {file name without .json, file text}.
+// {file name without .json, file text}. Their points, timings and bounds are the five cases of
+// the public code of S. Nguyen-Van, Q. X. Lieu, N. Xuan-Mung, T. T. N. Nguyen, "A New Study on
+// Optimization of Four-Bar Mechanisms Based on a Hybrid-Combined Differential Evolution and Jaya
+// Algorithm", Symmetry 14(2):381, 2022 (github.com/sy-nguyen-van/
+// Dimensional_Synthesis_Four_Bar_Mechanisms, src/cases/case1-5.py, src/config.py), cases the
+// literature attributes to Kunjur & Krishnamurty (1997), Cabrera et al. (2002) and Acharyya &
+// Mandal (2009): 1 vertical_line_6, 2 5_points_timed, 3 closed_18_points, 4 arc_6_points_timed,
+// 5 ellipse_10_points. How their constraints map to linkfit's: README, "the constrained
+// families".
 struct ClassicTask {
   const char* name;
   const char* text;

@@ -13,7 +13,8 @@
 //     the generating four-bar's longest; with a fixed pivots' box that cuts off one of its fixed
 //     pivots; with a moving pivots' box (in E) that cuts off one of its moving pivots;
 //   - the classic bounded path-synthesis problems of the literature, bundled as task files
-//     (data/classic_path_*.json, compiled in; sources in those rows' comments and the README).
+//     (data/classic_path_*.json, compiled in; their source is cited in constrained_bench.cc and
+//     the README).
 // Every exact design breaks the bound, so the constrained optimum lies on it unless another
 // local optimum inside the bounds fits better: share_bound_active says how often the reference
 // design is on a bound.
@@ -30,12 +31,15 @@
 // transmission defect (the detail counts those tasks).
 //
 // Per row (family and effort): tasks; median and worst time of the solve; share_within_10pct:
-// the first listed is a keeper of the reference's group and fits within 10 % of it (fits within
-// kExactFit L count as equal); share_first_is_best: the first listed is a keeper of the best group
-// of its own list and fits within 10 % of the best of that group there (the near-tie rule); the
-// median and worst ratio first / reference (infinity where the first is not of the reference's
-// group); share_bound_active: the reference design has a bound's slack within 1e-3 L; the long
-// search's median time; and a detail that counts the misses by cause, with their task numbers.
+// the first listed keeps every constraint, has no kinematic defect and fits within 10 % of the
+// reference (fits within kExactFit L count as equal, and so do two fits within the data's
+// precision); share_first_is_best: the first listed is a keeper of the best group of its own list
+// and, unless it meets the task within the data's precision, fits within 10 % of the best of that
+// group there (the ranking rule's near tie); the median and worst ratio first / reference
+// (infinity where the first violates a constraint or has a kinematic defect);
+// share_bound_active: the reference design has a bound's slack within 1e-3 L; the long search's
+// median time; and a detail that counts the misses by cause, with their task numbers (causes in
+// parentheses are counted for information, not as misses).
 #ifndef LINKFIT_APPS_CONSTRAINED_BENCH_H_
 #define LINKFIT_APPS_CONSTRAINED_BENCH_H_
 

@@ -569,13 +569,6 @@ void PrintRow(std::FILE* table, const ConstrainedRow& row) {
   std::fflush(table);
 }
 
-std::string FormatNumber(double value) {
-  if (std::isinf(value)) return "inf";
-  char text[32];
-  std::snprintf(text, sizeof(text), "%.6g", value);
-  return text;
-}
-
 std::string Quoted(const std::string& text) {
   std::string quoted = "\"";
   for (const char c : text) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);

@@ -205,14 +205,14 @@ void PrintRow(std::FILE* table, const TradeRow& row) {
   std::fflush(table);
 }
 
+}  // namespace
+
 std::string FormatNumber(double value) {
   if (std::isinf(value)) return "inf";
   char text[32];
   std::snprintf(text, sizeof(text), "%.6g", value);
   return text;
 }
-
-}  // namespace
 
 TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Effort effort,
                           std::mt19937_64& rng) {

@@ -77,6 +77,9 @@ struct TradeOutcome {
 TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Effort effort,
                           std::mt19937_64& rng);
 
+// A number as the CSV files write it: 6 significant digits, "inf" for infinity.
+std::string FormatNumber(double value);
+
 // Runs every cell, printing each row to `table` (if not null) as it finishes.
 std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* table);
 

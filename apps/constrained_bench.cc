@@ -153,27 +153,30 @@ double BoundSlack(const DesignConstraints& constraints, const FourBarLinks& link
   return slack / length;
 }
 
-// The largest point error within the data's precision, as the path solver ranks (its
-// PassTolerance: kModelUnits point uncertainties at the crank's pivot, not below 1e-8 L).
-double PathPrecisionFit(const DataPrecision& precision, double length) {
-  return std::max(kExactFit * length, kModelUnits * PointUncertainty(precision, 0.0, length, 2));
+// One listed four-bar as the ranking groups it: its violations, defects, largest and RMS error
+// (the ranked fit: the RMS, or the largest where `fit_is_max`, for five exact points).
+Listed ListedOf(const std::vector<std::string>& violates, const std::vector<std::string>& defects,
+                const std::optional<double>& max, const std::optional<double>& rms, bool fit_is_max,
+                double precision_fit) {
+  Listed listed;
+  listed.keeps = violates.empty();
+  listed.defect_level = DefectLevel(defects);
+  if (max && rms) {
+    listed.rms = fit_is_max ? *max : *rms;
+    listed.within_precision = *max <= precision_fit;
+  }
+  return listed;
 }
 
 Solved Summarize(const PathResult& result, const Task& task, double ms) {
   const DesignConstraints& constraints = task.constraints;
-  const double precision_fit = PathPrecisionFit(task.precision, result.scale);
+  const double precision_fit = PathPassTolerance(task.precision, result.scale);
   Solved solved;
   solved.ms = ms;
   solved.length = result.scale;
   for (const PathMechanismReport& report : result.mechanisms) {
-    Listed listed;
-    listed.keeps = report.violates.empty();
-    listed.defect_level = DefectLevel(report.defects);
-    if (report.max_point_error && report.rms_point_error) {
-      // The ranking's fit: the RMS error for least squares, the largest for five exact points.
-      listed.rms = result.method == "exact" ? *report.max_point_error : *report.rms_point_error;
-      listed.within_precision = *report.max_point_error <= precision_fit;
-    }
+    Listed listed = ListedOf(report.violates, report.defects, report.max_point_error,
+                             report.rms_point_error, result.method == "exact", precision_fit);
     const PathFourBar& design = report.design;
     std::vector<Eigen::Vector2d> fixed = {design.input.fixed_pivot};
     if (design.output.type != DyadType::kPR) fixed.push_back(design.output.fixed_pivot);
@@ -190,13 +193,8 @@ Solved Summarize(const PlanarMotionResult& result, const Task& task, double ms) 
   solved.ms = ms;
   solved.length = result.scale;
   for (const MechanismReport& report : result.mechanisms) {
-    Listed listed;
-    listed.keeps = report.violates.empty();
-    listed.defect_level = DefectLevel(report.defects);
-    if (report.max_pose_error && report.rms_pose_error) {
-      listed.rms = *report.rms_pose_error;
-      listed.within_precision = *report.max_pose_error <= precision_fit;
-    }
+    Listed listed = ListedOf(report.violates, report.defects, report.max_pose_error,
+                             report.rms_pose_error, false, precision_fit);
     const PlanarDyad& input = result.dyads[report.input_dyad].dyad;
     const PlanarDyad& output = result.dyads[report.output_dyad].dyad;
     std::vector<Eigen::Vector2d> fixed, moving;

@@ -37,11 +37,6 @@ double MillisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-bool OnOneBranch(const std::vector<std::string>& defects) {
-  return std::find(defects.begin(), defects.end(), "circuit") == defects.end() &&
-         std::find(defects.begin(), defects.end(), "branch") == defects.end();
-}
-
 // A generator makes task `t` of a cell (the same tasks for every effort level) and solves it.
 using CellRunner = std::function<TradeOutcome(std::mt19937_64& rng, Effort effort)>;
 

@@ -322,11 +322,13 @@ int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>
       bound, mechanisms);
 }
 
-void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result) {
+void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result,
+                     const std::function<bool(int, int)>& paired) {
   const std::vector<PlanarPose>& poses = task.planar_poses;
   result->mechanisms.clear();
   for (size_t i = 0; i < result->dyads.size(); ++i) {
     for (size_t j = i + 1; j < result->dyads.size(); ++j) {
+      if (paired && !paired(static_cast<int>(i), static_cast<int>(j))) continue;
       MechanismReport mechanism =
           AnalyzeDyadPair(result->dyads, static_cast<int>(i), static_cast<int>(j), poses, length);
       JudgeMechanism(task.constraints, result->dyads, length, &mechanism);

@@ -4,6 +4,8 @@
 #ifndef LINKFIT_FITTING_PLANAR_MOTION_H_
 #define LINKFIT_FITTING_PLANAR_MOTION_H_
 
+#include <functional>
+
 #include "fitting/planar_burmester.h"
 #include "lib/result.h"
 #include "lib/task.h"
@@ -60,10 +62,12 @@ double PoseFitTolerance(const DataPrecision& precision, double length);
 void JudgeMechanism(const DesignConstraints& constraints, const std::vector<DyadReport>& dyads,
                     double length, MechanismReport* mechanism);
 
-// Every four-bar made of two of result->dyads, each analysed under both inputs (the better
-// kept), judged (JudgeMechanism), those of the same two dyads listed once, and ranked
-// (RankMechanisms). The poses are the task's planar poses.
-void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result);
+// Every four-bar made of two of result->dyads (of those pairs i < j that `paired` accepts, when
+// given), each analysed under both inputs (the better kept), judged (JudgeMechanism), those of
+// the same two dyads listed once, and ranked (RankMechanisms). The poses are the task's planar
+// poses.
+void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result,
+                     const std::function<bool(int, int)>& paired = {});
 
 // The analysis of the four-bar of dyads i and j of `dyads` (both inputs tried, the better kept).
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,

@@ -103,6 +103,11 @@ bool HasKinematicDefect(const std::vector<std::string>& defects) {
   });
 }
 
+bool OnOneBranch(const std::vector<std::string>& defects) {
+  return std::find(defects.begin(), defects.end(), "circuit") == defects.end() &&
+         std::find(defects.begin(), defects.end(), "branch") == defects.end();
+}
+
 void JudgeTransmission(const DesignConstraints& constraints,
                        const std::optional<double>& transmission_min_deg,
                        std::vector<std::string>* defects) {

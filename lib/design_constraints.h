@@ -109,6 +109,10 @@ void JudgeTransmission(const DesignConstraints& constraints,
 // cannot be driven through the task as listed. "transmission" is not one.
 bool HasKinematicDefect(const std::vector<std::string>& defects);
 
+// Whether `defects` lets the mechanism follow the task on one branch: no "circuit" or "branch"
+// defect (an order defect only reorders the poses or points).
+bool OnOneBranch(const std::vector<std::string>& defects);
+
 // 0 without defects, 1 when the only defect is "transmission", 2 with a kinematic defect.
 int DefectLevel(const std::vector<std::string>& defects);
 

@@ -242,6 +242,13 @@ BoundGeometry<T> MotionBoundGeometry(DyadType input_type, const T* input_point,
   return geometry;
 }
 
+// One dyad alone (MotionBoundGeometry without an output): its crank, fixed and moving pivot.
+template <typename T>
+BoundGeometry<T> DyadBoundGeometry(DyadType type, const T* point, const T* second,
+                                   const T* scalar) {
+  return MotionBoundGeometry(type, point, second, scalar, false, type, point, second, scalar);
+}
+
 // The largest violation max(0, g) of `geometry` (scaled units).
 inline double BoundViolation(const ScaledBounds& bounds, const BoundGeometry<double>& geometry) {
   double g[kBoundResiduals];

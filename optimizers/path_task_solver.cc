@@ -139,7 +139,7 @@ double PointTolerance(const PathData& data, double reach) {
 // The largest point error of a four-bar that passes the points: their precision's tolerance
 // (PointTolerance at the crank's pivot), not below 1e-8 L.
 double PassTolerance(const PathData& data) {
-  return std::max(1e-8 * data.length, PointTolerance(data, 0.0));
+  return PathPassTolerance(data.precision, data.length);
 }
 
 // The ranking rule (lib/design_constraints.h RankOrder): keeping the constraints, defect-free,
@@ -882,6 +882,10 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
 }
 
 }  // namespace
+
+double PathPassTolerance(const DataPrecision& precision, double length) {
+  return std::max(1e-8 * length, kModelUnits * PointUncertainty(precision, 0.0, length, 2));
+}
 
 PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_options) {
   const auto start = std::chrono::steady_clock::now();

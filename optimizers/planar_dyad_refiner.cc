@@ -163,7 +163,7 @@ class MovingLineResiduals {
   const std::vector<double>* sqrt_weights_;
 };
 
-// The design bounds of one dyad (design_bounds.h, MotionBoundGeometry of the dyad alone):
+// The design bounds of one dyad (design_bounds.h, DyadBoundGeometry):
 // sqrt(mu) max(0, g), mu read through `sqrt_weight`; blocks as Parameters below.
 class DyadBoundsResidual {
  public:
@@ -172,8 +172,7 @@ class DyadBoundsResidual {
 
   template <typename T>
   bool operator()(const T* first, const T* second, const T* third, T* residual) const {
-    const BoundGeometry<T> geometry =
-        MotionBoundGeometry(type_, first, second, third, false, type_, first, second, third);
+    const BoundGeometry<T> geometry = DyadBoundGeometry(type_, first, second, third);
     T g[kBoundResiduals];
     BoundValues(*bounds_, geometry, g);
     for (int k = 0; k < kBoundResiduals; ++k) {
@@ -231,9 +230,8 @@ PlanarDyad FromParameters(const Parameters& p) {
 
 // The largest violation of the design bounds by `p` (scaled units).
 double Violation(const ScaledTask& task, const Parameters& p) {
-  return BoundViolation(
-      task.bounds, MotionBoundGeometry(p.type, p.first.data(), p.second.data(), &p.third, false,
-                                       p.type, p.first.data(), p.second.data(), &p.third));
+  return BoundViolation(task.bounds,
+                        DyadBoundGeometry(p.type, p.first.data(), p.second.data(), &p.third));
 }
 
 Fit Evaluate(const ScaledTask& task, const PlanarDyad& dyad, double exact_tolerance) {

@@ -298,14 +298,6 @@ std::vector<DyadReport> BestDistinct(std::vector<DyadReport> found, int count, B
   return kept;
 }
 
-// A four-bar the motion can follow: no circuit or branch defect (an order defect only reorders
-// the poses).
-bool OnOneBranch(const MechanismReport& mechanism) {
-  const std::vector<std::string>& defects = mechanism.defects;
-  return std::find(defects.begin(), defects.end(), "circuit") == defects.end() &&
-         std::find(defects.begin(), defects.end(), "branch") == defects.end();
-}
-
 // Keeps the four-bars of effort level `top` (both dyads among its own: `mechanism_levels` has
 // its bit) and of each lower level its best fit, the four-bar of least RMS pose error on one
 // branch, where that fits better than the kept ones: so a higher effort never fits worse. Drops
@@ -314,7 +306,8 @@ void KeepLevel(int top, const std::vector<int>& dyad_levels,
                const std::vector<int>& mechanism_levels, PlanarMotionResult* result) {
   const std::vector<MechanismReport>& mechanisms = result->mechanisms;
   const auto fit = [&mechanisms](size_t m) {
-    return OnOneBranch(mechanisms[m]) ? mechanisms[m].rms_pose_error.value_or(1e300) : 1e300;
+    return OnOneBranch(mechanisms[m].defects) ? mechanisms[m].rms_pose_error.value_or(1e300)
+                                              : 1e300;
   };
   std::vector<bool> keep(mechanisms.size());
   double best_fit = 1e300;
@@ -496,16 +489,8 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   for (DyadReport& report : result.dyads) report.max_residual = report.dyad.MaxResidual(poses);
   stage_start = std::chrono::steady_clock::now();
   const double precision_fit = PoseFitTolerance(task.precision, length);
-  for (size_t i = 0; i < result.dyads.size(); ++i) {
-    for (size_t j = i + 1; j < result.dyads.size(); ++j) {
-      if ((dyad_levels[i] & dyad_levels[j]) == 0) continue;
-      MechanismReport mechanism =
-          AnalyzeDyadPair(result.dyads, static_cast<int>(i), static_cast<int>(j), poses, length);
-      JudgeMechanism(task.constraints, result.dyads, length, &mechanism);
-      result.mechanisms.push_back(mechanism);
-    }
-  }
-  RankMechanisms(precision_fit, -1, &result.mechanisms);
+  BuildMechanisms(task, length, &result,
+                  [&](int i, int j) { return (dyad_levels[i] & dyad_levels[j]) != 0; });
   std::vector<int> mechanism_levels;
   for (const MechanismReport& mechanism : result.mechanisms) {
     mechanism_levels.push_back(dyad_levels[mechanism.input_dyad] &

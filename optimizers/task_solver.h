@@ -64,6 +64,10 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
 // points have no input angles.
 PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options = {});
 
+// The largest point error of a path four-bar that passes the points (ranked "within precision"):
+// kModelUnits point uncertainties of `precision` at the crank's pivot, not below 1e-8 `length`.
+double PathPassTolerance(const DataPrecision& precision, double length);
+
 // Spatial motion only: solve, refine (more than seven poses, unless effort is fast), and add
 // the platform.
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options = {});

@@ -33,9 +33,16 @@ Task TimedTask(const testing::GeneratedPathTask& generated) {
   return task;
 }
 
-double LongestLink(const PathFourBar& four_bar) {
-  const std::vector<double> links = PathFourBarLinks(four_bar).All();
-  return *std::max_element(links.begin(), links.end());
+// The longest link of a four-bar (0 for one without links of fixed length: RPRP).
+double Longest(const FourBarLinks& links) {
+  const std::vector<double> lengths = links.All();
+  return lengths.empty() ? 0.0 : *std::max_element(lengths.begin(), lengths.end());
+}
+
+double LongestLink(const PathFourBar& four_bar) { return Longest(PathFourBarLinks(four_bar)); }
+
+double LongestLink(const PlanarDyad& input, const PlanarDyad& output) {
+  return Longest(MotionFourBarLinks(input, output));
 }
 
 // The RMS point error of `four_bar` on the task's points (infinity when it cannot be driven).
@@ -99,11 +106,6 @@ TEST(DesignBounds, PathOptimumOnALinkBoundIsFound) {
   }
   // The bound binds at the optimum of most such tasks.
   EXPECT_GE(on_bound, kTasks - 1);
-}
-
-double LongestLink(const PlanarDyad& input, const PlanarDyad& output) {
-  const std::vector<double> links = MotionFourBarLinks(input, output).All();
-  return links.empty() ? 0.0 : *std::max_element(links.begin(), links.end());
 }
 
 // The best fit found by a dense multistart at the mechanism level: `starts` random 4R (both

@@ -249,6 +249,18 @@ BoundGeometry<T> DyadBoundGeometry(DyadType type, const T* point, const T* secon
   return MotionBoundGeometry(type, point, second, scalar, false, type, point, second, scalar);
 }
 
+// The penalty residuals sqrt(mu) max(0, g) of `geometry` (kBoundResiduals of them), with
+// sqrt(mu) = `sqrt_weight`.
+template <typename T>
+void BoundPenalties(const ScaledBounds& bounds, const BoundGeometry<T>& geometry,
+                    double sqrt_weight, T* residual) {
+  T g[kBoundResiduals];
+  BoundValues(bounds, geometry, g);
+  for (int k = 0; k < kBoundResiduals; ++k) {
+    residual[k] = g[k] > T(0.0) ? T(sqrt_weight * g[k]) : T(0.0);
+  }
+}
+
 // The largest violation max(0, g) of `geometry` (scaled units).
 inline double BoundViolation(const ScaledBounds& bounds, const BoundGeometry<double>& geometry) {
   double g[kBoundResiduals];

@@ -370,11 +370,7 @@ class MotionBoundsResidual {
     const BoundGeometry<T> geometry =
         MotionBoundGeometry(input_type_, input_point, input_second, input_scalar, true,
                             output_type_, output_point, output_second, output_scalar);
-    T g[kBoundResiduals];
-    BoundValues(*bounds_, geometry, g);
-    for (int k = 0; k < kBoundResiduals; ++k) {
-      residual[k] = g[k] > T(0.0) ? T(*sqrt_weight_) * g[k] : T(0.0);
-    }
+    BoundPenalties(*bounds_, geometry, *sqrt_weight_, residual);
     return true;
   }
 

@@ -296,11 +296,7 @@ class PathBoundsResidual {
     const BoundGeometry<T> geometry =
         PathBoundGeometry(output_type_, crank_pivot, crank_pin, output_point, output_second,
                           output_scalar, coupler_point);
-    T g[kBoundResiduals];
-    BoundValues(*bounds_, geometry, g);
-    for (int k = 0; k < kBoundResiduals; ++k) {
-      residual[k] = g[k] > T(0.0) ? T(*sqrt_weight_ * g[k]) : T(0.0);
-    }
+    BoundPenalties(*bounds_, geometry, *sqrt_weight_, residual);
     return true;
   }
 

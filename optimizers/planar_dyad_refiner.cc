@@ -173,11 +173,7 @@ class DyadBoundsResidual {
   template <typename T>
   bool operator()(const T* first, const T* second, const T* third, T* residual) const {
     const BoundGeometry<T> geometry = DyadBoundGeometry(type_, first, second, third);
-    T g[kBoundResiduals];
-    BoundValues(*bounds_, geometry, g);
-    for (int k = 0; k < kBoundResiduals; ++k) {
-      residual[k] = g[k] > T(0.0) ? T(*sqrt_weight_) * g[k] : T(0.0);
-    }
+    BoundPenalties(*bounds_, geometry, *sqrt_weight_, residual);
     return true;
   }
 

@@ -169,6 +169,84 @@ class ConfigurationResidual {
   double sqrt_penalty_;
 };
 
+// Where an RR or PR input puts its pin at the input value of coupler pose (D, Theta) (cos and
+// sin of Theta given): M = R(Theta) m1 + D, the pin of the pose, goes to
+// P = F + r (M - F) / |M - F| (RR) or to its foot on the slider line, M - (n . M - h) n (PR).
+template <typename T>
+bool InputPinAt(DyadType input_type, double x, double y, double cos_theta, double sin_theta,
+                const T* input_point, const T* input_second, const T* input_scalar, T* px, T* py) {
+  using std::sqrt;
+  const T* m1 = input_type == DyadType::kRR ? input_second : input_point;
+  const T mx = cos_theta * m1[0] - sin_theta * m1[1] + x;
+  const T my = sin_theta * m1[0] + cos_theta * m1[1] + y;
+  if (input_type == DyadType::kRR) {
+    const T ax = mx - input_point[0], ay = my - input_point[1];
+    const T arm_squared = ax * ax + ay * ay;
+    if (!(arm_squared > T(0.0))) return false;
+    const T scale = input_scalar[0] / sqrt(arm_squared);
+    *px = input_point[0] + scale * ax;
+    *py = input_point[1] + scale * ay;
+  } else {
+    T nx, ny;
+    if (!UnitNormal(input_second, &nx, &ny)) return false;
+    const T height = nx * mx + ny * my - input_scalar[0];
+    *px = mx - height * nx;
+    *py = my - height * ny;
+  }
+  return true;
+}
+
+// The configuration (d, theta) of the coupler of an RR or PR input whose pin m1 (E) is at P
+// (Sigma) and which the output dyad holds, on assembly sign `sign`: the output dyad reads
+// a cos(theta) + b sin(theta) = c (the coefficients of AssembleFourBar), solved as
+// (cos(theta), sin(theta)) ~ c (a, b) + sign sqrt(a^2 + b^2 - c^2) (-b, a), d = P - R(theta) m1.
+// False past the input's reach (negative discriminant) or at a degenerate output.
+template <typename T>
+bool AssembleAtPin(DyadType output_type, double sign, const T* m1, const T& px, const T& py,
+                   const T* output_point, const T* output_second, const T* output_scalar, T* x,
+                   T* y, T* cos_theta, T* sin_theta) {
+  using std::sqrt;
+  T a, b, c;
+  if (output_type == DyadType::kRR) {
+    // |R v + w| = r2, v = m2 - m1 (E), w = P - F2 (Sigma): 2 w . R v = r2^2 - |v|^2 - |w|^2.
+    const T vx = output_second[0] - m1[0], vy = output_second[1] - m1[1];
+    const T wx = px - output_point[0], wy = py - output_point[1];
+    a = T(2.0) * (wx * vx + wy * vy);
+    b = T(2.0) * (wy * vx - wx * vy);
+    c = output_scalar[0] * output_scalar[0] - (vx * vx + vy * vy) - (wx * wx + wy * wy);
+  } else if (output_type == DyadType::kPR) {
+    // n . (R v + P) = h, v = m2 - m1 (E).
+    T nx, ny;
+    if (!UnitNormal(output_second, &nx, &ny)) return false;
+    const T vx = output_point[0] - m1[0], vy = output_point[1] - m1[1];
+    a = nx * vx + ny * vy;
+    b = ny * vx - nx * vy;
+    c = output_scalar[0] - (nx * px + ny * py);
+  } else {
+    // F2 on the line of E: (R n) . (F2 - P) = h - n . m1.
+    T nx, ny;
+    if (!UnitNormal(output_second, &nx, &ny)) return false;
+    const T ux = output_point[0] - px, uy = output_point[1] - py;
+    a = nx * ux + ny * uy;
+    b = nx * uy - ny * ux;
+    c = output_scalar[0] - (nx * m1[0] + ny * m1[1]);
+  }
+  const T rho_squared = a * a + b * b;
+  if (!(rho_squared > T(0.0))) return false;
+  const T spread_squared = rho_squared - c * c;
+  if (spread_squared < T(0.0)) return false;  // past the input's reach
+  const T spread = spread_squared > T(0.0) ? T(sign * sqrt(spread_squared)) : T(0.0);
+  const T ux = c * a - spread * b, uy = c * b + spread * a;
+  const T u_squared = ux * ux + uy * uy;
+  if (!(u_squared > T(0.0))) return false;
+  const T u_norm = sqrt(u_squared);
+  *cos_theta = ux / u_norm;
+  *sin_theta = uy / u_norm;
+  *x = px - (*cos_theta * m1[0] - *sin_theta * m1[1]);
+  *y = py - (*sin_theta * m1[0] + *cos_theta * m1[1]);
+  return true;
+}
+
 // Pose error of the four-bar at task pose j = (D, Theta) with weight w, the configuration q
 // eliminated: the four-bar assembled at the input value the task pose gives (InputValue,
 // lib/mechanism.h) on assembly label s (+1 for label 0, -1 for label 1), scaled frames (L = 1):
@@ -235,64 +313,14 @@ class AssembledPoseResidual {
   bool AssemblePinInput(const T* input_point, const T* input_second, const T* input_scalar,
                         const T* output_point, const T* output_second, const T* output_scalar, T* x,
                         T* y, T* cos_theta, T* sin_theta) const {
-    using std::sqrt;
     const T* m1 = input_type_ == DyadType::kRR ? input_second : input_point;
-    const T mx = cos_ * m1[0] - sin_ * m1[1] + x_;
-    const T my = sin_ * m1[0] + cos_ * m1[1] + y_;
     T px, py;  // the input pin at the task's input value
-    if (input_type_ == DyadType::kRR) {
-      const T ax = mx - input_point[0], ay = my - input_point[1];
-      const T arm_squared = ax * ax + ay * ay;
-      if (!(arm_squared > T(0.0))) return false;
-      const T scale = input_scalar[0] / sqrt(arm_squared);
-      px = input_point[0] + scale * ax;
-      py = input_point[1] + scale * ay;
-    } else {
-      T nx, ny;
-      if (!UnitNormal(input_second, &nx, &ny)) return false;
-      const T height = nx * mx + ny * my - input_scalar[0];
-      px = mx - height * nx;
-      py = my - height * ny;
+    if (!InputPinAt(input_type_, x_, y_, cos_, sin_, input_point, input_second, input_scalar, &px,
+                    &py)) {
+      return false;
     }
-    T a, b, c;
-    if (output_type_ == DyadType::kRR) {
-      // |R v + w| = r2, v = m2 - m1 (E), w = P - F2 (Sigma): 2 w . R v = r2^2 - |v|^2 - |w|^2.
-      const T vx = output_second[0] - m1[0], vy = output_second[1] - m1[1];
-      const T wx = px - output_point[0], wy = py - output_point[1];
-      a = T(2.0) * (wx * vx + wy * vy);
-      b = T(2.0) * (wy * vx - wx * vy);
-      c = output_scalar[0] * output_scalar[0] - (vx * vx + vy * vy) - (wx * wx + wy * wy);
-    } else if (output_type_ == DyadType::kPR) {
-      // n . (R v + P) = h, v = m2 - m1 (E).
-      T nx, ny;
-      if (!UnitNormal(output_second, &nx, &ny)) return false;
-      const T vx = output_point[0] - m1[0], vy = output_point[1] - m1[1];
-      a = nx * vx + ny * vy;
-      b = ny * vx - nx * vy;
-      c = output_scalar[0] - (nx * px + ny * py);
-    } else {
-      // F2 on the line of E: (R n) . (F2 - P) = h - n . m1.
-      T nx, ny;
-      if (!UnitNormal(output_second, &nx, &ny)) return false;
-      const T ux = output_point[0] - px, uy = output_point[1] - py;
-      a = nx * ux + ny * uy;
-      b = nx * uy - ny * ux;
-      c = output_scalar[0] - (nx * m1[0] + ny * m1[1]);
-    }
-    const T rho_squared = a * a + b * b;
-    if (!(rho_squared > T(0.0))) return false;
-    const T spread_squared = rho_squared - c * c;
-    if (spread_squared < T(0.0)) return false;  // past the input's reach
-    const T spread = spread_squared > T(0.0) ? T(sign_ * sqrt(spread_squared)) : T(0.0);
-    const T ux = c * a - spread * b, uy = c * b + spread * a;
-    const T u_squared = ux * ux + uy * uy;
-    if (!(u_squared > T(0.0))) return false;
-    const T u_norm = sqrt(u_squared);
-    *cos_theta = ux / u_norm;
-    *sin_theta = uy / u_norm;
-    *x = px - (*cos_theta * m1[0] - *sin_theta * m1[1]);
-    *y = py - (*sin_theta * m1[0] + *cos_theta * m1[1]);
-    return true;
+    return AssembleAtPin(output_type_, sign_, m1, px, py, output_point, output_second,
+                         output_scalar, x, y, cos_theta, sin_theta);
   }
 
   // Input RP: the coupler angle is the task's; the origin slides on the input's line.
@@ -386,13 +414,167 @@ class MotionBoundsResidual {
   const double* sqrt_weight_;
 };
 
+// The transmission angle held at or above FourBarRefinerOptions::min_transmission_deg plus this
+// margin (degrees) at the sampled coupler poses: the analysis samples the motion more finely.
+constexpr double kTransmissionMargin = 1.0;
+// Coupler poses sampled per interval between consecutive task poses (the task pose included).
+constexpr int kTransmissionSamples = 3;
+// The raised penalty's stop: the sine of the transmission angle within this of the target's.
+constexpr double kTransmissionSlack = 1e-3;
+
+// The transmission angle (TransmissionAngleDeg, lib/four_bar_motion.h) of the four-bar
+// assembled (AssembleAtPin, assembly sign s of task pose j's label) with its input pin at
+// P(t) between where task poses j and j + 1 put it (InputPinAt): an RR input's crank angle
+// interpolated the short way, t in [0, 1); a PR input's pin along its line. With the coupler
+// at (d, theta): input pin A = P, output pin B = R(theta) m2 + d, coupler line B - A, the output
+// pin's direction of motion u = perp(B - F2) (RR output) or along its line (PR output);
+// sin(mu) = |(B - A) . u| / (|B - A| |u|) and e = sqrt(mu_w) max(0, sin(mu_min) - sin(mu)),
+// mu_w read through `sqrt_weight` (raised round by round with the design bounds' weight).
+// Zero where the four-bar does not assemble there (the pose error's business). Not for an RP
+// dyad (no transmission angle defined).
+class TransmissionResidual {
+ public:
+  TransmissionResidual(DyadType input_type, DyadType output_type, int label, const PlanarPose& pose,
+                       const PlanarPose& next, double t, double sin_min, const double* sqrt_weight)
+      : input_type_(input_type),
+        output_type_(output_type),
+        sign_(label == 1 ? -1.0 : 1.0),
+        pose_(pose),
+        next_(next),
+        t_(t),
+        sin_min_(sin_min),
+        sqrt_weight_(sqrt_weight) {}
+
+  template <typename T>
+  bool operator()(const T* input_point, const T* input_second, const T* input_scalar,
+                  const T* output_point, const T* output_second, const T* output_scalar,
+                  T* residual) const {
+    using std::abs;
+    using std::atan2;
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    residual[0] = T(0.0);
+    T px, py;
+    if (!Pin(pose_, input_point, input_second, input_scalar, &px, &py)) return true;
+    if (t_ > 0.0) {
+      T qx, qy;
+      if (!Pin(next_, input_point, input_second, input_scalar, &qx, &qy)) return true;
+      if (input_type_ == DyadType::kRR) {
+        const T ax = px - input_point[0], ay = py - input_point[1];
+        const T bx = qx - input_point[0], by = qy - input_point[1];
+        const T turn = atan2(ax * by - ay * bx, ax * bx + ay * by);  // short way
+        const T c = cos(T(t_) * turn), s = sin(T(t_) * turn);
+        px = input_point[0] + c * ax - s * ay;
+        py = input_point[1] + s * ax + c * ay;
+      } else {
+        px = (1.0 - t_) * px + t_ * qx;
+        py = (1.0 - t_) * py + t_ * qy;
+      }
+    }
+    const T* m1 = input_type_ == DyadType::kRR ? input_second : input_point;
+    T x, y, cos_theta, sin_theta;
+    if (!AssembleAtPin(output_type_, sign_, m1, px, py, output_point, output_second, output_scalar,
+                       &x, &y, &cos_theta, &sin_theta)) {
+      return true;
+    }
+    const T* m2 = output_type_ == DyadType::kRR ? output_second : output_point;
+    const T bx = cos_theta * m2[0] - sin_theta * m2[1] + x;
+    const T by = sin_theta * m2[0] + cos_theta * m2[1] + y;
+    T ux, uy;
+    if (output_type_ == DyadType::kRR) {
+      ux = -(by - output_point[1]);
+      uy = bx - output_point[0];
+    } else {
+      T nx, ny;
+      if (!UnitNormal(output_second, &nx, &ny)) return true;
+      ux = -ny;
+      uy = nx;
+    }
+    const T cx = bx - px, cy = by - py;
+    const T norms_squared = (cx * cx + cy * cy) * (ux * ux + uy * uy);
+    if (!(norms_squared > T(0.0))) return true;
+    const T sin_mu = abs(cx * ux + cy * uy) / sqrt(norms_squared);
+    if (sin_mu < T(sin_min_)) residual[0] = *sqrt_weight_ * (T(sin_min_) - sin_mu);
+    return true;
+  }
+
+ private:
+  template <typename T>
+  bool Pin(const PlanarPose& pose, const T* input_point, const T* input_second,
+           const T* input_scalar, T* px, T* py) const {
+    return InputPinAt(input_type_, pose.origin_in_fixed.x(), pose.origin_in_fixed.y(),
+                      std::cos(pose.theta), std::sin(pose.theta), input_point, input_second,
+                      input_scalar, px, py);
+  }
+
+  DyadType input_type_, output_type_;
+  double sign_;
+  PlanarPose pose_, next_;  // task poses j and j + 1
+  double t_;
+  double sin_min_;
+  const double* sqrt_weight_;
+};
+
 // The task in the scaled frames: Sigma' = (Sigma - centroid) / L, E' = E / L.
 struct ScaledTask {
   std::vector<PlanarPose> poses;
   std::vector<double> weights;  // divided by their mean
   std::vector<bool> exact;
   ScaledBounds bounds;  // the design bounds (design_bounds.h)
+  // Whether the transmission angle is held (TransmissionResidual), and the sine of its least.
+  bool transmission = false;
+  double transmission_sin_min = 0.0;
 };
+
+// Calls `add(residual)` for each TransmissionResidual of `task` (none when it holds none): at
+// each task pose and kTransmissionSamples - 1 input values between it and the next, assembled
+// on the pose's label.
+template <typename Add>
+void ForEachTransmission(const ScaledTask& task, const std::vector<int>& labels, DyadType input,
+                         DyadType output, const double* sqrt_weight, const Add& add) {
+  if (!task.transmission) return;
+  const size_t n = task.poses.size();
+  for (size_t j = 0; j < n; ++j) {
+    const int samples = j + 1 < n ? kTransmissionSamples : 1;
+    for (int k = 0; k < samples; ++k) {
+      add(TransmissionResidual(
+          input, output, labels[j], task.poses[j], task.poses[std::min(j + 1, n - 1)],
+          static_cast<double>(k) / kTransmissionSamples, task.transmission_sin_min, sqrt_weight));
+    }
+  }
+}
+
+// Adds the transmission angle's penalties of `task`.
+void AddTransmission(const ScaledTask& task, const std::vector<int>& labels,
+                     const double* sqrt_weight, DyadBlocks* input, DyadBlocks* output,
+                     ceres::Problem* problem) {
+  ForEachTransmission(
+      task, labels, input->type, output->type, sqrt_weight,
+      [&](const TransmissionResidual& residual) {
+        problem->AddResidualBlock(
+            new ceres::AutoDiffCostFunction<TransmissionResidual, 1, 2, 2, 1, 2, 2, 1>(
+                new TransmissionResidual(residual)),
+            nullptr, input->point, input->second, input->scalar, output->point, output->second,
+            output->scalar);
+      });
+}
+
+// The largest shortfall of the transmission angle's sine at the task's samples.
+double TransmissionShortfall(const ScaledTask& task, const std::vector<int>& labels,
+                             const DyadBlocks& input, const DyadBlocks& output) {
+  const double unit = 1.0;
+  double worst = 0.0;
+  ForEachTransmission(task, labels, input.type, output.type, &unit,
+                      [&](const TransmissionResidual& residual) {
+                        double value = 0.0;
+                        if (residual(input.point, input.second, input.scalar, output.point,
+                                     output.second, output.scalar, &value)) {
+                          worst = std::max(worst, value);
+                        }
+                      });
+  return worst;
+}
 
 // The largest violation of the design bounds by the dyads' blocks (scaled units).
 double Violation(const ScaledBounds& bounds, const DyadBlocks& input, const DyadBlocks& output) {
@@ -440,19 +622,28 @@ struct Judgement {
   double max = kInfinity;   // max e
   double exact_max = 0.0;   // max e over the exact poses
   double violation = 0.0;   // of the design bounds, times L
+  // The transmission angle over the motion (AnalyzeFourBar) below a held minimum
+  // (FourBarRefinerOptions::min_transmission_deg).
+  bool transmission_short = false;
 };
 
 Judgement Judge(const PlanarDyad& input, const PlanarDyad& output,
                 const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
                 const std::vector<bool>& exact, double length,
-                const DesignConstraints& constraints) {
+                const FourBarRefinerOptions& options) {
   Judgement judgement;
   if (!input.AllFinite() || !output.AllFinite()) return judgement;
-  judgement.violation = Violation(ScaleBounds(constraints, length, Similarity2(), Similarity2()),
-                                  ToBlocks(input), ToBlocks(output)) /
-                        length;
+  judgement.violation =
+      Violation(ScaleBounds(options.constraints, length, Similarity2(), Similarity2()),
+                ToBlocks(input), ToBlocks(output)) /
+      length;
   judgement.coincident = Coincident(input, output, length);
   if (judgement.coincident) return judgement;
+  if (options.min_transmission_deg) {
+    const std::optional<double> least =
+        AnalyzeFourBar(input, output, poses, length).transmission_min_deg;
+    judgement.transmission_short = least && *least < *options.min_transmission_deg;
+  }
   const FourBarMotion motion = TraceFourBar(input, output, poses, length);
   std::vector<FourBarLocation> locations;
   for (const PlanarPose& pose : poses) {
@@ -638,6 +829,7 @@ bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
   problem.AddResidualBlock(
       MotionBoundsResidual::Create(input->type, output->type, &task.bounds, bounds_weight), nullptr,
       input->point, input->second, input->scalar, output->point, output->second, output->scalar);
+  AddTransmission(task, labels, bounds_weight, input, output, &problem);
   for (DyadBlocks* blocks : {input, output}) {
     if (blocks->type != DyadType::kRR) problem.SetManifold(blocks->second, UnitCircle());
   }
@@ -801,7 +993,8 @@ struct Candidate {
 
 // Whether design `a` is better than design `b` as a solution of the task: it assembles at the
 // first pose, then has no circuit defect, then meets the exact poses (or comes nearer), then
-// keeps the design bounds (within kConstraintSlack), then has the lower cost.
+// keeps the design bounds (within kConstraintSlack) and a held transmission angle, then has the
+// lower cost.
 bool Better(const Judgement& a, const Judgement& b, double exact_limit) {
   if (a.assembles != b.assembles) return a.assembles;
   if (!a.assembles) return false;
@@ -809,8 +1002,8 @@ bool Better(const Judgement& a, const Judgement& b, double exact_limit) {
   const double a_exact = a.exact_max > exact_limit ? a.exact_max : 0.0;
   const double b_exact = b.exact_max > exact_limit ? b.exact_max : 0.0;
   if (a_exact != b_exact) return a_exact < b_exact;
-  const bool a_keeps = a.violation <= kConstraintSlack;
-  const bool b_keeps = b.violation <= kConstraintSlack;
+  const bool a_keeps = a.violation <= kConstraintSlack && !a.transmission_short;
+  const bool b_keeps = b.violation <= kConstraintSlack && !b.transmission_short;
   if (a_keeps != b_keeps) return a_keeps;
   return a.cost < b.cost;
 }
@@ -866,8 +1059,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   if (!input->AllFinite() || !output->AllFinite()) {
     return give_up("seed not finite: returned unchanged");
   }
-  const Judgement initial =
-      Judge(*input, *output, poses, weights, exact, length, options.constraints);
+  const Judgement initial = Judge(*input, *output, poses, weights, exact, length, options);
   if (!initial.assembles) {
     return give_up(initial.coincident
                        ? "seed dyads coincide (no four-bar): returned unchanged"
@@ -897,6 +1089,12 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
         poses[j].theta + WrapAngle(configuration.theta - poses[j].theta));
   }
   task.bounds = ScaleBounds(options.constraints, length, to_sigma, to_epsilon);
+  if (options.min_transmission_deg && input->type != DyadType::kRP &&
+      output->type != DyadType::kRP) {
+    task.transmission = true;
+    task.transmission_sin_min = std::sin(
+        std::min(90.0, *options.min_transmission_deg + kTransmissionMargin) * M_PI / 180.0);
+  }
   seed.input = ToBlocks(TransformDyad(*input, to_sigma, to_epsilon));
   seed.output = ToBlocks(TransformDyad(*output, to_sigma, to_epsilon));
 
@@ -931,9 +1129,12 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
       candidate.short_of_coincidence =
           SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
                          &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
-      for (int bound_round = 0; bound_round < kBoundRounds &&
-                                Violation(task.bounds, input_blocks, output_blocks) > kBoundSlack;
-           ++bound_round) {
+      const auto kept = [&]() {
+        return Violation(task.bounds, input_blocks, output_blocks) <= kBoundSlack &&
+               TransmissionShortfall(task, labels, input_blocks, output_blocks) <=
+                   kTransmissionSlack;
+      };
+      for (int bound_round = 0; bound_round < kBoundRounds && !kept(); ++bound_round) {
         bounds_weight *= std::sqrt(kBoundGrowth);
         candidate.short_of_coincidence |=
             SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
@@ -962,8 +1163,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
     candidate.exact_rounds = round;
     candidate.input = TransformDyad(FromBlocks(input_blocks), sigma, epsilon);
     candidate.output = TransformDyad(FromBlocks(output_blocks), sigma, epsilon);
-    candidate.judgement = Judge(candidate.input, candidate.output, poses, weights, exact, length,
-                                options.constraints);
+    candidate.judgement =
+        Judge(candidate.input, candidate.output, poses, weights, exact, length, options);
     return candidate;
   };
   Candidate best = refine_from(seed, "exact elimination from the seed");

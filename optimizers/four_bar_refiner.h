@@ -17,19 +17,21 @@
 //
 // The task's design constraints (options.constraints; the link bound of 100 L by default) are
 // quadratic penalties on the dyads, raised round by round until the design keeps them
-// (optimizers/design_bounds.h). The result is re-analysed as AnalyzeFourBar does, and the seed
-// returned unchanged unless the result is not worse: it assembles at the first pose, has no
-// circuit defect the seed did not have, meets the exact poses (or comes nearer), keeps the
-// design bounds when the seed does not (or both do or both do not), and has no higher cost. A seed
-// that does not assemble at the first pose, or whose two dyads coincide (no four-bar), is returned
-// with a message. On noisy poses the cost can keep falling toward a degenerate four-bar (a crank
-// running off toward a slider, or the two dyads toward one); the refiner then stops (at
-// max_iterations, or just short of coincident dyads) and says so in the message. PR+PR and RP+RP
-// four-bars (Cardan motion and its inverse) are reached as motions only: a one-parameter family of
-// dyad pairs gives the same motion.
+// (optimizers/design_bounds.h); so is a held transmission angle (options.min_transmission_deg),
+// and a design that keeps it counts as keeping the bounds below. The result is re-analysed as
+// AnalyzeFourBar does, and the seed returned unchanged unless the result is not worse: it assembles
+// at the first pose, has no circuit defect the seed did not have, meets the exact poses (or comes
+// nearer), keeps the design bounds when the seed does not (or both do or both do not), and has no
+// higher cost. A seed that does not assemble at the first pose, or whose two dyads coincide (no
+// four-bar), is returned with a message. On noisy poses the cost can keep falling toward a
+// degenerate four-bar (a crank running off toward a slider, or the two dyads toward one); the
+// refiner then stops (at max_iterations, or just short of coincident dyads) and says so in the
+// message. PR+PR and RP+RP four-bars (Cardan motion and its inverse) are reached as motions only: a
+// one-parameter family of dyad pairs gives the same motion.
 #ifndef LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 #define LINKFIT_OPTIMIZERS_FOUR_BAR_REFINER_H_
 
+#include <optional>
 #include <vector>
 
 #include "lib/design_constraints.h"
@@ -51,6 +53,11 @@ struct FourBarRefinerOptions {
   // The task's design constraints (lib/design_constraints.h) as penalties raised until kept
   // (optimizers/design_bounds.h); the link bound applies by default (100 L).
   DesignConstraints constraints;
+  // When set, the transmission angle (lib/four_bar_motion.h TransmissionAngleDeg) is held at or
+  // above it (degrees, plus a 1 degree margin) as the design bounds are: a penalty raised with
+  // theirs, read at the task's coupler poses and between each two (interpolated), where the
+  // four-bar's configurations lie near them. No RP dyad.
+  std::optional<double> min_transmission_deg;
 };
 
 // Refines the four-bar (input, output) in place. `weights`/`exact` may be empty. Costs in the

@@ -18,6 +18,14 @@ namespace {
 // times L is also refined as its plane limit, PS (or SP): see PreferPlaneLimits.
 constexpr double kFarMovingPoint = 10.0;
 
+// With constraints, planar motion keeps this many times the dyads per level and refines this many
+// times the four-bars: the constrained optimum is often a pair refined onto a bound whose dyads
+// fit the poses a little worse than the best few, and where every four-bar breaks a bound, how
+// well it fits says little about where its refinement onto the bound ends (measured by the
+// constrained part of `linkfit bench`).
+constexpr int kConstrainedDyadsFactor = 2;
+constexpr int kConstrainedRefinedFactor = 3;
+
 // The SP limit of an SS dyad whose moving point runs off to infinity: the center A stays on
 // the plane of E normal to the moving point's direction (as seen from the points e_j where E
 // sees A), through their weighted mean; returned as the PS dyad of the inverted motion.
@@ -367,6 +375,10 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   dyad_refiner.constraints = task.constraints;
   FourBarRefinerOptions four_bar_refiner = options.four_bar_refiner;
   four_bar_refiner.constraints = task.constraints;
+  // Refined onto the bounds, a four-bar also holds its transmission angle: the constrained
+  // optimum of the fit alone often lies where the transmission angle is a defect.
+  FourBarRefinerOptions onto_bounds_refiner = four_bar_refiner;
+  onto_bounds_refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
 
   // Seeds: the algebraic least-squares fit and exact solves of spread five-pose subsets.
   auto stage_start = std::chrono::steady_clock::now();
@@ -455,13 +467,18 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     const double bound = std::min(a.error_bound.value_or(0.0), b.error_bound.value_or(0.0));
     return SameDyad(a.dyad, b.dyad, task.precision, length, bound);
   };
+  const int max_dyads =
+      task.constraints.given ? kConstrainedDyadsFactor * options.max_dyads : options.max_dyads;
+  const int refined_mechanisms = task.constraints.given
+                                     ? kConstrainedRefinedFactor * options.refined_mechanisms
+                                     : options.refined_mechanisms;
   std::vector<DyadReport> kept;
   std::vector<int> levels;
   int dropped_dyads = 0;
   for (size_t level = 0; level < found_count.size(); ++level) {
     const std::vector<DyadReport> best =
-        BestDistinct({result.dyads.begin(), result.dyads.begin() + found_count[level]},
-                     options.max_dyads, before, same, &dropped_dyads);
+        BestDistinct({result.dyads.begin(), result.dyads.begin() + found_count[level]}, max_dyads,
+                     before, same, &dropped_dyads);
     for (const DyadReport& report : best) {
       size_t k = 0;
       while (k < kept.size() && !same(report, kept[k])) ++k;
@@ -515,76 +532,100 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     // constrained optimum is often the unconstrained one pulled onto a bound. What it gives is
     // listed beside it (an exact four-bar that breaks a constraint is never hidden).
     std::vector<int> chosen(found_count.size(), 0), chosen_onto(found_count.size(), 0);
+    // Violating four-bars that share both dyads with ones already refined onto the bounds mostly
+    // end on the same design: those refined bring a dyad not yet refined onto the bounds.
+    std::vector<bool> onto_dyads(result.dyads.size(), false);
     const size_t ranked = result.mechanisms.size();
     for (size_t m = 0; m < ranked && !answered; ++m) {
       const MechanismReport seed = result.mechanisms[m];
       const bool onto_bounds = !seed.violates.empty();
+      if (onto_bounds && onto_dyads[seed.input_dyad] && onto_dyads[seed.output_dyad]) continue;
       bool refine = false;
       for (size_t level = 1; level < found_count.size(); ++level) {
         if (!(mechanism_levels[m] >> level & 1)) continue;
         int& count = onto_bounds ? chosen_onto[level] : chosen[level];
-        if (count < options.refined_mechanisms) {
+        if (count < refined_mechanisms) {
           ++count;
           refine = true;
         }
       }
       if (!refine || !seed.max_pose_error) continue;
-      PlanarDyad input = result.dyads[seed.input_dyad].dyad;
-      PlanarDyad output = result.dyads[seed.output_dyad].dyad;
-      const RefinerSummary summary =
-          RefineFourBar(poses, weights, exact, length, &input, &output, four_bar_refiner);
-      if (!onto_bounds && !(summary.final_max < *seed.max_pose_error)) continue;
+      if (onto_bounds) onto_dyads[seed.input_dyad] = onto_dyads[seed.output_dyad] = true;
       const double seed_error = *seed.max_pose_error;
-      // The refined dyads, each the listed one it repeats or a new one appended.
-      const size_t listed = result.dyads.size();
-      int index[2];
-      int k = 0;
-      for (const PlanarDyad& dyad : {input, output}) {
-        DyadReport report;
-        report.dyad = dyad;
-        report.max_residual = dyad.MaxResidual(poses);
-        report.rms_residual = WeightedRms(dyad, poses, weights);
-        report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
-        index[k] = -1;
-        for (size_t i = 0; i < result.dyads.size() && index[k] < 0; ++i) {
-          if (same(report, result.dyads[i])) index[k] = static_cast<int>(i);
+      // One refinement of the seed with `refiner`: the refined four-bar, or nothing where it is
+      // dropped (below). Its dyads, each the listed one it repeats or a new one appended.
+      const auto refine_seed =
+          [&](const FourBarRefinerOptions& refiner) -> std::optional<MechanismReport> {
+        PlanarDyad input = result.dyads[seed.input_dyad].dyad;
+        PlanarDyad output = result.dyads[seed.output_dyad].dyad;
+        const RefinerSummary summary =
+            RefineFourBar(poses, weights, exact, length, &input, &output, refiner);
+        if (!onto_bounds && !(summary.final_max < seed_error)) return std::nullopt;
+        const size_t listed = result.dyads.size();
+        int index[2];
+        int k = 0;
+        for (const PlanarDyad& dyad : {input, output}) {
+          DyadReport report;
+          report.dyad = dyad;
+          report.max_residual = dyad.MaxResidual(poses);
+          report.rms_residual = WeightedRms(dyad, poses, weights);
+          report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
+          index[k] = -1;
+          for (size_t i = 0; i < result.dyads.size() && index[k] < 0; ++i) {
+            if (same(report, result.dyads[i])) index[k] = static_cast<int>(i);
+          }
+          if (index[k] < 0) {
+            index[k] = static_cast<int>(result.dyads.size());
+            result.dyads.push_back(report);
+          }
+          ++k;
         }
-        if (index[k] < 0) {
-          index[k] = static_cast<int>(result.dyads.size());
-          result.dyads.push_back(report);
+        // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and
+        // its errors are those of that drive: a refinement that adds a defect, breaks a
+        // constraint, or is not better on them, is dropped; one onto the bounds is kept when it
+        // keeps them all and adds no kinematic defect.
+        MechanismReport refined;
+        if (index[0] != index[1]) {
+          refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length);
+          JudgeMechanism(task.constraints, result.dyads, length, &refined);
         }
-        ++k;
-      }
-      // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and its
-      // errors are those of that drive: a refinement that adds a defect, breaks a constraint, or
-      // is not better on them, is dropped; one onto the bounds is kept when it keeps them all
-      // and adds no kinematic defect.
-      MechanismReport refined;
-      if (index[0] != index[1]) {
-        refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length);
-        JudgeMechanism(task.constraints, result.dyads, length, &refined);
-      }
-      const bool adds_defect = std::any_of(
-          refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
-            return (!onto_bounds || defect != "transmission") &&
-                   std::find(seed.defects.begin(), seed.defects.end(), defect) ==
-                       seed.defects.end();
-          });
-      const bool worse = onto_bounds ? !refined.violates.empty()
-                                     : refined.violates.size() > seed.violates.size() ||
-                                           !(*refined.max_pose_error < seed_error) ||
-                                           refined.rms_pose_error.value_or(1e300) >
-                                               seed.rms_pose_error.value_or(1e300);
-      if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
-        result.dyads.resize(listed);
+        const bool adds_defect = std::any_of(
+            refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
+              return (!onto_bounds || defect != "transmission") &&
+                     std::find(seed.defects.begin(), seed.defects.end(), defect) ==
+                         seed.defects.end();
+            });
+        const bool worse = onto_bounds ? !refined.violates.empty()
+                                       : refined.violates.size() > seed.violates.size() ||
+                                             !(*refined.max_pose_error < seed_error) ||
+                                             refined.rms_pose_error.value_or(1e300) >
+                                                 seed.rms_pose_error.value_or(1e300);
+        if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
+          result.dyads.resize(listed);
+          return std::nullopt;
+        }
+        refined.seed_max_pose_error = seed_error;
+        return refined;
+      };
+      const std::optional<MechanismReport> refined = refine_seed(four_bar_refiner);
+      if (!onto_bounds) {
+        if (refined) result.mechanisms[m] = *refined;
         continue;
       }
-      refined.seed_max_pose_error = seed_error;
-      if (onto_bounds) {
-        result.mechanisms.push_back(refined);
+      if (refined) {
+        result.mechanisms.push_back(*refined);
         mechanism_levels.push_back(mechanism_levels[m]);
-      } else {
-        result.mechanisms[m] = refined;
+      }
+      // Onto the bounds, the fit's constrained optimum often has a transmission defect: the seed
+      // is refined again holding the transmission angle (FourBarRefinerOptions::
+      // min_transmission_deg), and that design listed too.
+      const bool transmission_defect =
+          !refined || std::find(refined->defects.begin(), refined->defects.end(), "transmission") !=
+                          refined->defects.end();
+      if (!transmission_defect) continue;
+      if (const std::optional<MechanismReport> held = refine_seed(onto_bounds_refiner)) {
+        result.mechanisms.push_back(*held);
+        mechanism_levels.push_back(mechanism_levels[m]);
       }
     }
     // Two refinements can end on one four-bar: listed once, the first (best ranked) kept, with

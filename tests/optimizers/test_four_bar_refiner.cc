@@ -556,4 +556,46 @@ TEST(FourBarRefiner, ReportsTimePerRefine) {
   }
 }
 
+// Held transmission angle (FourBarRefinerOptions::min_transmission_deg): exact poses of a 4R
+// whose transmission angle over the motion dips to 8-25 degrees, refined from the generator
+// holding it 10 degrees higher. Without the option the generator is the optimum and stays;
+// with it, the refined four-bar's transmission angle over the motion (AnalyzeFourBar, sampled
+// finely, not the refiner's samples) is at least the one asked, and it still assembles on one
+// circuit with a finite pose error.
+TEST(FourBarRefiner, HeldTransmissionAngleIsKept) {
+  const std::uint64_t seed = kSeed + 90;
+  std::mt19937_64 rng(seed);
+  int tried = 0;
+  for (int draw = 0; draw < 400 && tried < kTrials; ++draw) {
+    const GeneratedTask task = TaskOnBranch(rng, DyadType::kRR, DyadType::kRR, 10);
+    const double length = CharacteristicLength(task.poses);
+    const FourBarAnalysis generator = AnalyzeFourBar(task.input, task.output, task.poses, length);
+    if (!generator.transmission_min_deg || *generator.transmission_min_deg < 8.0 ||
+        *generator.transmission_min_deg > 25.0) {
+      continue;
+    }
+    SCOPED_TRACE(Trace(seed, draw, DyadType::kRR, DyadType::kRR, 10));
+    ++tried;
+    const double held = *generator.transmission_min_deg + 10.0;
+    PlanarDyad input = task.input, output = task.output;
+    RefineFourBar(task.poses, {}, {}, length, &input, &output);
+    const FourBarAnalysis plain = AnalyzeFourBar(input, output, task.poses, length);
+    ASSERT_TRUE(plain.transmission_min_deg.has_value());
+    EXPECT_LT(*plain.transmission_min_deg, held - 5.0);
+    linkfit::FourBarRefinerOptions options;
+    options.min_transmission_deg = held;
+    input = task.input;
+    output = task.output;
+    const RefinerSummary summary =
+        RefineFourBar(task.poses, {}, {}, length, &input, &output, options);
+    SCOPED_TRACE(summary.message);
+    const FourBarAnalysis refined = AnalyzeFourBar(input, output, task.poses, length);
+    ASSERT_TRUE(refined.transmission_min_deg.has_value());
+    EXPECT_GE(*refined.transmission_min_deg, held);
+    ASSERT_TRUE(refined.max_pose_error.has_value());
+    EXPECT_TRUE(std::isfinite(*refined.max_pose_error));
+  }
+  EXPECT_EQ(tried, kTrials);
+}
+
 }  // namespace

@@ -31,7 +31,7 @@ inline constexpr int kBoundRounds = 5;
 // The violation (scaled, times L) a refinement stops at: inside the result file's slack.
 inline constexpr double kBoundSlack = 0.1 * kConstraintSlack;
 // Residuals of one DesignBounds functor (unused ones are 0).
-inline constexpr int kBoundResiduals = 32;
+inline constexpr int kBoundResiduals = 33;
 
 // The constraints in a refiner's scaled frames: lengths divided by L, the fixed box in Sigma',
 // the moving box in E'. The link bound always applies (by default 100 L).
@@ -44,6 +44,9 @@ struct ScaledBounds {
   bool moving_box = false;
   Eigen::Vector2d moving_min = Eigen::Vector2d::Zero(), moving_max = Eigen::Vector2d::Zero();
   bool input_crank = false;  // input_rotates_fully (4R: the crank shortest, Grashof)
+  // A required Grashof kind (4R): +1 a Grashof class ("grashof" or one of its classes), -1
+  // "non-grashof", 0 none. The class within the kind is left to the ranking.
+  int grashof_kind = 0;
 };
 
 // `to_fixed` maps Sigma to the scaled frame Sigma', `to_moving` E to E' (each a scale and a
@@ -67,6 +70,11 @@ inline ScaledBounds ScaleBounds(const DesignConstraints& constraints, double len
     bounds.moving_max = to_moving.Apply(constraints.moving_pivots_box->max);
   }
   bounds.input_crank = constraints.input_rotates_fully;
+  if (!constraints.grashof.empty()) {
+    bounds.grashof_kind = constraints.grashof == "non-grashof"     ? -1
+                          : constraints.grashof == "triple-rocker" ? -1
+                                                                   : 1;
+  }
   return bounds;
 }
 
@@ -142,6 +150,18 @@ void BoundValues(const ScaledBounds& bounds, const BoundGeometry<T>& geometry, T
     put(s + geometry.ground - geometry.coupler - geometry.output);
     put(s + geometry.coupler - geometry.ground - geometry.output);
     put(s + geometry.output - geometry.ground - geometry.coupler);
+  }
+  // A required Grashof kind of a 4R: s + l <= p + q, i.e. 2 (s + l) - (sum of the four) <= 0
+  // (s the shortest link, l the longest), or its reverse for a non-Grashof four-bar.
+  if (bounds.grashof_kind != 0 && geometry.has_ground && geometry.has_coupler &&
+      geometry.has_input && geometry.has_output) {
+    using std::max;
+    using std::min;
+    const T links[4] = {geometry.ground, geometry.coupler, geometry.input, geometry.output};
+    const T shortest = min(min(links[0], links[1]), min(links[2], links[3]));
+    const T longest = max(max(links[0], links[1]), max(links[2], links[3]));
+    const T excess = T(2.0) * (shortest + longest) - (links[0] + links[1] + links[2] + links[3]);
+    put(T(bounds.grashof_kind) * excess);
   }
   while (k < kBoundResiduals) put(T(0.0));
 }

@@ -960,6 +960,29 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
                              " output circle(s) reported as sliders: at the data's precision the "
                              "points cannot tell them from their slider readings");
     }
+    // Constraints that no exact four-bar keeps: the least-squares stages (SolvePrescribed, the
+    // exact four-bars among its seeds, refined under the constraints' penalties, and the search
+    // where no refinement keeps them) find those that keep them, as near the points as the
+    // bounds allow. The exact four-bars stay listed, after them (the ranking rule).
+    const auto keeps = [](const PathMechanismReport& report) {
+      return report.violates.empty() && report.max_point_error.has_value();
+    };
+    if (task.constraints.given && task.effort != Effort::kFast &&
+        std::none_of(result.mechanisms.begin(), result.mechanisms.end(), keeps)) {
+      PathResult bounded;
+      SolvePrescribed(task, data, options, &bounded);
+      int added = 0;
+      for (const PathMechanismReport& report : bounded.mechanisms) {
+        if (!keeps(report)) continue;
+        AddDistinct(report, data.length, &result.mechanisms);
+        ++added;
+      }
+      result.stages = bounded.stages;
+      result.notes.push_back(
+          "no exact four-bar keeps the constraints: " + std::to_string(added) +
+          " least-squares four-bar(s) that keep them are listed first, as near the points as "
+          "the bounds allow");
+    }
     for (PathMechanismReport& report : result.mechanisms) JudgeTransmission(data, &report);
     Rank(false, PassTolerance(data), -1, &result.mechanisms);
     if (four_bars.empty() && !summary.degenerate) {

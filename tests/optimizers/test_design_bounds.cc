@@ -6,12 +6,15 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
+#include "lib/task_io.h"
 #include "optimizers/four_bar_refiner.h"
 #include "optimizers/path_search.h"
 #include "optimizers/task_solver.h"
@@ -220,6 +223,39 @@ TEST(DesignBounds, PlanarMotionOptimumOnABoundIsFound) {
   }
   // The bound binds at the optimum of most such tasks.
   EXPECT_GE(on_bound, kTasks - 1);
+}
+
+// Five timed points (the classic problem bundled as data/classic_path_5_points_timed.json) whose
+// two exact four-bars are both triple-rockers, with "grashof" and a link bound required: above
+// fast, the least-squares stages find four-bars that keep the constraints (the Grashof condition
+// a penalty like the bounds), and they are listed first; the exact ones stay listed, marked.
+// Without the fallback nothing listed kept the constraints.
+TEST(DesignBounds, MinimalPathDataWithBrokenConstraintsGetKeepers) {
+  std::ifstream file(std::string(LINKFIT_SOURCE_DIR) + "/data/classic_path_5_points_timed.json");
+  std::stringstream text;
+  text << file.rdbuf();
+  Task task = ParseTask(text.str(), "classic_path_5_points_timed.json");
+  task.effort = Effort::kFast;
+  const PathResult fast = SolvePathTask(task);
+  ASSERT_FALSE(fast.mechanisms.empty());
+  for (const PathMechanismReport& report : fast.mechanisms) {
+    EXPECT_FALSE(report.violates.empty()) << "an exact four-bar keeps them: the test means nothing";
+  }
+  task.effort = Effort::kBalanced;
+  const PathResult balanced = SolvePathTask(task);
+  ASSERT_FALSE(balanced.mechanisms.empty());
+  const PathMechanismReport& first = balanced.mechanisms.front();
+  EXPECT_TRUE(first.violates.empty());
+  ASSERT_TRUE(first.max_point_error.has_value());
+  EXPECT_NE(first.grashof, "triple-rocker");
+  const double longest = Longest(PathFourBarLinks(first.design));
+  EXPECT_LE(longest, *task.constraints.max_link_length * (1.0 + 1e-6));
+  // Near the points: within a hundredth of the path's size (the bound costs the fit little).
+  EXPECT_LT(*first.max_point_error, 1e-2 * balanced.scale);
+  const int exact_listed = static_cast<int>(
+      std::count_if(balanced.mechanisms.begin(), balanced.mechanisms.end(),
+                    [](const PathMechanismReport& report) { return !report.violates.empty(); }));
+  EXPECT_EQ(exact_listed, static_cast<int>(fast.mechanisms.size()));
 }
 
 }  // namespace

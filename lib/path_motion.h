@@ -43,6 +43,10 @@ struct PathFourBar {
   Eigen::Vector2d coupler_point = Eigen::Vector2d::Zero();  // R, in E
 };
 
+// The transmission angle's samples of the crank's sweep in reported path four-bars (and in a
+// refinement that holds it).
+inline constexpr int kPathTransmissionSamples = 64;
+
 struct PathAnalysisOptions {
   // Slack of the assembly and stationary-configuration tests, times L.
   double assembly_tolerance = 1e-9;

@@ -312,6 +312,72 @@ class PathBoundsResidual {
   const double* sqrt_weight_;
 };
 
+// A held transmission angle (PathRefinerOptions::min_transmission_deg): sampled at every point's
+// crank turn and kTransmissionSamples - 1 turns between each two (the crank's sweep), plus this
+// margin (degrees) over the minimum asked, for the analysis samples the sweep more finely.
+constexpr int kTransmissionSamples = 3;
+constexpr double kTransmissionMargin = 1.0;
+// The raised penalty's stop: the sine of the transmission angle within this of the target's.
+constexpr double kTransmissionSlack = 1e-3;
+
+// The transmission angle (lib/four_bar_motion.h TransmissionAngleDeg) of the four-bar at crank
+// turn t, assembled as PathPointResidual assembles it (crank pin P, coupler turn theta about it):
+// output pin B = P + R(theta) (m - A) (m the output's moving pivot: an RR's second block, a PR's
+// point), coupler line B - P, the output pin's direction of motion u = perp(B - F) (RR) or along
+// the line (PR); sin(mu) = |(B - P) . u| / (|B - P| |u|), e = sqrt(mu_w) max(0, sin(mu_min) -
+// sin(mu)), mu_w read through `sqrt_weight` (raised with the bounds' weight). Zero where the
+// four-bar does not assemble (the point errors' business). Not for an RP output.
+class PathTransmissionResidual {
+ public:
+  PathTransmissionResidual(DyadType output_type, double sign, double turn, double sin_min,
+                           const double* sqrt_weight)
+      : assembly_(output_type, sign, Eigen::Vector2d::Zero(), 1.0, turn, Eigen::Vector2d::Zero()),
+        output_type_(output_type),
+        turn_(turn),
+        sin_min_(sin_min),
+        sqrt_weight_(sqrt_weight) {}
+
+  template <typename T>
+  bool operator()(const T* crank_pivot, const T* crank_pin, const T* output_point,
+                  const T* output_second, const T* output_scalar, T* residual) const {
+    using std::abs;
+    using std::sqrt;
+    residual[0] = T(0.0);
+    T pin[2], cos_theta, sin_theta;
+    if (!assembly_.Assemble(crank_pivot, crank_pin, output_point, output_second, output_scalar,
+                            T(turn_), pin, &cos_theta, &sin_theta)) {
+      return true;
+    }
+    const T* moving = output_type_ == DyadType::kRR ? output_second : output_point;
+    const T mx = moving[0] - crank_pin[0], my = moving[1] - crank_pin[1];
+    const T bx = pin[0] + cos_theta * mx - sin_theta * my;
+    const T by = pin[1] + sin_theta * mx + cos_theta * my;
+    T ux, uy;
+    if (output_type_ == DyadType::kRR) {
+      ux = -(by - output_point[1]);
+      uy = bx - output_point[0];
+    } else {
+      T nx, ny;
+      if (!UnitNormal(output_second, &nx, &ny)) return true;
+      ux = -ny;
+      uy = nx;
+    }
+    const T cx = bx - pin[0], cy = by - pin[1];
+    const T norms_squared = (cx * cx + cy * cy) * (ux * ux + uy * uy);
+    if (!(norms_squared > T(0.0))) return true;
+    const T sin_mu = abs(cx * ux + cy * uy) / sqrt(norms_squared);
+    if (sin_mu < T(sin_min_)) residual[0] = *sqrt_weight_ * (T(sin_min_) - sin_mu);
+    return true;
+  }
+
+ private:
+  PathPointResidual assembly_;
+  DyadType output_type_;
+  double turn_;
+  double sin_min_;
+  const double* sqrt_weight_;
+};
+
 // The task in the scaled frames: Sigma' = E' = (Sigma - centroid) / L (E = Sigma at the first
 // point, so the first-point convention holds in the scaled frames too).
 struct ScaledTask {
@@ -321,6 +387,10 @@ struct ScaledTask {
   std::vector<double> turns;   // psi_j - psi_0 (the prescribed timing, or the start's)
   ScaledBounds bounds;         // the design bounds (design_bounds.h)
   double bounds_weight = 0.0;  // sqrt(mu) of their penalty
+  // A held transmission angle (PathTransmissionResidual): the crank turns sampled, and the sine
+  // of the least angle; empty when none is held.
+  std::vector<double> transmission_turns;
+  double transmission_sin_min = 0.0;
 };
 
 // The unknowns (scaled frames).
@@ -378,6 +448,21 @@ double Violation(const ScaledTask& task, const State& state) {
                         state.output.second, state.output.scalar, state.coupler_point));
 }
 
+// The largest shortfall of the transmission angle's sine at the task's sampled turns.
+double TransmissionShortfall(const ScaledTask& task, const State& state, double sign) {
+  const double unit = 1.0;
+  double worst = 0.0;
+  for (const double turn : task.transmission_turns) {
+    const PathTransmissionResidual residual(state.output.type, sign, turn,
+                                            task.transmission_sin_min, &unit);
+    double value = 0.0;
+    residual(state.crank_pivot, state.crank_pin, state.output.point, state.output.second,
+             state.output.scalar, &value);
+    worst = std::max(worst, value);
+  }
+  return worst;
+}
+
 // One Levenberg-Marquardt solve, point weights `weights` (points of weight 0 left out: they
 // need not assemble), shifts `shifts`.
 void Solve(const ScaledTask& task, double sign, const std::vector<double>& weights,
@@ -388,6 +473,14 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
       PathBoundsResidual::Create(state->output.type, &task.bounds, &task.bounds_weight), nullptr,
       state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
       state->output.scalar, state->coupler_point);
+  for (const double turn : task.transmission_turns) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<PathTransmissionResidual, 1, 2, 2, 2, 2, 1>(
+            new PathTransmissionResidual(state->output.type, sign, turn, task.transmission_sin_min,
+                                         &task.bounds_weight)),
+        nullptr, state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
+        state->output.scalar);
+  }
   const bool free_timing = !state->steps.empty();
   const double direction =
       free_timing && Turn(task, *state, task.points.size() - 1) < 0.0 ? -1.0 : 1.0;
@@ -442,14 +535,17 @@ struct Judgement {
   double max = kInfinity;
   double exact_max = 0.0;  // over the exact points
   double violation = 0.0;  // of the design bounds, times L
+  // The transmission angle over the sweep below a held minimum
+  // (PathRefinerOptions::min_transmission_deg).
+  bool transmission_short = false;
 };
 
 Judgement Judge(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>& points,
                 const std::vector<double>& weights, const std::vector<bool>& exact,
                 const std::vector<double>& input_angles, double length, bool closed,
-                const DesignConstraints& constraints) {
+                const PathRefinerOptions& options) {
   Judgement judgement;
-  const ScaledBounds bounds = ScaleBounds(constraints, length, Similarity2());
+  const ScaledBounds bounds = ScaleBounds(options.constraints, length, Similarity2());
   const DyadBlocks output = ToBlocks(four_bar.output);
   judgement.violation =
       BoundViolation(
@@ -459,9 +555,13 @@ Judgement Judge(const PathFourBar& four_bar, const std::vector<Eigen::Vector2d>&
       length;
   PathAnalysisOptions analysis_options;
   analysis_options.closed = closed;
+  if (options.min_transmission_deg)
+    analysis_options.transmission_samples = kPathTransmissionSamples;
   const PathFourBarAnalysis analysis =
       AnalyzePathFourBar(four_bar, points, input_angles, length, analysis_options);
   if (!analysis.max_point_error) return judgement;
+  judgement.transmission_short = options.min_transmission_deg && analysis.transmission_min_deg &&
+                                 *analysis.transmission_min_deg < *options.min_transmission_deg;
   double weighted = 0.0, weight_sum = 0.0;
   for (size_t j = 0; j < points.size(); ++j) {
     const double weight = weights.empty() ? 1.0 : weights[j];
@@ -493,8 +593,8 @@ bool NotWorse(const Judgement& result, const Judgement& seed, double exact_limit
   const double result_exact = result.exact_max > exact_limit ? result.exact_max : 0.0;
   const double seed_exact = seed.exact_max > exact_limit ? seed.exact_max : 0.0;
   if (result_exact != seed_exact) return result_exact < seed_exact;
-  const bool result_keeps = result.violation <= kConstraintSlack;
-  const bool seed_keeps = seed.violation <= kConstraintSlack;
+  const bool result_keeps = result.violation <= kConstraintSlack && !result.transmission_short;
+  const bool seed_keeps = seed.violation <= kConstraintSlack && !seed.transmission_short;
   if (result_keeps != seed_keeps) return result_keeps;
   return result.cost <= seed.cost;
 }
@@ -549,8 +649,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
       CheckInput(points, weights, exact, length, free_timing, input_angles, *four_bar);
 
   RefinerSummary summary;
-  const Judgement initial = Judge(*four_bar, points, weights, exact, *input_angles, length,
-                                  options.closed, options.constraints);
+  const Judgement initial =
+      Judge(*four_bar, points, weights, exact, *input_angles, length, options.closed, options);
   summary.initial_cost = summary.final_cost = initial.cost;
   summary.initial_rms = summary.final_rms = initial.rms;
   summary.initial_max = summary.final_max = initial.max;
@@ -572,6 +672,20 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   }
   task.bounds = ScaleBounds(options.constraints, length, to_scaled);
   task.bounds_weight = std::sqrt(kBoundFirstWeight);
+  // A held transmission angle: prescribed timing only (free timing moves the turns), no RP
+  // output (no transmission angle defined).
+  if (options.min_transmission_deg && !free_timing && four_bar->output.type != DyadType::kRP) {
+    task.transmission_sin_min =
+        std::sin(std::min(90.0, *options.min_transmission_deg + kTransmissionMargin) * kPi / 180.0);
+    for (size_t j = 0; j < points.size(); ++j) {
+      const int samples = j + 1 < points.size() ? kTransmissionSamples : 1;
+      for (int k = 0; k < samples; ++k) {
+        const double next = j + 1 < points.size() ? task.turns[j + 1] : task.turns[j];
+        task.transmission_turns.push_back(task.turns[j] +
+                                          k * (next - task.turns[j]) / kTransmissionSamples);
+      }
+    }
+  }
   State state;
   const PlanarDyad input = TransformDyad(four_bar->input, to_scaled, to_scaled);
   Eigen::Map<Eigen::Vector2d>(state.crank_pivot) = input.fixed_pivot;
@@ -608,7 +722,9 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
   // The design bounds: the penalty raised until the design keeps them (design_bounds.h).
   int bound_rounds = 0;
-  while (bound_rounds < kBoundRounds && Violation(task, state) > kBoundSlack) {
+  while (bound_rounds < kBoundRounds &&
+         (Violation(task, state) > kBoundSlack ||
+          TransmissionShortfall(task, state, sign) > kTransmissionSlack)) {
     task.bounds_weight *= std::sqrt(kBoundGrowth);
     Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
     ++bound_rounds;
@@ -671,8 +787,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     for (size_t j = 1; free_timing && j < points.size(); ++j) {
       refined_angles[j] = input_angles->front() + Turn(task, state, j);
     }
-    const Judgement result = Judge(refined, points, weights, exact, refined_angles, length,
-                                   options.closed, options.constraints);
+    const Judgement result =
+        Judge(refined, points, weights, exact, refined_angles, length, options.closed, options);
     accept = NotWorse(result, initial, options.exact_tolerance * length);
     if (accept) {
       summary.final_cost = result.cost;

@@ -25,6 +25,7 @@
 #define LINKFIT_OPTIMIZERS_PATH_REFINER_H_
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "lib/design_constraints.h"
@@ -46,6 +47,11 @@ struct PathRefinerOptions {
   // (by default at most 100 L), the fixed pivots' box, the coupler point's offset, a crank input.
   // A result that keeps them replaces a seed that does not, whatever its cost.
   DesignConstraints constraints;
+  // When set (prescribed timing, no RP output), the transmission angle over the crank's sweep is
+  // held at or above it (degrees, plus a 1 degree margin) as the bounds are: a penalty raised
+  // with theirs at the points' crank angles and between them, and a result that keeps it counts
+  // as keeping the bounds.
+  std::optional<double> min_transmission_deg;
 };
 
 // Refines `four_bar` in place. `weights`/`exact` may be empty (all 1 / none). `input_angles`

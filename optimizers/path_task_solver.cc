@@ -101,7 +101,7 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   report.design = design;
   report.type = ClassifyFourBar(design.input.type, design.output.type);
   PathAnalysisOptions options;
-  options.transmission_samples = 64;
+  options.transmission_samples = kPathTransmissionSamples;
   options.closed = data.closed;
   const PathFourBarAnalysis analysis =
       AnalyzePathFourBar(design, data.points, angles, data.length, options);
@@ -424,6 +424,26 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
                               "precision the points cannot tell them from their slider readings");
     }
     candidates.insert(candidates.end(), refined.begin(), refined.end());
+    // With constraints, a refined four-bar that keeps them but whose transmission angle is a
+    // defect is refined again holding it (PathRefinerOptions::min_transmission_deg): the fit's
+    // constrained optimum often lies where the transmission angle fails. Listed beside it.
+    if (task.constraints.given) {
+      PathRefinerOptions held = options.path_refiner;
+      held.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
+      for (const PathMechanismReport& report : refined) {
+        if (!report.violates.empty() || !report.max_point_error ||
+            HasKinematicDefect(report.defects) || !report.transmission_min_deg ||
+            *report.transmission_min_deg >= *held.min_transmission_deg) {
+          continue;
+        }
+        std::optional<PathMechanismReport> holding = RefinedReport(data, held, report.design);
+        if (holding && holding->violates.empty() && holding->transmission_min_deg &&
+            *holding->transmission_min_deg >= *held.min_transmission_deg) {
+          holding->seed_max_point_error = report.max_point_error;
+          candidates.push_back(*holding);
+        }
+      }
+    }
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
   // The search: thorough always; balanced too when the task has constraints and no refined

@@ -305,6 +305,52 @@ TEST(PathRefinerTest, NeverWorseThanTheSeed) {
   EXPECT_FALSE(std::isfinite(summary.final_cost));
 }
 
+// Held transmission angle (PathRefinerOptions::min_transmission_deg): ten exact timed points of
+// a 4R whose transmission angle over the crank's sweep dips to 8-25 degrees, refined from the
+// generator holding it 10 degrees higher. Without the option the generator is the optimum and
+// stays; with it, the transmission angle over the sweep (AnalyzePathFourBar, 64 samples, not the
+// refiner's) is at least the one asked, on a four-bar that still reaches every point.
+TEST(PathRefinerTest, HeldTransmissionAngleIsKept) {
+  const std::uint64_t seed = kSeed + 900;
+  std::mt19937_64 rng(seed);
+  linkfit::PathAnalysisOptions sampled;
+  sampled.transmission_samples = linkfit::kPathTransmissionSamples;
+  int tried = 0;
+  for (int draw = 0; draw < 400 && tried < kTrials; ++draw) {
+    const GeneratedPathTask task = RandomPathTask(rng, DyadType::kRR, 10);
+    const double length = PathLength(task.points);
+    const PathFourBarAnalysis generator =
+        AnalyzePathFourBar(task.four_bar, task.points, task.input_angles, length, sampled);
+    if (!generator.transmission_min_deg || *generator.transmission_min_deg < 8.0 ||
+        *generator.transmission_min_deg > 25.0 || !generator.defects.empty()) {
+      continue;
+    }
+    SCOPED_TRACE(Trace(seed, draw, DyadType::kRR, 10));
+    ++tried;
+    const double held = *generator.transmission_min_deg + 10.0;
+    std::vector<double> angles = task.input_angles;
+    PathFourBar plain = task.four_bar;
+    RefinePathFourBar(task.points, {}, {}, length, false, &angles, &plain);
+    const PathFourBarAnalysis plain_analysis =
+        AnalyzePathFourBar(plain, task.points, angles, length, sampled);
+    ASSERT_TRUE(plain_analysis.transmission_min_deg.has_value());
+    EXPECT_LT(*plain_analysis.transmission_min_deg, held - 5.0);
+    linkfit::PathRefinerOptions options;
+    options.min_transmission_deg = held;
+    PathFourBar holding = task.four_bar;
+    const RefinerSummary summary =
+        RefinePathFourBar(task.points, {}, {}, length, false, &angles, &holding, options);
+    SCOPED_TRACE(summary.message);
+    const PathFourBarAnalysis analysis =
+        AnalyzePathFourBar(holding, task.points, angles, length, sampled);
+    ASSERT_TRUE(analysis.transmission_min_deg.has_value());
+    EXPECT_GE(*analysis.transmission_min_deg, held);
+    ASSERT_TRUE(analysis.max_point_error.has_value());
+    EXPECT_TRUE(std::isfinite(*analysis.max_point_error));
+  }
+  EXPECT_EQ(tried, kTrials);
+}
+
 TEST(PathRefinerTest, BadArgumentsThrow) {
   std::mt19937_64 rng(kSeed + 500);
   const GeneratedPathTask task = RandomPathTask(rng, DyadType::kRR, 6);

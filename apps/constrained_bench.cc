@@ -495,20 +495,28 @@ Judged Judge(const Solved& solved, const std::pair<int, double>& reference,
   return judged;
 }
 
+// `no_keeper`: tasks where no solve found a keeper at all (none to rank first): left out of the
+// shares and ratios, and listed in the detail.
 ConstrainedRow MakeRow(const std::string& family, const std::string& effort,
                        const std::vector<Judged>& judged, const std::vector<bool>& active,
                        const std::vector<bool>& transmission_only,
-                       const std::vector<double>& long_ms) {
+                       const std::vector<bool>& no_keeper, const std::vector<double>& long_ms) {
   ConstrainedRow row;
   row.family = family;
   row.effort = effort;
   row.tasks = static_cast<int>(judged.size());
   std::vector<double> times, ratios;
-  int within = 0, best = 0, on_bound = 0;
+  int within = 0, best = 0, on_bound = 0, counted = 0;
   // Misses by cause: their task numbers (with the ratio where the first keeps).
   std::vector<std::pair<std::string, std::vector<std::string>>> causes;
+  std::vector<std::string> without_keeper;
   for (size_t t = 0; t < judged.size(); ++t) {
     times.push_back(judged[t].ms);
+    if (no_keeper[t]) {
+      without_keeper.push_back(std::to_string(t));
+      continue;
+    }
+    ++counted;
     ratios.push_back(judged[t].ratio);
     within += judged[t].within;
     best += judged[t].first_is_best;
@@ -539,13 +547,16 @@ ConstrainedRow MakeRow(const std::string& family, const std::string& effort,
     causes.emplace_back("(no defect-free keeper found: reference with a transmission defect)",
                         transmission);
   }
+  if (!without_keeper.empty()) {
+    causes.emplace_back("(no keeper found by any solve: not counted)", without_keeper);
+  }
   for (const auto& [cause, tasks] : causes) {
     std::string list;
     for (const std::string& task : tasks) list += (list.empty() ? "" : " ") + task;
     row.detail += std::string(row.detail.empty() ? "" : "; ") + cause + " " +
                   std::to_string(tasks.size()) + ": task " + list;
   }
-  const double count = std::max<double>(1.0, static_cast<double>(judged.size()));
+  const double count = std::max<double>(1.0, static_cast<double>(counted));
   row.median_ms = Percentile(times, 0.5);
   row.worst_ms = Percentile(times, 1.0);
   row.share_within_10pct = within / count;
@@ -628,7 +639,7 @@ std::vector<ConstrainedRow> RunConstrainedBench(const BenchOptions& options, std
   for (const Family& family : families) {
     std::mt19937_64 rng(options.seed ^ NameHash(family.name));
     std::vector<Judged> judged[2];
-    std::vector<bool> active, transmission_only;
+    std::vector<bool> active, transmission_only, no_keeper;
     std::vector<double> long_ms;
     for (int t = 0; t < family.tasks; ++t) {
       const std::string text =
@@ -655,6 +666,7 @@ std::vector<ConstrainedRow> RunConstrainedBench(const BenchOptions& options, std
       judged[0].push_back(Judge(balanced, reference, reference_within_precision));
       judged[1].push_back(Judge(thorough, reference, reference_within_precision));
       transmission_only.push_back(reference.first == 1);
+      no_keeper.push_back(reference.first == 2);
       active.push_back(std::abs(slack) <= kActiveSlack);
       long_ms.push_back(longer.ms);
       const auto missed = [](const Judged& judged) {
@@ -670,8 +682,8 @@ std::vector<ConstrainedRow> RunConstrainedBench(const BenchOptions& options, std
     }
     const char* efforts[] = {"balanced", "thorough"};
     for (int e = 0; e < 2; ++e) {
-      rows.push_back(
-          MakeRow(family.name, efforts[e], judged[e], active, transmission_only, long_ms));
+      rows.push_back(MakeRow(family.name, efforts[e], judged[e], active, transmission_only,
+                             no_keeper, long_ms));
       PrintRow(table, rows.back());
     }
   }

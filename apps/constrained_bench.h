@@ -28,7 +28,9 @@
 // constraint does not count). The reference of a task is the best keeper found by the long search
 // or either effort: of the best group any of them reached, the smallest RMS error (points or
 // poses). Only where no defect-free keeper is found at all is the reference one with a
-// transmission defect (the detail counts those tasks).
+// transmission defect (the detail counts those tasks). A task where no solve finds a keeper at
+// all has nothing to rank first: it is left out of the shares and ratios (not of the times) and
+// listed in the detail.
 //
 // Per row (family and effort): tasks; median and worst time of the solve; share_within_10pct:
 // the first listed keeps every constraint, has no kinematic defect and fits within 10 % of the

@@ -449,11 +449,9 @@ class TransmissionResidual {
   bool operator()(const T* input_point, const T* input_second, const T* input_scalar,
                   const T* output_point, const T* output_second, const T* output_scalar,
                   T* residual) const {
-    using std::abs;
     using std::atan2;
     using std::cos;
     using std::sin;
-    using std::sqrt;
     residual[0] = T(0.0);
     T px, py;
     if (!Pin(pose_, input_point, input_second, input_scalar, &px, &py)) return true;
@@ -481,21 +479,8 @@ class TransmissionResidual {
     const T* m2 = output_type_ == DyadType::kRR ? output_second : output_point;
     const T bx = cos_theta * m2[0] - sin_theta * m2[1] + x;
     const T by = sin_theta * m2[0] + cos_theta * m2[1] + y;
-    T ux, uy;
-    if (output_type_ == DyadType::kRR) {
-      ux = -(by - output_point[1]);
-      uy = bx - output_point[0];
-    } else {
-      T nx, ny;
-      if (!UnitNormal(output_second, &nx, &ny)) return true;
-      ux = -ny;
-      uy = nx;
-    }
-    const T cx = bx - px, cy = by - py;
-    const T norms_squared = (cx * cx + cy * cy) * (ux * ux + uy * uy);
-    if (!(norms_squared > T(0.0))) return true;
-    const T sin_mu = abs(cx * ux + cy * uy) / sqrt(norms_squared);
-    if (sin_mu < T(sin_min_)) residual[0] = *sqrt_weight_ * (T(sin_min_) - sin_mu);
+    residual[0] = *sqrt_weight_ * TransmissionShortfallAt(output_type_, px, py, bx, by,
+                                                          output_point, output_second, sin_min_);
     return true;
   }
 

@@ -340,8 +340,6 @@ class PathTransmissionResidual {
   template <typename T>
   bool operator()(const T* crank_pivot, const T* crank_pin, const T* output_point,
                   const T* output_second, const T* output_scalar, T* residual) const {
-    using std::abs;
-    using std::sqrt;
     residual[0] = T(0.0);
     T pin[2], cos_theta, sin_theta;
     if (!assembly_.Assemble(crank_pivot, crank_pin, output_point, output_second, output_scalar,
@@ -352,21 +350,8 @@ class PathTransmissionResidual {
     const T mx = moving[0] - crank_pin[0], my = moving[1] - crank_pin[1];
     const T bx = pin[0] + cos_theta * mx - sin_theta * my;
     const T by = pin[1] + sin_theta * mx + cos_theta * my;
-    T ux, uy;
-    if (output_type_ == DyadType::kRR) {
-      ux = -(by - output_point[1]);
-      uy = bx - output_point[0];
-    } else {
-      T nx, ny;
-      if (!UnitNormal(output_second, &nx, &ny)) return true;
-      ux = -ny;
-      uy = nx;
-    }
-    const T cx = bx - pin[0], cy = by - pin[1];
-    const T norms_squared = (cx * cx + cy * cy) * (ux * ux + uy * uy);
-    if (!(norms_squared > T(0.0))) return true;
-    const T sin_mu = abs(cx * ux + cy * uy) / sqrt(norms_squared);
-    if (sin_mu < T(sin_min_)) residual[0] = *sqrt_weight_ * (T(sin_min_) - sin_mu);
+    residual[0] = *sqrt_weight_ * TransmissionShortfallAt(output_type_, pin[0], pin[1], bx, by,
+                                                          output_point, output_second, sin_min_);
     return true;
   }
 

@@ -446,15 +446,11 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
     }
     result->stages.push_back(Stage("refine", refine_start, candidates));
   }
-  // The search: thorough always; balanced too when the task has constraints and no refined
-  // four-bar keeps them (the seeds all lie outside, and the optimum on a bound is not near
-  // any of them).
-  const bool none_keeps =
-      task.constraints.given && task.effort == Effort::kBalanced &&
-      std::none_of(candidates.begin(), candidates.end(), [](const PathMechanismReport& report) {
-        return report.violates.empty() && report.max_point_error;
-      });
-  if (task.effort == Effort::kThorough || none_keeps) {
+  // The search: thorough always; balanced too when the task has constraints (as for planar
+  // motion): an optimum on a bound is often in a basin no seed reaches, and how well a refined
+  // keeper fits says little about whether a better one lies elsewhere.
+  const bool constrained = task.constraints.given && task.effort == Effort::kBalanced;
+  if (task.effort == Effort::kThorough || constrained) {
     const auto search_start = std::chrono::steady_clock::now();
     std::vector<PathFourBar> found;
     PathSearchOptions search = options.path_search;

@@ -81,6 +81,33 @@ bool UnitNormal(const T* normal, T* nx, T* ny) {
   return true;
 }
 
+// A held transmission angle's shortfall (lib/four_bar_motion.h TransmissionAngleDeg) at one
+// configuration: input pin A and output pin B in Sigma, the output dyad's blocks (RR: fixed pivot
+// F in `output_point`; PR: line normal in `output_second`). The output pin moves along
+// u = perp(B - F) (RR) or along the line (PR); sin(mu) = |(B - A) . u| / (|B - A| |u|), and the
+// shortfall is max(0, sin_min - sin(mu)) (0 where the angle is undefined).
+template <typename T>
+T TransmissionShortfallAt(DyadType output_type, const T& ax, const T& ay, const T& bx, const T& by,
+                          const T* output_point, const T* output_second, double sin_min) {
+  using std::abs;
+  using std::sqrt;
+  T ux, uy;
+  if (output_type == DyadType::kRR) {
+    ux = -(by - output_point[1]);
+    uy = bx - output_point[0];
+  } else {
+    T nx, ny;
+    if (!UnitNormal(output_second, &nx, &ny)) return T(0.0);
+    ux = -ny;
+    uy = nx;
+  }
+  const T cx = bx - ax, cy = by - ay;
+  const T norms_squared = (cx * cx + cy * cy) * (ux * ux + uy * uy);
+  if (!(norms_squared > T(0.0))) return T(0.0);
+  const T sin_mu = abs(cx * ux + cy * uy) / sqrt(norms_squared);
+  return sin_mu < T(sin_min) ? T(sin_min) - sin_mu : T(0.0);
+}
+
 // The manifold of a line normal block (the problem takes ownership).
 inline ceres::Manifold* UnitCircle() {
   // SphereManifold<2> does not compile in Ceres 2.1 (its 2x1 row-major Jacobian type); the

@@ -455,6 +455,12 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
     std::vector<PathFourBar> found;
     PathSearchOptions search = options.path_search;
     search.refiner = options.path_refiner;
+    // With constraints, twice the runs (sharing the budget) and twice the basins refined: the
+    // constrained optimum often lies in a basin one run's archive passes over.
+    if (task.constraints.given) {
+      search.runs *= kConstrainedSeedsFactor;
+      search.refine_count *= kConstrainedSeedsFactor;
+    }
     SearchPathFourBars(data.points, data.weights, data.exact, data.angles, data.length, search,
                        &found);
     std::vector<PathMechanismReport> searched;

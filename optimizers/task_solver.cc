@@ -18,6 +18,12 @@ namespace {
 // times L is also refined as its plane limit, PS (or SP): see PreferPlaneLimits.
 constexpr double kFarMovingPoint = 10.0;
 
+// Two refined spatial dyads this close (relative to their size) are one optimum reached twice:
+// the dyad refiner stops where the cost no longer changes (function tolerance 1e-15), which
+// leaves the parameters of a noisy optimum uncertain to about its square root times the
+// conditioning; two refinements of one optimum were seen 4e-7 apart.
+constexpr double kSameRefinedOptimum = 1e-5;
+
 // With constraints, planar motion keeps this many times the dyads per level and refines this many
 // times the four-bars: the constrained optimum is often a pair refined onto a bound whose dyads
 // fit the poses a little worse than the best few, and where every four-bar breaks a bound, how
@@ -118,25 +124,57 @@ void PreferPlaneLimits(const Task& task, const std::vector<DualQuaternion>& inve
   }
 }
 
-// Drops reports whose dyad repeats an earlier one (two seeds refined to one optimum).
-void DropRepeats(double length, std::vector<SpatialDyadReport>* dyads) {
+// Whether two spatial dyads are one, as planar SameDyad decides it (fitting/planar_motion.h): of
+// a type, and what the type has within the data's precision (kModelUnits point uncertainties at
+// their size), within `bound` (the smaller of their DyadErrorBounds, at most 10 % of their size)
+// or within kSameRefinedOptimum of their size. An SS: both centres and the radius; a PS: its moving
+// centre and its plane in Sigma; an SP: its fixed centre and its plane in E. A plane is one
+// whichever sense its normal has ((n, h) and (-n, -h)).
+bool SameSpatialDyad(const SpatialDyad& a, const SpatialDyad& b, const DataPrecision& precision,
+                     double length, double bound) {
+  if (a.type != b.type) return false;
+  const bool fixed = a.type != SpatialDyadType::kPS, moving = a.type != SpatialDyadType::kSP;
+  double size = length, difference = 0.0;
+  if (fixed) {
+    size = std::max(size, a.fixed_pivot.norm());
+    difference = std::max(difference, (a.fixed_pivot - b.fixed_pivot).norm());
+  }
+  if (moving) {
+    size = std::max(size, a.moving_pivot.norm());
+    difference = std::max(difference, (a.moving_pivot - b.moving_pivot).norm());
+  }
+  if (a.type == SpatialDyadType::kSS) {
+    difference = std::max(difference, std::abs(a.radius - b.radius));
+  } else {
+    size = std::max(size, std::abs(a.plane_offset));
+    const double sense = a.plane_normal.dot(b.plane_normal) < 0.0 ? -1.0 : 1.0;
+    difference = std::max({difference, size * (a.plane_normal - sense * b.plane_normal).norm(),
+                           std::abs(a.plane_offset - sense * b.plane_offset)});
+  }
+  const double tolerance = std::max({kSameRefinedOptimum * size,
+                                     kModelUnits * PointUncertainty(precision, size, length, 3),
+                                     std::min(bound, 0.1 * size)});
+  return difference <= tolerance;
+}
+
+// Drops reports whose dyad repeats another (two seeds refined to one optimum: SameSpatialDyad),
+// the better fitting (RMS residual) of them kept, in the place of the first. Every report gets
+// its error bound (DyadErrorBound).
+void DropRepeats(const Task& task, double length, std::vector<SpatialDyadReport>* dyads) {
+  for (SpatialDyadReport& report : *dyads) {
+    report.error_bound = DyadErrorBound(report.dyad, task.spatial_poses, task.precision, length);
+  }
+  constexpr double kInf = std::numeric_limits<double>::infinity();
   std::vector<SpatialDyadReport> kept;
   for (const SpatialDyadReport& report : *dyads) {
-    const SpatialDyad& d = report.dyad;
     bool repeat = false;
-    for (const SpatialDyadReport& other : kept) {
-      const SpatialDyad& e = other.dyad;
-      if (e.type != d.type) continue;
-      const double size = std::max({length, d.moving_pivot.norm(), d.fixed_pivot.norm()});
-      double difference = std::max((e.moving_pivot - d.moving_pivot).norm(),
-                                   (e.fixed_pivot - d.fixed_pivot).norm());
-      if (d.type == SpatialDyadType::kSS) {
-        difference = std::max(difference, std::abs(e.radius - d.radius));
-      } else {
-        difference = std::max({difference, length * (e.plane_normal - d.plane_normal).norm(),
-                               std::abs(e.plane_offset - d.plane_offset)});
-      }
-      repeat |= difference <= 1e-7 * size;
+    for (SpatialDyadReport& other : kept) {
+      const double bound =
+          std::min(report.error_bound.value_or(0.0), other.error_bound.value_or(0.0));
+      if (!SameSpatialDyad(report.dyad, other.dyad, task.precision, length, bound)) continue;
+      repeat = true;
+      if (report.rms_residual.value_or(kInf) < other.rms_residual.value_or(kInf)) other = report;
+      break;
     }
     if (!repeat) kept.push_back(report);
   }
@@ -230,12 +268,8 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
                              " refined spheres are reported as planes: at the data's precision "
                              "the poses cannot tell them from their plane readings");
     }
-    DropRepeats(result.scale, &result.dyads);
+    DropRepeats(task, result.scale, &result.dyads);
     SortDyadsByRadius(&result.dyads);  // refinement can reorder radii, or make planes
-    for (SpatialDyadReport& report : result.dyads) {
-      report.error_bound =
-          DyadErrorBound(report.dyad, task.spatial_poses, task.precision, result.scale);
-    }
     AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
     result.refine_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

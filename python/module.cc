@@ -1,0 +1,86 @@
+// The Python module's native part, linkfit._linkfit (python/linkfit/__init__.py wraps it): a task
+// as JSON text in, the result as JSON text out, exactly as `linkfit solve` writes it; bad input
+// raises linkfit.InputError with the CLI's one-line message. The GIL is released while solving.
+#include <glog/logging.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <algorithm>
+#include <atomic>
+#include <exception>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "lib/result_io.h"
+#include "lib/task_io.h"
+#include "optimizers/task_solver.h"
+
+namespace py = pybind11;
+
+namespace linkfit {
+namespace {
+
+// One task: read (as `linkfit solve` reads a task file named `source`), solved, written.
+std::string SolveText(const std::string& text, const std::string& source) {
+  const Task task = ParseTask(text, source);
+  return ResultToJson(SolveTask(task), 2);
+}
+
+// Every task on `threads` threads (0: the machine's), results in input order. Bad input in any
+// task raises InputError for the first such task (by position), after all have run.
+std::vector<std::string> SolveMany(const std::vector<std::string>& texts,
+                                   const std::vector<std::string>& sources, int threads) {
+  const size_t count = texts.size();
+  std::vector<std::string> results(count);
+  std::vector<std::exception_ptr> errors(count);
+  unsigned workers = threads > 0 ? static_cast<unsigned>(threads)
+                                 : std::max(1u, std::thread::hardware_concurrency());
+  workers = static_cast<unsigned>(std::min<size_t>(workers, std::max<size_t>(count, 1)));
+  std::atomic<size_t> next(0);
+  const auto work = [&]() {
+    for (size_t i = next++; i < count; i = next++) {
+      try {
+        results[i] = SolveText(texts[i], sources[i]);
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& thread : pool) thread.join();
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+  return results;
+}
+
+}  // namespace
+}  // namespace linkfit
+
+PYBIND11_MODULE(_linkfit, m) {
+  m.doc() = "linkfit's native solver (use the linkfit package, not this module)";
+  // Ceres reports through glog at ERROR level on steps the refiners handle; the CLI silences it
+  // the same way (apps/cli.cc RunCli).
+  FLAGS_minloglevel = google::GLOG_FATAL;
+  py::register_exception<linkfit::InputError>(m, "InputError", PyExc_ValueError);
+  m.def(
+      "solve_json",
+      [](const std::string& text, const std::string& source) {
+        py::gil_scoped_release release;
+        return linkfit::SolveText(text, source);
+      },
+      py::arg("text"), py::arg("source") = "task",
+      "Solves one task given as JSON text; returns the result as the CLI's JSON text.");
+  m.def(
+      "solve_many_json",
+      [](const std::vector<std::string>& texts, const std::vector<std::string>& sources,
+         int threads) {
+        py::gil_scoped_release release;
+        return linkfit::SolveMany(texts, sources, threads);
+      },
+      py::arg("texts"), py::arg("sources"), py::arg("threads") = 0,
+      "Solves tasks (JSON texts) on `threads` threads (0: all cores); results in input order.");
+}

@@ -19,8 +19,11 @@ cmake --build build -j"$(nproc)"
 install_prefix=${LINKFIT_PREFIX:-/usr/local}
 if [ -w "$install_prefix" ] || [ "$(id -u)" = 0 ]; then
   cmake --install build --prefix "$install_prefix" >/dev/null
-else
+elif command -v sudo >/dev/null; then
   sudo cmake --install build --prefix "$install_prefix" >/dev/null
+else
+  echo "setup: $install_prefix is not writable and there is no sudo: not installed" \
+       "(set LINKFIT_PREFIX to a writable prefix)" >&2
 fi
 # The `python3` first on the PATH may be another interpreter than Debian's (pyenv, a virtual
 # environment); of the same ABI, it gets a copy of the package too, so `import linkfit` works there.

@@ -96,6 +96,13 @@ Eigen::VectorXd ParameterMovesNearFold(const Eigen::MatrixXd& jacobian,
 
 }  // namespace
 
+double SameDesignTolerance(const DataPrecision& precision, double size, double length,
+                           int dimension, double bound, double relative) {
+  return std::max({relative * size,
+                   kModelUnits * PointUncertainty(precision, size, length, dimension),
+                   std::min(bound, 0.1 * size)});
+}
+
 double PrecisionRatio(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                       const DataPrecision& precision, double scale) {
   double worst = 0.0;

@@ -69,6 +69,13 @@ PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<Plana
 double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
                       const DataPrecision& precision, double scale);
 
+// How far apart two designs of size `size` may be and still be one (planar SameDyad, the
+// spatial dyads' merge): within the data's precision (kModelUnits point uncertainties at their
+// size, in `dimension` coordinates), within `bound` (how far the precision can move them: the
+// smaller of their error bounds, at most 10 % of their size), or within `relative` of their size.
+double SameDesignTolerance(const DataPrecision& precision, double size, double length,
+                           int dimension, double bound, double relative);
+
 // The dyad of the same type that fits the poses best in least squares (the sum of squared
 // residuals), by Levenberg-Marquardt from `start` in the parameters of DyadErrorBound, at most
 // `iterations` steps. Used where no exact real dyad exists nearby: a circle bent from a line

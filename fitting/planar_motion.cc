@@ -105,10 +105,7 @@ bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& pre
     difference = std::max({difference, size * (a.line_direction - sign * b.line_direction).norm(),
                            std::abs(na.dot(b.line_point - a.line_point))});
   }
-  const double tolerance =
-      std::max({1e-7 * size, kModelUnits * PointUncertainty(precision, size, length, 2),
-                std::min(bound, 0.1 * size)});
-  return difference <= tolerance;
+  return difference <= SameDesignTolerance(precision, size, length, 2, bound, 1e-7);
 }
 
 double PoseFitTolerance(const DataPrecision& precision, double length) {

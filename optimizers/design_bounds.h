@@ -8,8 +8,10 @@
 // quadratic penalty. The refiners solve again with mu multiplied by kBoundGrowth until every g is
 // within kBoundSlack (a fraction of kConstraintSlack, so that the result keeps the constraint as
 // the result file judges it), at most kBoundRounds times: an optimum on a bound is approached from
-// outside, to O(1/mu). Constraints that are no inequality of the geometry (a Grashof class other
-// than the crank's, the transmission angle) are left to the ranking.
+// outside, to O(1/mu). A required Grashof kind is one (s + l <= p + q); a Grashof class within
+// its kind is left to the ranking. A held transmission angle (the refiners'
+// min_transmission_deg) is a penalty of the same kind on the assembled configurations, raised
+// with the bounds' weight (kTransmissionSamples, HeldTransmissionSine below).
 #ifndef LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
 #define LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
 
@@ -30,6 +32,19 @@ inline constexpr double kBoundGrowth = 1e2;
 inline constexpr int kBoundRounds = 5;
 // The violation (scaled, times L) a refinement stops at: inside the result file's slack.
 inline constexpr double kBoundSlack = 0.1 * kConstraintSlack;
+// A held transmission angle: its sine is held at the configuration of each task pose or point
+// and at kTransmissionSamples - 1 inputs between each two, with a margin of
+// kTransmissionMarginDeg over the minimum asked (the analysis samples the motion more finely),
+// until within kTransmissionSlack of it.
+inline constexpr int kTransmissionSamples = 3;
+inline constexpr double kTransmissionMarginDeg = 1.0;
+inline constexpr double kTransmissionSlack = 1e-3;
+
+// The sine a held transmission angle of `min_deg` degrees is held at (the margin added).
+inline double HeldTransmissionSine(double min_deg) {
+  return std::sin(std::min(90.0, min_deg + kTransmissionMarginDeg) * M_PI / 180.0);
+}
+
 // Residuals of one DesignBounds functor (unused ones are 0).
 inline constexpr int kBoundResiduals = 33;
 

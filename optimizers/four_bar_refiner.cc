@@ -414,14 +414,6 @@ class MotionBoundsResidual {
   const double* sqrt_weight_;
 };
 
-// The transmission angle held at or above FourBarRefinerOptions::min_transmission_deg plus this
-// margin (degrees) at the sampled coupler poses: the analysis samples the motion more finely.
-constexpr double kTransmissionMargin = 1.0;
-// Coupler poses sampled per interval between consecutive task poses (the task pose included).
-constexpr int kTransmissionSamples = 3;
-// The raised penalty's stop: the sine of the transmission angle within this of the target's.
-constexpr double kTransmissionSlack = 1e-3;
-
 // The transmission angle (TransmissionAngleDeg, lib/four_bar_motion.h) of the four-bar
 // assembled (AssembleAtPin, assembly sign s of task pose j's label) with its input pin at
 // P(t) between where task poses j and j + 1 put it (InputPinAt): an RR input's crank angle
@@ -1077,8 +1069,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   if (options.min_transmission_deg && input->type != DyadType::kRP &&
       output->type != DyadType::kRP) {
     task.transmission = true;
-    task.transmission_sin_min = std::sin(
-        std::min(90.0, *options.min_transmission_deg + kTransmissionMargin) * M_PI / 180.0);
+    task.transmission_sin_min = HeldTransmissionSine(*options.min_transmission_deg);
   }
   seed.input = ToBlocks(TransformDyad(*input, to_sigma, to_epsilon));
   seed.output = ToBlocks(TransformDyad(*output, to_sigma, to_epsilon));

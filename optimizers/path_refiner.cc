@@ -312,14 +312,6 @@ class PathBoundsResidual {
   const double* sqrt_weight_;
 };
 
-// A held transmission angle (PathRefinerOptions::min_transmission_deg): sampled at every point's
-// crank turn and kTransmissionSamples - 1 turns between each two (the crank's sweep), plus this
-// margin (degrees) over the minimum asked, for the analysis samples the sweep more finely.
-constexpr int kTransmissionSamples = 3;
-constexpr double kTransmissionMargin = 1.0;
-// The raised penalty's stop: the sine of the transmission angle within this of the target's.
-constexpr double kTransmissionSlack = 1e-3;
-
 // The transmission angle (lib/four_bar_motion.h TransmissionAngleDeg) of the four-bar at crank
 // turn t, assembled as PathPointResidual assembles it (crank pin P, coupler turn theta about it):
 // output pin B = P + R(theta) (m - A) (m the output's moving pivot: an RR's second block, a PR's
@@ -660,8 +652,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   // A held transmission angle: prescribed timing only (free timing moves the turns), no RP
   // output (no transmission angle defined).
   if (options.min_transmission_deg && !free_timing && four_bar->output.type != DyadType::kRP) {
-    task.transmission_sin_min =
-        std::sin(std::min(90.0, *options.min_transmission_deg + kTransmissionMargin) * kPi / 180.0);
+    task.transmission_sin_min = HeldTransmissionSine(*options.min_transmission_deg);
     for (size_t j = 0; j < points.size(); ++j) {
       const int samples = j + 1 < points.size() ? kTransmissionSamples : 1;
       for (int k = 0; k < samples; ++k) {

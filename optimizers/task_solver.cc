@@ -125,11 +125,10 @@ void PreferPlaneLimits(const Task& task, const std::vector<DualQuaternion>& inve
 }
 
 // Whether two spatial dyads are one, as planar SameDyad decides it (fitting/planar_motion.h): of
-// a type, and what the type has within the data's precision (kModelUnits point uncertainties at
-// their size), within `bound` (the smaller of their DyadErrorBounds, at most 10 % of their size)
-// or within kSameRefinedOptimum of their size. An SS: both centres and the radius; a PS: its moving
-// centre and its plane in Sigma; an SP: its fixed centre and its plane in E. A plane is one
-// whichever sense its normal has ((n, h) and (-n, -h)).
+// a type, and what the type has within SameDesignTolerance (fitting/model_choice.h: `bound` the
+// smaller of their DyadErrorBounds; the relative floor kSameRefinedOptimum). An SS: both centres
+// and the radius; a PS: its moving centre and its plane in Sigma; an SP: its fixed centre and its
+// plane in E. A plane is one whichever sense its normal has ((n, h) and (-n, -h)).
 bool SameSpatialDyad(const SpatialDyad& a, const SpatialDyad& b, const DataPrecision& precision,
                      double length, double bound) {
   if (a.type != b.type) return false;
@@ -151,10 +150,7 @@ bool SameSpatialDyad(const SpatialDyad& a, const SpatialDyad& b, const DataPreci
     difference = std::max({difference, size * (a.plane_normal - sense * b.plane_normal).norm(),
                            std::abs(a.plane_offset - sense * b.plane_offset)});
   }
-  const double tolerance = std::max({kSameRefinedOptimum * size,
-                                     kModelUnits * PointUncertainty(precision, size, length, 3),
-                                     std::min(bound, 0.1 * size)});
-  return difference <= tolerance;
+  return difference <= SameDesignTolerance(precision, size, length, 3, bound, kSameRefinedOptimum);
 }
 
 // Drops reports whose dyad repeats another (two seeds refined to one optimum: SameSpatialDyad),

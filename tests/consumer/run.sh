@@ -23,16 +23,12 @@ strip_times < "$work/cli_raw.json" > "$work/cli.json"
 diff "$work/consumer.json" "$work/cli.json"
 grep -q '"type": "RR"' "$work/consumer.json"
 version=$("$python" -c 'import sys; print("%d.%d" % sys.version_info[:2])')
-PYTHONPATH="$work/prefix/lib/python$version/dist-packages" "$python" - "$task" "$work/cli_raw.json" "$work/prefix" <<'PY'
+PYTHONPATH="$work/prefix/lib/python$version/dist-packages:$source_dir/tests/python" \
+PYTHONDONTWRITEBYTECODE=1 "$python" - "$task" "$work/cli_raw.json" "$work/prefix" <<'PY'
 import json, sys
 import linkfit
+from test_linkfit import untimed
 assert linkfit.__file__.startswith(sys.argv[3]), linkfit.__file__  # the installed one
-def untimed(value):
-    if isinstance(value, dict):
-        return {k: untimed(v) for k, v in value.items() if not k.endswith(("_ms", "_seconds"))}
-    if isinstance(value, list):
-        return [untimed(v) for v in value]
-    return value
 result = linkfit.solve(json.load(open(sys.argv[1])))
 cli = json.loads(open(sys.argv[2]).read())
 assert untimed(result) == untimed(cli), "python result differs from the CLI's"

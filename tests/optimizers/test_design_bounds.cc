@@ -20,6 +20,7 @@
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
+#include "tests/support/rounded_task.h"
 
 namespace linkfit {
 namespace {
@@ -276,6 +277,71 @@ TEST(DesignBounds, MinimalPathDataWithBrokenConstraintsGetKeepers) {
       std::count_if(balanced.mechanisms.begin(), balanced.mechanisms.end(),
                     [](const PathMechanismReport& report) { return !report.violates.empty(); }));
   EXPECT_EQ(exact_listed, static_cast<int>(fast.mechanisms.size()));
+}
+
+// Constrained tasks as tables print them: ten poses of a random 4R (links held to 80 % of its
+// longest) and ten timed points of a random crank-driven 4R (links held to 80 % of the shortest
+// longest link of its exact four-bars), printed to 8, 6 and 4 significant digits and read back
+// (precision inferred from the digits). At balanced, the first listed design keeps the bound, has
+// no kinematic defect and fits within 10 % of the full-precision task's first design (plus the
+// rounding's own pose or point tolerance): the constrained optimum moves by the rounding only.
+TEST(DesignBounds, RoundedConstrainedTasksGiveTheSameFirstDesign) {
+  const auto with_bound = [](const std::string& text, double max_link) {
+    return "{\"constraints\": {\"max_link_length\": " + testing::Printed(max_link, 17) + "}, " +
+           text.substr(text.find('{') + 1);
+  };
+  std::mt19937_64 rng(2611);
+  for (int t = 0; t < 2; ++t) {
+    const testing::GeneratedTask generated = testing::RandomFourBarTask(rng, 10);
+    const double bound = 0.8 * LongestLink(generated.input, generated.output);
+    const PlanarMotionResult full = SolvePlanarTask(
+        testing::ReadRounded(with_bound(testing::PlanarMotionText(generated.poses, 17), bound)));
+    ASSERT_FALSE(full.mechanisms.empty());
+    const double full_rms = full.mechanisms.front().rms_pose_error.value_or(0.0);
+    EXPECT_GT(full_rms, 1e-6 * full.scale);  // the bound binds: no exact design keeps it
+    for (const int digits : {8, 6, 4}) {
+      SCOPED_TRACE("planar task " + std::to_string(t) + ", " + std::to_string(digits) + " digits");
+      const Task task = testing::ReadRounded(
+          with_bound(testing::PlanarMotionText(generated.poses, digits), bound));
+      const PlanarMotionResult result = SolvePlanarTask(task);
+      ASSERT_FALSE(result.mechanisms.empty());
+      const MechanismReport& first = result.mechanisms.front();
+      EXPECT_TRUE(first.violates.empty());
+      EXPECT_FALSE(HasKinematicDefect(first.defects));
+      ASSERT_TRUE(first.rms_pose_error.has_value());
+      EXPECT_LE(*first.rms_pose_error,
+                1.1 * full_rms + PoseFitTolerance(task.precision, result.scale));
+    }
+  }
+  for (int t = 0; t < 2; ++t) {
+    const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 10);
+    double shortest_exact = LongestLink(generated.four_bar);
+    const double length = testing::PathLength(generated.points);
+    for (const PathFourBar& cognate : CurveCognates(generated.four_bar)) {
+      if (Rms(cognate, generated, length) <= 1e-9 * length) {
+        shortest_exact = std::min(shortest_exact, LongestLink(cognate));
+      }
+    }
+    const double bound = 0.8 * shortest_exact;
+    const PathResult full = SolvePathTask(testing::ReadRounded(
+        with_bound(testing::PathText(generated.points, generated.input_angles, 17), bound)));
+    ASSERT_FALSE(full.mechanisms.empty());
+    const double full_rms = full.mechanisms.front().rms_point_error.value_or(0.0);
+    EXPECT_GT(full_rms, 1e-6 * full.scale);  // the bound binds: no exact design keeps it
+    for (const int digits : {8, 6, 4}) {
+      SCOPED_TRACE("path task " + std::to_string(t) + ", " + std::to_string(digits) + " digits");
+      const Task task = testing::ReadRounded(
+          with_bound(testing::PathText(generated.points, generated.input_angles, digits), bound));
+      const PathResult result = SolvePathTask(task);
+      ASSERT_FALSE(result.mechanisms.empty());
+      const PathMechanismReport& first = result.mechanisms.front();
+      EXPECT_TRUE(first.violates.empty());
+      EXPECT_FALSE(HasKinematicDefect(first.defects));
+      ASSERT_TRUE(first.rms_point_error.has_value());
+      EXPECT_LE(*first.rms_point_error,
+                1.1 * full_rms + PathPassTolerance(task.precision, result.scale));
+    }
+  }
 }
 
 }  // namespace

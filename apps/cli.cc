@@ -136,66 +136,6 @@ void WriteFileAtomically(const std::string& path, const std::string& text) {
   }
 }
 
-// The picture of a solved planar motion task: its poses, its mechanisms in ranked order (at
-// most `max_panels`), and for four poses the Burmester curves.
-Picture MakePicture(const std::string& title, const Task& task, const PlanarMotionResult& result,
-                    size_t max_panels) {
-  Picture picture;
-  picture.title = title;
-  picture.task_poses = task.planar_poses;
-  picture.length = result.scale;
-  for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
-  picture.center_point_curves = result.center_point_curves;
-  if (!task.planar_poses.empty()) {
-    // Circle points live in E: draw them where E is at the first pose.
-    for (const std::vector<Eigen::Vector2d>& polyline : result.circle_point_curves) {
-      std::vector<Eigen::Vector2d> in_fixed;
-      for (const Eigen::Vector2d& point : polyline) {
-        in_fixed.push_back(task.planar_poses.front().ToFixed(point));
-      }
-      picture.circle_point_curves.push_back(in_fixed);
-    }
-  }
-  for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
-    const MechanismReport& report = result.mechanisms[m];
-    PictureMechanism mechanism;
-    mechanism.input = result.dyads[report.input_dyad].dyad;
-    mechanism.output = result.dyads[report.output_dyad].dyad;
-    mechanism.title = std::to_string(m + 1) + ": " + FourBarTypeName(report.type) +
-                      (report.grashof.empty() ? "" : ", " + report.grashof) + ", dyads " +
-                      std::to_string(report.input_dyad) + "+" + std::to_string(report.output_dyad);
-    for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
-    if (report.defects.empty()) mechanism.labels.push_back("no defects");
-    if (report.transmission_min_deg) {
-      char text[64];
-      std::snprintf(text, sizeof(text), "transmission angle >= %.0f deg",
-                    *report.transmission_min_deg);
-      mechanism.labels.push_back(text);
-    }
-    // The links at the first pose: the assembled configuration on the mechanism's circuit
-    // nearest the first task pose.
-    mechanism.first_pose = task.planar_poses.front();
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const PlanarPose& pose : report.cycle) {
-      const double error = PoseError(pose, task.planar_poses.front(), result.scale);
-      if (error < nearest) {
-        nearest = error;
-        mechanism.first_pose = pose;
-      }
-    }
-    for (const PlanarPose& pose : report.cycle) {
-      mechanism.coupler_curve.push_back(pose.origin_in_fixed);
-    }
-    // About 120 frames for the animation.
-    const size_t stride = std::max<size_t>(1, report.cycle.size() / 120);
-    for (size_t k = 0; k < report.cycle.size(); k += stride) {
-      mechanism.cycle.push_back(report.cycle[k]);
-    }
-    picture.mechanisms.push_back(std::move(mechanism));
-  }
-  return picture;
-}
-
 struct SolveOutputs {
   std::string result_path;    // -o; empty or "-" for stdout
   std::string svg_path;       // --svg
@@ -204,68 +144,6 @@ struct SolveOutputs {
   std::vector<int> platform;  // --platform: five dyad indices (spatial motion)
   std::string effort;         // --effort: overrides the task's options.effort
 };
-
-// The picture of a solved path task: its points, and its four-bars (at most `max_panels`) at
-// the first point with the coupler point's curve. E is drawn with its origin at the coupler
-// point, so that the coupler body and the traced curve are the coupler point's.
-Picture MakePathPicture(const std::string& title, const Task& task, const PathResult& result,
-                        size_t max_panels) {
-  Picture picture;
-  picture.title = title;
-  picture.length = result.scale;
-  picture.coupler_curve_label = "coupler curve (coupler point)";
-  for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
-  for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
-    const PathMechanismReport& report = result.mechanisms[m];
-    const PathFourBar& design = report.design;
-    // E' = E moved to the coupler point: p_E' = p_E - coupler point.
-    const PlanarPose shift(design.coupler_point.x(), design.coupler_point.y(), 0.0);
-    const auto to_shifted = [&](PlanarDyad dyad) {
-      dyad.moving_pivot -= design.coupler_point;
-      if (dyad.type == DyadType::kRP) dyad.line_point -= design.coupler_point;
-      return dyad;
-    };
-    PictureMechanism mechanism;
-    mechanism.input = to_shifted(design.input);
-    mechanism.output = to_shifted(design.output);
-    mechanism.first_pose = shift;
-    mechanism.title = std::to_string(m + 1) + ": " + FourBarTypeName(report.type) +
-                      (report.grashof.empty() ? "" : ", " + report.grashof);
-    for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
-    if (report.defects.empty()) mechanism.labels.push_back("no defects");
-    char text[64];
-    if (report.max_point_error) {
-      std::snprintf(text, sizeof(text), "max point error %.3g", *report.max_point_error);
-      mechanism.labels.push_back(text);
-    }
-    const std::vector<PlanarPose> cycle = CouplerCycle(design, result.scale);
-    for (const PlanarPose& pose : cycle) {
-      mechanism.coupler_curve.push_back(pose.ToFixed(design.coupler_point));
-    }
-    const size_t stride = std::max<size_t>(1, cycle.size() / 120);
-    for (size_t k = 0; k < cycle.size(); k += stride) mechanism.cycle.push_back(cycle[k] * shift);
-    picture.mechanisms.push_back(std::move(mechanism));
-  }
-  return picture;
-}
-
-// The planar view of a result: a planar result, or the planar synthesis of planar data in a
-// spatial task (with the task's poses in the plane). Null for a spatial result.
-const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
-                                     Task* planar_task) {
-  if (const auto* planar = std::get_if<PlanarMotionResult>(&result)) {
-    *planar_task = task;
-    return planar;
-  }
-  const auto* spatial_result = std::get_if<SpatialMotionResult>(&result);
-  if (spatial_result == nullptr) return nullptr;
-  const SpatialMotionResult& spatial = *spatial_result;
-  if (!spatial.planar || !spatial.plane) return nullptr;
-  *planar_task = task;
-  planar_task->space = Space::kPlanar;
-  planar_task->planar_poses = spatial.plane->poses;
-  return &*spatial.planar;
-}
 
 // `linkfit solve`: every task is read and validated before anything is solved or written.
 int Solve(const std::string& task_path, const SolveOutputs& outputs) {
@@ -294,17 +172,11 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   std::string svg, animation;
   if (!outputs.svg_path.empty() || !outputs.animate_path.empty()) {
     const std::string title = std::filesystem::path(task_path).filename().string();
-    Task planar_task;
-    const PlanarMotionResult* planar = PlanarView(results[0], tasks[0], &planar_task);
-    const PathResult* path = std::get_if<PathResult>(&results[0]);
-    if (planar == nullptr && path == nullptr) {
-      throw InputError(task_path +
-                       ": --svg and --animate draw planar mechanisms; this task's "
-                       "result is a spatial platform");
-    }
+    std::string why;
+    if (!TaskPicture(title, tasks[0], results[0], 1, &why))
+      throw InputError(task_path + ": " + why);
     const auto picture_of = [&](size_t panels) {
-      return path != nullptr ? MakePathPicture(title, tasks[0], *path, panels)
-                             : MakePicture(title, planar_task, *planar, panels);
+      return *TaskPicture(title, tasks[0], results[0], panels, &why);
     };
     if (!outputs.svg_path.empty()) svg = RenderSvg(picture_of(12));
     if (!outputs.animate_path.empty()) {
@@ -332,60 +204,21 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   return kExitOk;
 }
 
-// `linkfit refine`: one planar motion task and a design (a result file, or written by hand);
-// the design's four-bar refined on its pose error, before and after in the result.
+// `linkfit refine`: one task and a design (a result file, or written by hand) of its kind; the
+// design's mechanism refined against the task (optimizers/task_solver.h RefineTask), before and
+// after in the result.
 int Refine(const std::string& task_path, const std::string& design_path,
            const std::string& result_path, int mechanism_index) {
   const std::vector<Task> tasks = ReadTaskFile(task_path);
   if (tasks.size() != 1) throw InputError(task_path + ": refine takes one task, not a batch");
   const Task& task = tasks[0];
-  if (task.problem != ProblemKind::kMotion || task.space != Space::kPlanar) {
-    throw InputError(task_path + ": refine takes a planar motion task");
-  }
-  const PlanarDesign design = ReadDesignFile(design_path);
-  std::pair<int, int> pair;
-  if (!design.mechanisms.empty()) {
-    if (mechanism_index > static_cast<int>(design.mechanisms.size())) {
-      throw InputError(design_path + ": --mechanism " + std::to_string(mechanism_index) +
-                       ": the design lists " + std::to_string(design.mechanisms.size()) +
-                       " mechanisms");
-    }
-    pair = design.mechanisms[mechanism_index - 1];
-  } else if (design.dyads.size() == 2) {
-    pair = {0, 1};
-  } else {
-    throw InputError(design_path + ": mechanisms: missing field (needed to pick two of the " +
-                     std::to_string(design.dyads.size()) + " dyads)");
-  }
-  const std::vector<PlanarPose>& poses = task.planar_poses;
-  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
-  PlanarDyad input = design.dyads[pair.first], output = design.dyads[pair.second];
-  const RefinerSummary summary =
-      RefineFourBar(poses, task.pose_weights, task.pose_exact, length, &input, &output);
-  PlanarMotionResult result;
-  result.method = "refine";
-  result.scale = length;
-  result.effort = EffortName(task.effort);
-  for (const PlanarDyad& dyad : {input, output}) {
-    result.dyads.emplace_back(dyad, dyad.MaxResidual(poses));
-  }
-  MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length);
-  mechanism.seed_max_pose_error = summary.initial_max;
-  result.mechanisms.push_back(mechanism);
-  StageReport stage;
-  stage.name = "four-bar refine";
-  stage.seconds = summary.seconds;
-  stage.best_max_pose_error = summary.final_max;
-  result.stages.push_back(stage);
-  char line[200];
-  std::snprintf(line, sizeof(line),
-                "pose error before: max %.6g, RMS %.6g; after: max %.6g, RMS %.6g (%d iterations)",
-                summary.initial_max, summary.initial_rms, summary.final_max, summary.final_rms,
-                summary.iterations);
-  result.notes.push_back(line);
-  if (!summary.message.empty()) result.notes.push_back(summary.message);
-  result.solve_seconds = summary.seconds;
-  const std::string text = ResultToJson(result, 2) + "\n";
+  const TaskDesign design = ReadTaskDesignFile(design_path, task);
+  RefineChoice choice;
+  choice.mechanism = mechanism_index - 1;
+  choice.task_source = task_path;
+  choice.design_source = design_path;
+  choice.mechanism_item = design_path + ": --mechanism " + std::to_string(mechanism_index);
+  const std::string text = ResultToJson(RefineTask(task, design, choice), 2) + "\n";
   if (result_path.empty() || result_path == "-") {
     std::cout << text << std::flush;
     if (!std::cout) throw std::runtime_error("cannot write to standard output");
@@ -435,17 +268,26 @@ int Run(int argc, char** argv) {
   std::string refine_task, design_path, refine_output;
   int refine_index = 1;
   CLI::App* refine = app.add_subcommand(
-      "refine", "Refine a planar four-bar design against a task on its pose error.");
-  refine->add_option("TASK", refine_task, "planar motion task file (.json)")->required();
+      "refine",
+      "Refine a design against a task: a planar four-bar on its pose error, a path four-bar on "
+      "its point errors (prescribed or free timing), spatial dyads each on their residuals and "
+      "their platform traced.");
+  refine->add_option("TASK", refine_task, "task file (.json): planar or spatial motion, or path")
+      ->required();
   refine
       ->add_option("DESIGN", design_path,
-                   "the design: a result file of `linkfit solve`, or {\"dyads\": [...], "
-                   "\"mechanisms\": [{\"dyads\": [input, output]}]} by hand")
+                   "the design: a result file of `linkfit solve` for the task, or one written "
+                   "by hand in the same form (planar: {\"dyads\": [...], \"mechanisms\": "
+                   "[{\"dyads\": [input, output]}]}; path: {\"mechanisms\": [{\"type\": "
+                   "\"4R\", \"input_pivot\", \"input_moving\", \"output_pivot\", "
+                   "\"output_moving\", \"coupler_point\"}]}; spatial: {\"dyads\": [SS, PS or "
+                   "SP dyads], \"mechanisms\": [{\"dyads\": [five indices]}]})")
       ->required();
   refine->add_option("-o,--output", refine_output, "write the result to this file");
   refine
       ->add_option("--mechanism", refine_index,
-                   "which mechanism of the design to refine (1 = the first listed)")
+                   "which mechanism (spatial: platform) of the design to refine (1 = the first "
+                   "listed)")
       ->check(CLI::PositiveNumber);
 
   BenchOptions bench_options;

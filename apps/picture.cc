@@ -13,8 +13,13 @@
 #include <cstdarg>
 #include <cstdio>
 #include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "lib/mechanism.h"
+#include "lib/path_motion.h"
 
 namespace linkfit {
 namespace {
@@ -991,6 +996,128 @@ std::vector<size_t> AnimationFrames(size_t count) {
   return frames;
 }
 
+// The picture of a solved planar motion task: its poses, its mechanisms in ranked order (at
+// most `max_panels`), and for four poses the Burmester curves.
+Picture MakePicture(const std::string& title, const Task& task, const PlanarMotionResult& result,
+                    size_t max_panels) {
+  Picture picture;
+  picture.title = title;
+  picture.task_poses = task.planar_poses;
+  picture.length = result.scale;
+  for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
+  picture.center_point_curves = result.center_point_curves;
+  if (!task.planar_poses.empty()) {
+    // Circle points live in E: draw them where E is at the first pose.
+    for (const std::vector<Eigen::Vector2d>& polyline : result.circle_point_curves) {
+      std::vector<Eigen::Vector2d> in_fixed;
+      for (const Eigen::Vector2d& point : polyline) {
+        in_fixed.push_back(task.planar_poses.front().ToFixed(point));
+      }
+      picture.circle_point_curves.push_back(in_fixed);
+    }
+  }
+  for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
+    const MechanismReport& report = result.mechanisms[m];
+    PictureMechanism mechanism;
+    mechanism.input = result.dyads[report.input_dyad].dyad;
+    mechanism.output = result.dyads[report.output_dyad].dyad;
+    mechanism.title = std::to_string(m + 1) + ": " + FourBarTypeName(report.type) +
+                      (report.grashof.empty() ? "" : ", " + report.grashof) + ", dyads " +
+                      std::to_string(report.input_dyad) + "+" + std::to_string(report.output_dyad);
+    for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
+    if (report.defects.empty()) mechanism.labels.push_back("no defects");
+    if (report.transmission_min_deg) {
+      char text[64];
+      std::snprintf(text, sizeof(text), "transmission angle >= %.0f deg",
+                    *report.transmission_min_deg);
+      mechanism.labels.push_back(text);
+    }
+    // The links at the first pose: the assembled configuration on the mechanism's circuit
+    // nearest the first task pose.
+    mechanism.first_pose = task.planar_poses.front();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const PlanarPose& pose : report.cycle) {
+      const double error = PoseError(pose, task.planar_poses.front(), result.scale);
+      if (error < nearest) {
+        nearest = error;
+        mechanism.first_pose = pose;
+      }
+    }
+    for (const PlanarPose& pose : report.cycle) {
+      mechanism.coupler_curve.push_back(pose.origin_in_fixed);
+    }
+    // About 120 frames for the animation.
+    const size_t stride = std::max<size_t>(1, report.cycle.size() / 120);
+    for (size_t k = 0; k < report.cycle.size(); k += stride) {
+      mechanism.cycle.push_back(report.cycle[k]);
+    }
+    picture.mechanisms.push_back(std::move(mechanism));
+  }
+  return picture;
+}
+
+// The picture of a solved path task: its points, and its four-bars (at most `max_panels`) at
+// the first point with the coupler point's curve. E is drawn with its origin at the coupler
+// point, so that the coupler body and the traced curve are the coupler point's.
+Picture MakePathPicture(const std::string& title, const Task& task, const PathResult& result,
+                        size_t max_panels) {
+  Picture picture;
+  picture.title = title;
+  picture.length = result.scale;
+  picture.coupler_curve_label = "coupler curve (coupler point)";
+  for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
+  for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
+    const PathMechanismReport& report = result.mechanisms[m];
+    const PathFourBar& design = report.design;
+    // E' = E moved to the coupler point: p_E' = p_E - coupler point.
+    const PlanarPose shift(design.coupler_point.x(), design.coupler_point.y(), 0.0);
+    const auto to_shifted = [&](PlanarDyad dyad) {
+      dyad.moving_pivot -= design.coupler_point;
+      if (dyad.type == DyadType::kRP) dyad.line_point -= design.coupler_point;
+      return dyad;
+    };
+    PictureMechanism mechanism;
+    mechanism.input = to_shifted(design.input);
+    mechanism.output = to_shifted(design.output);
+    mechanism.first_pose = shift;
+    mechanism.title = std::to_string(m + 1) + ": " + FourBarTypeName(report.type) +
+                      (report.grashof.empty() ? "" : ", " + report.grashof);
+    for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
+    if (report.defects.empty()) mechanism.labels.push_back("no defects");
+    char text[64];
+    if (report.max_point_error) {
+      std::snprintf(text, sizeof(text), "max point error %.3g", *report.max_point_error);
+      mechanism.labels.push_back(text);
+    }
+    const std::vector<PlanarPose> cycle = CouplerCycle(design, result.scale);
+    for (const PlanarPose& pose : cycle) {
+      mechanism.coupler_curve.push_back(pose.ToFixed(design.coupler_point));
+    }
+    const size_t stride = std::max<size_t>(1, cycle.size() / 120);
+    for (size_t k = 0; k < cycle.size(); k += stride) mechanism.cycle.push_back(cycle[k] * shift);
+    picture.mechanisms.push_back(std::move(mechanism));
+  }
+  return picture;
+}
+
+// The planar view of a result: a planar result, or the planar synthesis of planar data in a
+// spatial task (with the task's poses in the plane). Null for a spatial result.
+const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
+                                     Task* planar_task) {
+  if (const auto* planar = std::get_if<PlanarMotionResult>(&result)) {
+    *planar_task = task;
+    return planar;
+  }
+  const auto* spatial_result = std::get_if<SpatialMotionResult>(&result);
+  if (spatial_result == nullptr) return nullptr;
+  const SpatialMotionResult& spatial = *spatial_result;
+  if (!spatial.planar || !spatial.plane) return nullptr;
+  *planar_task = task;
+  planar_task->space = Space::kPlanar;
+  planar_task->planar_poses = spatial.plane->poses;
+  return &*spatial.planar;
+}
+
 }  // namespace
 
 std::string RenderSvg(const Picture& picture) {
@@ -1181,6 +1308,77 @@ std::string RenderAnimation(const Picture& picture, size_t index, bool html) {
       "})();\n"
       "</script>\n</body>\n</html>\n";
   return page;
+}
+
+std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
+                                   const TaskResult& result, size_t max_panels, std::string* why) {
+  if (const auto* path = std::get_if<PathResult>(&result)) {
+    return MakePathPicture(title, task, *path, max_panels);
+  }
+  Task planar_task;
+  const PlanarMotionResult* planar = PlanarView(result, task, &planar_task);
+  if (planar == nullptr) {
+    if (why != nullptr) {
+      *why = "pictures draw planar mechanisms; this task's result is a spatial platform";
+    }
+    return std::nullopt;
+  }
+  return MakePicture(title, planar_task, *planar, max_panels);
+}
+
+std::string PictureToJson(const Picture& picture) {
+  using Json = nlohmann::json;
+  const auto point = [](const Vec& p) { return Ok(p) ? Json({p.x(), p.y()}) : Json(nullptr); };
+  const auto polyline = [&](const std::vector<Vec>& points) {
+    Json list = Json::array();
+    for (const Vec& p : points) {
+      if (Ok(p)) list.push_back(point(p));
+    }
+    return list;
+  };
+  const auto pose = [](const PlanarPose& q) {
+    return Json({q.origin_in_fixed.x(), q.origin_in_fixed.y(), q.theta});
+  };
+  const auto dyad = [&](const PlanarDyad& d) {
+    Json object;
+    object["type"] = d.type == DyadType::kRR ? "RR" : d.type == DyadType::kPR ? "PR" : "RP";
+    object["fixed"] = point(d.fixed_pivot);
+    object["moving"] = point(d.moving_pivot);
+    object["line_point"] = point(d.line_point);
+    object["line_direction"] = point(SafeDirection(d.line_direction));
+    return object;
+  };
+  const double length = MarkLength(picture);
+  Json root;
+  root["title"] = picture.title;
+  root["length"] = length;
+  root["coupler_curve_label"] = picture.coupler_curve_label;
+  root["task_poses"] = Json::array();
+  for (const PlanarPose& q : picture.task_poses) {
+    if (Ok(q)) root["task_poses"].push_back(pose(q));
+  }
+  root["path_points"] = polyline(picture.path_points);
+  for (const char* key : {"center_point_curves", "circle_point_curves"}) {
+    const auto& curves = std::string(key) == "center_point_curves" ? picture.center_point_curves
+                                                                   : picture.circle_point_curves;
+    root[key] = Json::array();
+    for (const auto& curve : curves) root[key].push_back(polyline(curve));
+  }
+  const auto view = [](const Box& box) { return Json({box.x0, box.y0, box.x1, box.y1}); };
+  root["view"] = view(PanelBox(picture, nullptr, length, false));
+  root["mechanisms"] = Json::array();
+  for (const PictureMechanism& mechanism : picture.mechanisms) {
+    Json object;
+    object["title"] = mechanism.title;
+    object["labels"] = mechanism.labels;
+    object["input"] = dyad(mechanism.input);
+    object["output"] = dyad(mechanism.output);
+    object["first_pose"] = pose(mechanism.first_pose);
+    object["coupler_curve"] = polyline(CouplerCurve(mechanism));
+    object["view"] = view(PanelBox(picture, &mechanism, length, false));
+    root["mechanisms"].push_back(object);
+  }
+  return root.dump();
 }
 
 }  // namespace linkfit

@@ -4,11 +4,14 @@
 #define LINKFIT_APPS_PICTURE_H_
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
+#include "lib/result.h"
+#include "lib/task.h"
 
 namespace linkfit {
 
@@ -35,6 +38,24 @@ struct Picture {
   // What the coupler curve traces (path problems put E's origin at the coupler point).
   std::string coupler_curve_label = "coupler curve (E origin)";
 };
+
+// The picture of a solved task: planar motion (its poses, its mechanisms in ranked order, at most
+// `max_panels`, and for four poses the Burmester curves; planar data in a spatial task in their
+// plane) or a path task (its points, and its four-bars at the first point with the coupler
+// point's curve). Nothing for a spatial platform, with the reason in *why.
+std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
+                                   const TaskResult& result, size_t max_panels,
+                                   std::string* why = nullptr);
+
+// The picture's geometry as JSON, for drawing elsewhere (linkfit.plot): "title", "length",
+// "task_poses" ([x, y, theta] in Sigma, theta in radians), "path_points", "center_point_curves" and
+// "circle_point_curves" (polylines in Sigma), "coupler_curve_label", "view" (the panel's region,
+// [x0, y0, x1, y1], for a panel without mechanism) and "mechanisms": each with "title", "labels",
+// "input" and "output" dyads ("type", "fixed" in Sigma, "moving" and for RP the line in E, for
+// PR the line in Sigma: "line_point", "line_direction"), "first_pose" (the coupler pose the links
+// are drawn at), "coupler_curve" and its panel's "view". Non-finite points are left out (null
+// for a dyad's unused point).
+std::string PictureToJson(const Picture& picture);
 
 // A standalone SVG document (one panel per mechanism, in a grid).
 std::string RenderSvg(const Picture& picture);

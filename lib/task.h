@@ -10,8 +10,10 @@
 
 #include "lib/design_constraints.h"
 #include "lib/dyad.h"
+#include "lib/path_motion.h"
 #include "lib/planar_pose.h"
 #include "lib/precision.h"
+#include "lib/spatial_dyad.h"
 #include "lib/spatial_pose.h"
 
 namespace linkfit {
@@ -68,6 +70,22 @@ struct Task {
 struct PlanarDesign {
   std::vector<PlanarDyad> dyads;
   std::vector<std::pair<int, int>> mechanisms;  // [input, output] dyad indices
+};
+
+// A path design: crank-driven four-bars in the first point's configuration (lib/path_motion.h),
+// as a path result lists them ("type", "input_pivot", "input_moving", "output_pivot" and/or
+// "output_moving", "output_line_point" and "output_line_angle_deg" for a slider, "coupler_point"),
+// each with the input angles a free-timing result fitted (radians; empty when not given).
+struct PathDesign {
+  std::vector<PathFourBar> four_bars;
+  std::vector<std::vector<double>> input_angles;  // one list per four-bar
+};
+
+// A spatial design: SS, PS and SP dyads, and platforms of five of them, as a spatial motion
+// result lists them.
+struct SpatialDesign {
+  std::vector<SpatialDyad> dyads;
+  std::vector<std::vector<int>> platforms;  // five dyad indices each
 };
 
 // Motion tasks of the given poses, each of weight 1 and not exact (what a task file without

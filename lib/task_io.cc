@@ -410,6 +410,141 @@ class TaskParser {
     return design;
   }
 
+  PathDesign ParsePathDesignText(const std::string& text) const {
+    const Json root = ParseJson(text);
+    if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
+    const Json& mechanisms = Field(root, "", "mechanisms");
+    if (!mechanisms.is_array() || mechanisms.empty()) {
+      Fail("mechanisms",
+           "expected a non-empty array of path four-bars, got " + Describe(mechanisms));
+    }
+    PathDesign design;
+    for (size_t m = 0; m < mechanisms.size(); ++m) {
+      const std::string item = IndexItem("mechanisms", m);
+      const Json& mechanism = Object(mechanisms[m], item);
+      const auto point = [&](const char* key) {
+        return Vector<2>(Field(mechanism, item, key), KeyItem(item, key));
+      };
+      const Json& type = Field(mechanism, item, "type");
+      const std::string name = type.is_string() ? type.get<std::string>() : "";
+      if (name != "4R" && name != "slider-crank" && name != "inverted slider-crank") {
+        Fail(KeyItem(item, "type"),
+             "expected \"4R\", \"slider-crank\" or \"inverted slider-crank\" (a crank-driven "
+             "path four-bar), got " +
+                 Describe(type));
+      }
+      PathFourBar four_bar;
+      const Eigen::Vector2d input_pivot = point("input_pivot");
+      const Eigen::Vector2d input_moving = point("input_moving");
+      const double crank = (input_moving - input_pivot).norm();
+      if (!(crank > 0.0)) Fail(KeyItem(item, "input_moving"), "the crank has no length");
+      four_bar.input = PlanarDyad::RR(input_pivot, input_moving, crank);
+      const auto line_direction = [&]() {
+        const char* key = "output_line_angle_deg";
+        const double angle = Number(Field(mechanism, item, key), KeyItem(item, key)) * kDegree;
+        return Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      };
+      if (name == "4R") {
+        const Eigen::Vector2d pivot = point("output_pivot"), moving = point("output_moving");
+        const double rocker = (moving - pivot).norm();
+        if (!(rocker > 0.0)) Fail(KeyItem(item, "output_moving"), "the rocker has no length");
+        four_bar.output = PlanarDyad::RR(pivot, moving, rocker);
+      } else if (name == "slider-crank") {
+        four_bar.output =
+            PlanarDyad::PR(point("output_moving"), point("output_line_point"), line_direction());
+      } else {
+        four_bar.output =
+            PlanarDyad::RP(point("output_pivot"), point("output_line_point"), line_direction());
+      }
+      four_bar.coupler_point = point("coupler_point");
+      std::vector<double> angles;
+      if (mechanism.contains("input_deg")) {
+        const Json& values = mechanism.at("input_deg");
+        const std::string key = KeyItem(item, "input_deg");
+        if (!values.is_array()) Fail(key, "expected an array of numbers, got " + Describe(values));
+        for (size_t j = 0; j < values.size(); ++j) {
+          angles.push_back(Number(values[j], IndexItem(key, j)) * kDegree);
+        }
+      }
+      design.four_bars.push_back(four_bar);
+      design.input_angles.push_back(angles);
+    }
+    return design;
+  }
+
+  SpatialDesign ParseSpatialDesignText(const std::string& text) const {
+    const Json root = ParseJson(text);
+    if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
+    const Json& dyads = Field(root, "", "dyads");
+    if (!dyads.is_array() || dyads.empty()) {
+      Fail("dyads", "expected a non-empty array of spatial dyads, got " + Describe(dyads));
+    }
+    SpatialDesign design;
+    for (size_t i = 0; i < dyads.size(); ++i) {
+      const std::string item = IndexItem("dyads", i);
+      const Json& dyad = Object(dyads[i], item);
+      const Json& type = Field(dyad, item, "type");
+      const std::string name = type.is_string() ? type.get<std::string>() : "";
+      const auto point = [&](const char* key) {
+        return Vector<3>(Field(dyad, item, key), KeyItem(item, key));
+      };
+      const auto normal = [&](const char* key) {
+        const Eigen::Vector3d vector = point(key);
+        if (!(vector.norm() > 0.0)) Fail(KeyItem(item, key), "a plane normal must not be zero");
+        return vector;
+      };
+      const auto number = [&](const char* key) {
+        return Number(Field(dyad, item, key), KeyItem(item, key));
+      };
+      if (name == "SS") {
+        const double radius = Positive(Field(dyad, item, "radius"), KeyItem(item, "radius"));
+        design.dyads.push_back(SpatialDyad::SS(point("fixed"), point("moving"), radius));
+      } else if (name == "PS") {
+        design.dyads.push_back(
+            SpatialDyad::PS(point("moving"), normal("plane_normal"), number("plane_offset")));
+      } else if (name == "SP") {
+        design.dyads.push_back(SpatialDyad::SP(point("fixed"), normal("plane_normal_in_moving"),
+                                               number("plane_offset_in_moving")));
+      } else {
+        const bool planar = name == "RR" || name == "PR" || name == "RP";
+        Fail(KeyItem(item, "type"),
+             "expected \"SS\", \"PS\" or \"SP\", got " +
+                 (planar ? "\"" + name + "\" (a planar dyad: refine planar data as a planar task)"
+                         : Describe(type)));
+      }
+    }
+    if (root.contains("mechanisms")) {
+      const Json& mechanisms = root.at("mechanisms");
+      if (!mechanisms.is_array()) {
+        Fail("mechanisms", "expected an array, got " + Describe(mechanisms));
+      }
+      for (size_t m = 0; m < mechanisms.size(); ++m) {
+        const std::string item = IndexItem("mechanisms", m);
+        const Json& five = Field(Object(mechanisms[m], item), item, "dyads");
+        const std::string five_item = KeyItem(item, "dyads");
+        if (!five.is_array() || five.size() != 5) {
+          Fail(five_item, "expected the platform's five dyad indices, got " + Describe(five));
+        }
+        std::vector<int> platform;
+        for (size_t k = 0; k < five.size(); ++k) {
+          if (!five[k].is_number_integer() || five[k].get<long long>() < 0 ||
+              five[k].get<long long>() >= static_cast<long long>(design.dyads.size())) {
+            Fail(IndexItem(five_item, k), "expected a dyad index below " +
+                                              std::to_string(design.dyads.size()) + ", got " +
+                                              Describe(five[k]));
+          }
+          const int index = static_cast<int>(five[k].get<long long>());
+          if (std::find(platform.begin(), platform.end(), index) != platform.end()) {
+            Fail(IndexItem(five_item, k), "dyad " + std::to_string(index) + " given twice");
+          }
+          platform.push_back(index);
+        }
+        design.platforms.push_back(platform);
+      }
+    }
+    return design;
+  }
+
   Task Parse(const std::string& text) const {
     DigitTallies tallies;
     const Json root = ParseJson(text, &tallies);
@@ -1375,6 +1510,25 @@ std::string ReadText(const std::string& path, const char* what) {
 
 PlanarDesign ReadDesignFile(const std::string& path) {
   return ParseDesign(ReadText(path, "design"), path);
+}
+
+PathDesign ParsePathDesign(const std::string& json_text, const std::string& source) {
+  return TaskParser(source, TaskReadOptions()).ParsePathDesignText(json_text);
+}
+
+SpatialDesign ParseSpatialDesign(const std::string& json_text, const std::string& source) {
+  return TaskParser(source, TaskReadOptions()).ParseSpatialDesignText(json_text);
+}
+
+TaskDesign ParseTaskDesign(const std::string& json_text, const std::string& source,
+                           const Task& task) {
+  if (task.problem == ProblemKind::kPath) return ParsePathDesign(json_text, source);
+  if (task.space == Space::kSpatial) return ParseSpatialDesign(json_text, source);
+  return ParseDesign(json_text, source);
+}
+
+TaskDesign ReadTaskDesignFile(const std::string& path, const Task& task) {
+  return ParseTaskDesign(ReadText(path, "design"), path, task);
 }
 
 std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& options) {

@@ -5,6 +5,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "lib/task.h"
@@ -46,6 +47,22 @@ std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& o
 // notes, ...) are ignored. Errors as for tasks.
 PlanarDesign ParseDesign(const std::string& json_text, const std::string& source);
 PlanarDesign ReadDesignFile(const std::string& path);
+
+// Parses a path design (lib/task.h PathDesign): {"mechanisms": [...]} with each four-bar as a
+// path result writes it; other fields are ignored. Errors as for tasks.
+PathDesign ParsePathDesign(const std::string& json_text, const std::string& source);
+
+// Parses a spatial design (lib/task.h SpatialDesign): "dyads" ({"type": "SS", "fixed", "moving",
+// "radius"}, {"type": "PS", "moving", "plane_normal", "plane_offset"} or {"type": "SP", "fixed",
+// "plane_normal_in_moving", "plane_offset_in_moving"}) and optionally "mechanisms" ([{"dyads":
+// [five indices]}, ...]). Other fields are ignored. Errors as for tasks.
+SpatialDesign ParseSpatialDesign(const std::string& json_text, const std::string& source);
+
+// A design for `task` (`linkfit refine`): planar, path or spatial by the task's kind.
+using TaskDesign = std::variant<PlanarDesign, PathDesign, SpatialDesign>;
+TaskDesign ParseTaskDesign(const std::string& json_text, const std::string& source,
+                           const Task& task);
+TaskDesign ReadTaskDesignFile(const std::string& path, const Task& task);
 
 }  // namespace linkfit
 

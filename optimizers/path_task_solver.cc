@@ -1040,4 +1040,219 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   return result;
 }
 
+namespace {
+
+// The refinement of a design whose least-squares optimum lies past a defect (a step through a
+// stationary configuration: on coarse data the fit can pull a crank onto its Grashof limit), or
+// where the refiner keeps the seed for another reason: shorter refinements in turn, each from
+// the last one accepted (the refiner accepts none that adds a defect), halving the iterations
+// when one is refused; the design walks toward the optimum and stops before the defect. Returns
+// whether it moved.
+// Whether a refinement result is better than its seed: driven through every point, without a
+// kinematic defect the seed did not have, and a smaller largest point error.
+bool Improves(const PathMechanismReport& refined, const PathMechanismReport& seed) {
+  if (!refined.max_point_error) return false;
+  for (const std::string& defect : refined.defects) {
+    if (defect != "transmission" &&
+        std::find(seed.defects.begin(), seed.defects.end(), defect) == seed.defects.end()) {
+      return false;
+    }
+  }
+  return !seed.max_point_error || *refined.max_point_error < *seed.max_point_error;
+}
+
+bool RefineInSteps(const PathData& data, const PathRefinerOptions& options, bool free_timing,
+                   PathFourBar* design, std::vector<double>* angles) {
+  constexpr int kFirstSteps = 64, kMaxRounds = 40;
+  bool moved = false;
+  double cost = std::numeric_limits<double>::infinity();
+  int iterations = kFirstSteps;
+  for (int round = 0; round < kMaxRounds && iterations >= 1; ++round) {
+    PathFourBar next = *design;
+    std::vector<double> next_angles = *angles;
+    PathRefinerOptions steps = options;
+    steps.max_iterations = iterations;
+    RefinerSummary summary;
+    try {
+      summary = RefinePathFourBar(data.points, data.weights, data.exact, data.length, free_timing,
+                                  &next_angles, &next, steps);
+    } catch (const std::invalid_argument&) {
+      return moved;
+    }
+    if (!std::isfinite(cost)) cost = summary.initial_cost;
+    if (summary.final_cost < cost * (1.0 - 1e-9)) {
+      *design = next;
+      *angles = next_angles;
+      cost = summary.final_cost;
+      moved = true;
+    } else {
+      iterations /= 2;
+    }
+  }
+  return moved;
+}
+
+}  // namespace
+
+PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
+                            const std::vector<double>& input_angles,
+                            const TaskSolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const PathData data = Data(task);
+  PathRefinerOptions refiner = options.path_refiner;
+  refiner.closed = task.closed;
+  refiner.constraints = task.constraints;
+  PathResult result;
+  result.method = "refine";
+  result.effort = EffortName(task.effort);
+  result.precision = task.precision;
+  result.closed = task.closed;
+  result.constraints = task.constraints;
+  result.scale = data.length;
+  const bool free_timing = data.angles.size() != data.points.size();
+  result.timing = free_timing ? "free" : "prescribed";
+  const auto transmission = [](const PathMechanismReport& report) {
+    return std::find(report.defects.begin(), report.defects.end(), "transmission") !=
+           report.defects.end();
+  };
+  // A design whose transmission angle is good keeps it: the refiner holds it (a penalty under
+  // prescribed timing, and it refuses a result below it either way), as a designer refining the
+  // recommended four-bar expects.
+  const auto hold_if_kept = [&](const PathMechanismReport& seed_report) {
+    PathMechanismReport judged = seed_report;
+    JudgeTransmission(data, &judged);
+    if (judged.max_point_error && !transmission(judged)) {
+      refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
+    }
+  };
+  PathMechanismReport seed, refined;
+  if (!free_timing) {
+    seed = Report(four_bar, data, data.angles);
+    hold_if_kept(seed);
+    if (!AnalyzePathFourBar(four_bar, data.points, data.angles, data.length).assembles) {
+      throw std::invalid_argument(
+          "the four-bar does not assemble at its crank's first angle: its output dyad cannot "
+          "reach the coupler as given");
+    }
+    const std::optional<PathMechanismReport> once = RefinedReport(data, refiner, four_bar);
+    refined = once ? *once : seed;
+    if (!Improves(refined, seed)) {
+      PathFourBar design = four_bar;
+      std::vector<double> angles = data.angles;
+      if (RefineInSteps(data, refiner, false, &design, &angles)) {
+        refined = Report(design, data, data.angles);
+      }
+    }
+    JudgeTransmission(data, &refined);
+    // With constraints, a refinement that ends on a transmission defect is repeated holding the
+    // angle (PathRefinerOptions::min_transmission_deg), as the solver does.
+    if (task.constraints.given && !refiner.min_transmission_deg && transmission(refined)) {
+      PathRefinerOptions held = refiner;
+      held.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
+      std::optional<PathMechanismReport> holding = RefinedReport(data, held, four_bar);
+      if (holding) {
+        JudgeTransmission(data, &*holding);
+        if (holding->violates.empty() && holding->max_point_error && !transmission(*holding)) {
+          refined = *holding;
+          result.notes.push_back(
+              "the refinement held the transmission angle: without the hold it ended below the "
+              "task's minimum");
+        }
+      }
+    }
+  } else {
+    // The starting timing: the design's fitted angles, else the one its coupler curve gives
+    // the points, of the two turning directions the one that meets them better.
+    std::vector<double> angles = input_angles;
+    if (!angles.empty()) {
+      const double first = angles.front();
+      for (double& angle : angles) angle -= first;
+      if (!Monotonic(angles)) {
+        result.notes.push_back(
+            "the design's input angles do not turn one way through the points: the timing is "
+            "taken from its coupler curve instead");
+        angles.clear();
+      }
+    }
+    if (angles.empty()) {
+      // Both directions put the crank at the same angles modulo a turn, so meet the points
+      // alike: the one that turns one way through them is the timing (as NinePointSeeds takes).
+      std::pair<bool, double> best(true, std::numeric_limits<double>::infinity());
+      for (double direction : {1.0, -1.0}) {
+        const std::optional<std::vector<double>> projected =
+            ProjectTiming(four_bar, data, direction);
+        if (!projected) continue;
+        const PathMechanismReport report = Report(four_bar, data, *projected);
+        const std::pair<bool, double> key(
+            !Monotonic(*projected),
+            report.max_point_error.value_or(std::numeric_limits<double>::infinity()));
+        if (key < best || angles.empty()) {
+          best = key;
+          angles = *projected;
+        }
+      }
+    }
+    if (angles.empty()) {
+      throw std::invalid_argument(
+          "the four-bar does not assemble at its crank's first angle: its output dyad cannot "
+          "reach the coupler as given");
+    }
+    seed = Report(four_bar, data, angles);
+    seed.input_angles = angles;
+    hold_if_kept(seed);
+    // From a design near its optimum, the four-bar and the angles refined together find that
+    // optimum; the solver's alternation (RefineFreeTiming), made for rough timing guesses, can
+    // first fit the design to the projected timing's errors and leave the neighbourhood. It is
+    // the fallback where the direct refinement ends on a kinematic defect or out of order.
+    refined = seed;
+    bool direct = false;
+    try {
+      std::vector<double> free_angles = angles;
+      PathFourBar design = four_bar;
+      PathRefinerOptions free_options = refiner;
+      free_options.max_iterations = kFreeTimingIterations;
+      RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &free_angles,
+                        &design, free_options);
+      refined = Report(design, data, free_angles);
+      refined.input_angles = free_angles;
+      direct =
+          refined.max_point_error && Monotonic(free_angles) && !HasKinematicDefect(refined.defects);
+    } catch (const std::invalid_argument&) {
+    }
+    if (!direct) {
+      refined = seed;
+      RefineFreeTiming(data, refiner, &refined);
+    }
+    if (!Improves(refined, seed)) {
+      PathFourBar design = four_bar;
+      std::vector<double> stepped = angles;
+      if (RefineInSteps(data, refiner, true, &design, &stepped)) {
+        refined = Report(design, data, stepped);
+        refined.input_angles = stepped;
+      }
+    }
+    JudgeTransmission(data, &refined);
+  }
+  refined.seed_max_point_error = seed.max_point_error;
+  result.mechanisms.push_back(refined);
+  const auto text = [](const std::optional<double>& value) {
+    if (!value) return std::string("none (not driven through the points)");
+    char number[32];
+    std::snprintf(number, sizeof(number), "%.6g", *value);
+    return std::string(number);
+  };
+  result.notes.insert(result.notes.begin(),
+                      "point error before: max " + text(seed.max_point_error) + ", RMS " +
+                          text(seed.rms_point_error) + "; after: max " +
+                          text(refined.max_point_error) + ", RMS " + text(refined.rms_point_error));
+  if (data.points.size() >= 5) BoundErrors(data, free_timing, {}, &result);
+  StageReport stage;
+  stage.name = "four-bar refine";
+  stage.seconds = Seconds(start);
+  stage.best_max_point_error = refined.max_point_error;
+  result.stages.push_back(stage);
+  result.solve_seconds = Seconds(start);
+  return result;
+}
+
 }  // namespace linkfit

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <stdexcept>
 
 #include "fitting/model_choice.h"
+#include "lib/task_io.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
 
@@ -124,6 +126,59 @@ void PreferPlaneLimits(const Task& task, const std::vector<DualQuaternion>& inve
   }
 }
 
+// Refines one dyad of a spatial task on its residuals (spatial_dyad_refiner.h; an SP dyad as the
+// PS dyad of the inverted motion, `inverted`), an SS whose centre or moving point runs far also
+// as its plane limits (PreferPlaneLimits), and a sphere the data cannot tell from a plane at
+// their precision as that plane, refined. The report gets the refined dyad, its residuals and
+// the seed's. Returns whether the sphere became its plane.
+bool RefineSpatialReport(const Task& task, const std::vector<DualQuaternion>& inverted,
+                         double length, const SpatialDyadRefinerOptions& options,
+                         SpatialDyadReport* report) {
+  SpatialDyad dyad = report->dyad;
+  RefinerSummary summary;
+  bool simplified = false;
+  if (dyad.type == SpatialDyadType::kSP) {
+    SpatialDyad flipped = SpatialDyad::PS(dyad.fixed_pivot, dyad.plane_normal, dyad.plane_offset);
+    summary =
+        RefineSpatialDyad(inverted, task.pose_weights, task.pose_exact, length, &flipped, options);
+    dyad = flipped.type == SpatialDyadType::kPS
+               ? SpatialDyad::SP(flipped.moving_pivot, flipped.plane_normal, flipped.plane_offset)
+               : SpatialDyad::SS(flipped.moving_pivot, flipped.fixed_pivot, flipped.radius);
+  } else {
+    summary = RefineSpatialDyad(task.spatial_poses, task.pose_weights, task.pose_exact, length,
+                                &dyad, options);
+    if (dyad.type == SpatialDyadType::kSS) {
+      PreferPlaneLimits(task, inverted, length, options, &dyad, &summary);
+    }
+  }
+  // A sphere the data cannot tell from a plane at their precision is the plane, refined.
+  SpatialDyad plane;
+  if (dyad.type == SpatialDyadType::kSS &&
+      SimplerModel(dyad, task.spatial_poses, task.precision, length, &plane)) {
+    const bool in_moving = plane.type == SpatialDyadType::kSP;
+    SpatialDyad start =
+        in_moving ? SpatialDyad::PS(plane.fixed_pivot, plane.plane_normal, plane.plane_offset)
+                  : plane;
+    RefineSpatialDyad(in_moving ? inverted : task.spatial_poses, task.pose_weights, task.pose_exact,
+                      length, &start, options);
+    if (start.type == SpatialDyadType::kPS) {
+      plane = in_moving
+                  ? SpatialDyad::SP(start.moving_pivot, start.plane_normal, start.plane_offset)
+                  : start;
+      if (PrecisionRatio(plane, task.spatial_poses, task.precision, length) <= kModelUnits) {
+        dyad = plane;
+        simplified = true;
+      }
+    }
+  }
+  report->seed_max_residual = summary.initial_max;
+  report->seed_rms_residual = summary.initial_rms;
+  report->rms_residual = summary.final_rms;
+  report->dyad = dyad;
+  report->max_residual = dyad.MaxResidual(task.spatial_poses);
+  return simplified;
+}
+
 // Whether two spatial dyads are one, as planar SameDyad decides it (fitting/planar_motion.h): of
 // a type, and what the type has within SameDesignTolerance (fitting/model_choice.h: `bound` the
 // smaller of their DyadErrorBounds; the relative floor kSameRefinedOptimum). An SS: both centres
@@ -214,50 +269,9 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
     for (const DualQuaternion& pose : task.spatial_poses) inverted.push_back(pose.Inverse());
     int simplified = 0;
     for (SpatialDyadReport& report : result.dyads) {
-      SpatialDyad dyad = report.dyad;
-      RefinerSummary summary;
-      if (dyad.type == SpatialDyadType::kSP) {
-        SpatialDyad flipped =
-            SpatialDyad::PS(dyad.fixed_pivot, dyad.plane_normal, dyad.plane_offset);
-        summary = RefineSpatialDyad(inverted, task.pose_weights, task.pose_exact, result.scale,
-                                    &flipped, options.refiner);
-        dyad =
-            flipped.type == SpatialDyadType::kPS
-                ? SpatialDyad::SP(flipped.moving_pivot, flipped.plane_normal, flipped.plane_offset)
-                : SpatialDyad::SS(flipped.moving_pivot, flipped.fixed_pivot, flipped.radius);
-      } else {
-        summary = RefineSpatialDyad(task.spatial_poses, task.pose_weights, task.pose_exact,
-                                    result.scale, &dyad, options.refiner);
-        if (dyad.type == SpatialDyadType::kSS) {
-          PreferPlaneLimits(task, inverted, result.scale, options.refiner, &dyad, &summary);
-        }
+      if (RefineSpatialReport(task, inverted, result.scale, options.refiner, &report)) {
+        ++simplified;
       }
-      // A sphere the data cannot tell from a plane at their precision is the plane, refined.
-      SpatialDyad plane;
-      if (dyad.type == SpatialDyadType::kSS &&
-          SimplerModel(dyad, task.spatial_poses, task.precision, result.scale, &plane)) {
-        const bool in_moving = plane.type == SpatialDyadType::kSP;
-        SpatialDyad start =
-            in_moving ? SpatialDyad::PS(plane.fixed_pivot, plane.plane_normal, plane.plane_offset)
-                      : plane;
-        RefineSpatialDyad(in_moving ? inverted : task.spatial_poses, task.pose_weights,
-                          task.pose_exact, result.scale, &start, options.refiner);
-        if (start.type == SpatialDyadType::kPS) {
-          plane = in_moving
-                      ? SpatialDyad::SP(start.moving_pivot, start.plane_normal, start.plane_offset)
-                      : start;
-          if (PrecisionRatio(plane, task.spatial_poses, task.precision, result.scale) <=
-              kModelUnits) {
-            dyad = plane;
-            ++simplified;
-          }
-        }
-      }
-      report.seed_max_residual = summary.initial_max;
-      report.seed_rms_residual = summary.initial_rms;
-      report.rms_residual = summary.final_rms;
-      report.dyad = dyad;
-      report.max_residual = dyad.MaxResidual(task.spatial_poses);
     }
     if (simplified > 0) {
       result.notes.push_back(std::to_string(simplified) +
@@ -710,6 +724,210 @@ TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
       },
       result);
   return result;
+}
+
+namespace {
+
+// "before: max a, RMS b; after: max c, RMS d (n iterations)" of a refinement, `what` the error.
+std::string BeforeAfterNote(const std::string& what, double initial_max, double initial_rms,
+                            double final_max, double final_rms, int iterations) {
+  char line[240];
+  std::snprintf(line, sizeof(line),
+                "%s before: max %.6g, RMS %.6g; after: max %.6g, RMS %.6g (%d iterations)",
+                what.c_str(), initial_max, initial_rms, final_max, final_rms, iterations);
+  return line;
+}
+
+}  // namespace
+
+PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
+                                      const PlanarDyad& output, const TaskSolverOptions& options) {
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  FourBarRefinerOptions refiner = options.four_bar_refiner;
+  refiner.constraints = task.constraints;
+  // Refines the design with `with` and judges it: the dyads' reports and the four-bar's.
+  const auto refine = [&](const FourBarRefinerOptions& with, RefinerSummary* summary) {
+    PlanarMotionResult result;
+    PlanarDyad refined_input = input, refined_output = output;
+    *summary = RefineFourBar(poses, task.pose_weights, task.pose_exact, length, &refined_input,
+                             &refined_output, with);
+    for (const PlanarDyad& dyad : {refined_input, refined_output}) {
+      DyadReport report;
+      report.dyad = dyad;
+      report.max_residual = dyad.MaxResidual(poses);
+      report.rms_residual = WeightedRms(dyad, poses, task.pose_weights);
+      report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
+      result.dyads.push_back(report);
+    }
+    MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length);
+    JudgeMechanism(task.constraints, result.dyads, length, &mechanism);
+    mechanism.seed_max_pose_error = summary->initial_max;
+    result.mechanisms.push_back(mechanism);
+    return result;
+  };
+  const auto has = [](const MechanismReport& mechanism, const char* defect) {
+    return std::find(mechanism.defects.begin(), mechanism.defects.end(), defect) !=
+           mechanism.defects.end();
+  };
+  // A design whose transmission angle is good keeps it: the refiner holds it
+  // (FourBarRefinerOptions::min_transmission_deg), as a designer refining the recommended
+  // four-bar expects.
+  std::vector<DyadReport> seed_dyads(2);
+  seed_dyads[0].dyad = input;
+  seed_dyads[1].dyad = output;
+  MechanismReport seed = AnalyzeDyadPair(seed_dyads, 0, 1, poses, length);
+  JudgeMechanism(task.constraints, seed_dyads, length, &seed);
+  if (seed.max_pose_error && !has(seed, "transmission")) {
+    refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
+  }
+  RefinerSummary summary;
+  PlanarMotionResult result = refine(refiner, &summary);
+  // With constraints, a refinement that ends on a transmission defect is repeated holding the
+  // angle, as the solver does onto the bounds; the held design is taken when it keeps the
+  // constraints without that defect.
+  if (task.constraints.given && !refiner.min_transmission_deg &&
+      has(result.mechanisms[0], "transmission")) {
+    FourBarRefinerOptions held = refiner;
+    held.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
+    RefinerSummary held_summary;
+    PlanarMotionResult held_result = refine(held, &held_summary);
+    const MechanismReport& mechanism = held_result.mechanisms[0];
+    if (mechanism.violates.empty() && !has(mechanism, "transmission") && mechanism.max_pose_error) {
+      held_summary.seconds += summary.seconds;
+      held_result.notes.push_back(
+          "the refinement held the transmission angle: without the hold it ended below the "
+          "task's minimum");
+      result = held_result;
+      summary = held_summary;
+    }
+  }
+  result.method = "refine";
+  result.scale = length;
+  result.effort = EffortName(task.effort);
+  result.precision = task.precision;
+  result.closed = task.closed;
+  result.constraints = task.constraints;
+  StageReport stage;
+  stage.name = "four-bar refine";
+  stage.seconds = summary.seconds;
+  stage.best_max_pose_error = summary.final_max;
+  result.stages.push_back(stage);
+  result.notes.insert(result.notes.begin(),
+                      BeforeAfterNote("pose error", summary.initial_max, summary.initial_rms,
+                                      summary.final_max, summary.final_rms, summary.iterations));
+  if (!summary.message.empty()) result.notes.push_back(summary.message);
+  result.solve_seconds = summary.seconds;
+  return result;
+}
+
+SpatialMotionResult RefineSpatialDesign(const Task& task, const std::vector<SpatialDyad>& dyads,
+                                        const std::vector<int>& platform,
+                                        const TaskSolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  SpatialMotionResult result;
+  result.method = "refine";
+  result.scale = SpatialTaskLength(task);
+  result.precision = task.precision;
+  result.closed = task.closed;
+  std::vector<DualQuaternion> inverted;
+  for (const DualQuaternion& pose : task.spatial_poses) inverted.push_back(pose.Inverse());
+  int simplified = 0;
+  double initial_max = 0.0, final_max = 0.0;
+  for (const SpatialDyad& dyad : dyads) {
+    SpatialDyadReport report;
+    report.dyad = dyad;
+    if (RefineSpatialReport(task, inverted, result.scale, options.refiner, &report)) {
+      ++simplified;
+    }
+    report.error_bound =
+        DyadErrorBound(report.dyad, task.spatial_poses, task.precision, result.scale);
+    initial_max = std::max(initial_max, report.seed_max_residual.value_or(0.0));
+    final_max = std::max(final_max, report.max_residual);
+    result.dyads.push_back(report);
+  }
+  char line[200];
+  std::snprintf(line, sizeof(line),
+                "%zu dyad(s) refined on their residuals: largest residual before %.6g, after %.6g "
+                "(each dyad's before_refinement and max_residual)",
+                dyads.size(), initial_max, final_max);
+  result.notes.push_back(line);
+  if (simplified > 0) {
+    result.notes.push_back(std::to_string(simplified) +
+                           " refined spheres are reported as planes: at the data's precision "
+                           "the poses cannot tell them from their plane readings");
+  }
+  AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
+  result.refine_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The platform of the design's five (or, without one, the default five), judged by the
+  // refined dyads' own residuals as a least-squares design is.
+  PlatformMotionOptions platform_options = options.spatial.platform;
+  platform_options.assembly_tolerance =
+      std::max(platform_options.assembly_tolerance, 10.0 * final_max / result.scale);
+  platform_options.pose_tolerance =
+      std::max(platform_options.pose_tolerance, 10.0 * final_max / result.scale);
+  Task platform_task = task;
+  platform_task.platform = platform;
+  AddPlatform(platform_task, platform_options, &result);
+  result.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+TaskResult RefineTask(const Task& task, const TaskDesign& design, const RefineChoice& choice,
+                      const TaskSolverOptions& options) {
+  const auto listed = [&](size_t count, const char* what) {
+    if (choice.mechanism < 0 || static_cast<size_t>(choice.mechanism) >= count) {
+      throw InputError(choice.mechanism_item + ": the design lists " + std::to_string(count) + " " +
+                       what);
+    }
+    return static_cast<size_t>(choice.mechanism);
+  };
+  if (task.problem == ProblemKind::kPath) {
+    const PathDesign& path = std::get<PathDesign>(design);
+    const size_t m = listed(path.four_bars.size(), "mechanisms");
+    const std::vector<double>& angles = path.input_angles[m];
+    if (!angles.empty() && angles.size() != task.points.size()) {
+      throw InputError(choice.design_source + ": mechanisms[" + std::to_string(m) +
+                       "].input_deg: expected " + std::to_string(task.points.size()) +
+                       " angles (one per point of the task), got " + std::to_string(angles.size()));
+    }
+    try {
+      return RefinePathDesign(task, path.four_bars[m], angles, options);
+    } catch (const std::invalid_argument& error) {
+      throw InputError(choice.design_source + ": mechanisms[" + std::to_string(m) +
+                       "]: " + error.what());
+    }
+  }
+  if (task.space == Space::kSpatial) {
+    const SpatialDesign& spatial = std::get<SpatialDesign>(design);
+    if (task.spatial_poses.size() < 7) {
+      throw InputError(choice.task_source +
+                       ": refine of spatial dyads takes at least seven poses "
+                       "(an SS dyad has seven parameters), the task has " +
+                       std::to_string(task.spatial_poses.size()));
+    }
+    if (spatial.platforms.empty()) {
+      return RefineSpatialDesign(task, spatial.dyads, task.platform, options);
+    }
+    const size_t m = listed(spatial.platforms.size(), "platforms");
+    std::vector<SpatialDyad> five;
+    for (int index : spatial.platforms[m]) five.push_back(spatial.dyads[index]);
+    return RefineSpatialDesign(task, five, {0, 1, 2, 3, 4}, options);
+  }
+  const PlanarDesign& planar = std::get<PlanarDesign>(design);
+  std::pair<int, int> pair;
+  if (!planar.mechanisms.empty()) {
+    pair = planar.mechanisms[listed(planar.mechanisms.size(), "mechanisms")];
+  } else if (planar.dyads.size() == 2) {
+    pair = {0, 1};
+  } else {
+    throw InputError(choice.design_source +
+                     ": mechanisms: missing field (needed to pick two of the " +
+                     std::to_string(planar.dyads.size()) + " dyads)");
+  }
+  return RefinePlanarDesign(task, planar.dyads[pair.first], planar.dyads[pair.second], options);
 }
 
 }  // namespace linkfit

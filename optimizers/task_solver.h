@@ -21,11 +21,15 @@
 #ifndef LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 #define LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 
+#include <string>
+#include <vector>
+
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_motion.h"
 #include "fitting/timed_path.h"
 #include "lib/result.h"
 #include "lib/task.h"
+#include "lib/task_io.h"
 #include "optimizers/four_bar_refiner.h"
 #include "optimizers/global_search.h"
 #include "optimizers/path_refiner.h"
@@ -71,6 +75,44 @@ double PathPassTolerance(const DataPrecision& precision, double length);
 // Spatial motion only: solve, refine (more than seven poses, unless effort is fast), and add
 // the platform.
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options = {});
+
+// `linkfit refine` and linkfit.refine: a design (a result file's, or written by hand) refined
+// against a task, the result in the form `linkfit solve` gives, with "method": "refine", the
+// errors before and after in a note and each design's "before_refinement". The task's weights,
+// exact poses or points and design constraints hold as in the solver's refinements.
+//   - planar motion: the four-bar of two dyads refined on its pose error (four_bar_refiner.h);
+//   - path problems: the crank-driven four-bar refined on its point errors (path_refiner.h),
+//     under the task's timing; free timing starts from the design's fitted input angles, or from
+//     the timing its coupler curve gives the points (the nearer of both turning directions);
+//   - spatial motion: each dyad refined on its residuals (spatial_dyad_refiner.h), then the
+//     platform of the design's five traced.
+struct RefineChoice {
+  int mechanism = 0;                 // which of the design's mechanisms (0 = the first listed)
+  std::string task_source = "task";  // names the task, the design and the choice in messages
+  std::string design_source = "design";
+  std::string mechanism_item = "design: mechanism 0";
+};
+
+// Throws InputError (lib/task_io.h) when the design does not fit the task: a mechanism it does
+// not list, a planar design of more than two dyads and no mechanisms, free-timing angles of
+// another count than the points, a spatial task of fewer than seven poses. `design` must be of
+// the task's kind (ParseTaskDesign).
+TaskResult RefineTask(const Task& task, const TaskDesign& design, const RefineChoice& choice,
+                      const TaskSolverOptions& options = {});
+
+// The refinements RefineTask dispatches to, one per kind of task.
+PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
+                                      const PlanarDyad& output,
+                                      const TaskSolverOptions& options = {});
+// `input_angles`: free timing's starting angles (radians, one per point), or empty. Throws
+// std::invalid_argument when the four-bar does not assemble at its crank's first angle.
+PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
+                            const std::vector<double>& input_angles,
+                            const TaskSolverOptions& options = {});
+// `platform`: five indices into `dyads`, or empty for the default five (AddPlatform).
+SpatialMotionResult RefineSpatialDesign(const Task& task, const std::vector<SpatialDyad>& dyads,
+                                        const std::vector<int>& platform,
+                                        const TaskSolverOptions& options = {});
 
 }  // namespace linkfit
 

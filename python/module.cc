@@ -1,6 +1,7 @@
 // The Python module's native part, linkfit._linkfit (python/linkfit/__init__.py wraps it): a task
 // as JSON text in, the result as JSON text out, exactly as `linkfit solve` writes it; bad input
-// raises linkfit.InputError with the CLI's one-line message. The GIL is released while solving.
+// raises linkfit.InputError with the CLI's one-line message. The GIL is released while solving
+// and refining.
 #include <glog/logging.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -8,10 +9,12 @@
 #include <algorithm>
 #include <atomic>
 #include <exception>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "apps/picture.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
@@ -25,6 +28,29 @@ namespace {
 std::string SolveText(const std::string& text, const std::string& source) {
   const Task task = ParseTask(text, source);
   return ResultToJson(SolveTask(task), 2);
+}
+
+// The result's JSON text, and its picture's (apps/picture.h PictureToJson, the SVG's content;
+// empty for a spatial platform, with the reason).
+struct Drawn {
+  std::string result;
+  std::string picture;
+  std::string why;
+};
+
+Drawn WithPicture(const Task& task, const TaskResult& result) {
+  Drawn drawn;
+  drawn.result = ResultToJson(result, 2);
+  constexpr size_t kPanels = 12;  // as `linkfit solve --svg`
+  if (const std::optional<Picture> picture = TaskPicture("", task, result, kPanels, &drawn.why)) {
+    drawn.picture = PictureToJson(*picture);
+  }
+  return drawn;
+}
+
+Drawn SolveDrawn(const std::string& text, const std::string& source) {
+  const Task task = ParseTask(text, source);
+  return WithPicture(task, SolveTask(task));
 }
 
 // Every task on `threads` threads (0: the machine's), results in input order. Bad input in any
@@ -57,6 +83,16 @@ std::vector<std::string> SolveMany(const std::vector<std::string>& texts,
   return results;
 }
 
+// One design refined against one task (as `linkfit refine` does), `mechanism` counted from 0.
+Drawn RefineDrawn(const std::string& task_text, const std::string& design_text, int mechanism) {
+  const Task task = ParseTask(task_text, "task");
+  const TaskDesign design = ParseTaskDesign(design_text, "design", task);
+  RefineChoice choice;
+  choice.mechanism = mechanism;
+  choice.mechanism_item = "design: mechanism=" + std::to_string(mechanism);
+  return WithPicture(task, RefineTask(task, design, choice));
+}
+
 }  // namespace
 }  // namespace linkfit
 
@@ -74,6 +110,27 @@ PYBIND11_MODULE(_linkfit, m) {
       },
       py::arg("text"), py::arg("source") = "task",
       "Solves one task given as JSON text; returns the result as the CLI's JSON text.");
+  py::class_<linkfit::Drawn>(m, "Drawn")
+      .def_readonly("result", &linkfit::Drawn::result)
+      .def_readonly("picture", &linkfit::Drawn::picture)
+      .def_readonly("why", &linkfit::Drawn::why);
+  m.def(
+      "solve_drawn_json",
+      [](const std::string& text, const std::string& source) {
+        py::gil_scoped_release release;
+        return linkfit::SolveDrawn(text, source);
+      },
+      py::arg("text"), py::arg("source") = "task",
+      "Solves one task given as JSON text; the result's JSON text and its picture's.");
+  m.def(
+      "refine_drawn_json",
+      [](const std::string& task, const std::string& design, int mechanism) {
+        py::gil_scoped_release release;
+        return linkfit::RefineDrawn(task, design, mechanism);
+      },
+      py::arg("task"), py::arg("design"), py::arg("mechanism") = 0,
+      "Refines a design (JSON text) against a task (JSON text); the result's JSON text and its "
+      "picture's.");
   m.def(
       "solve_many_json",
       [](const std::vector<std::string>& texts, const std::vector<std::string>& sources,

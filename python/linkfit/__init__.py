@@ -1,21 +1,35 @@
 """linkfit: kinematic synthesis of linkages from Python.
 
-Tasks and results are the task and result files of the ``linkfit`` command (README, "Task
-file" and "Result file"), as Python dicts::
+Tasks, designs and results are the task, design and result files of the ``linkfit`` command
+(README, "Task file" and "Result file"), as Python dicts::
 
     import linkfit
     result = linkfit.solve({"problem": "motion", "space": "planar",
                             "poses": [{"x": 0, "y": 0, "theta_deg": 0}, ...]})
     first = result["mechanisms"][0]
+    better = linkfit.refine(task, result, mechanism=1)   # a design refined against the task
+    linkfit.plot(result)                                 # with matplotlib, as the SVG
 
-Bad input raises :class:`InputError` with the command's one-line message.
+Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses`,
+:func:`path_points`). Bad input raises :class:`InputError` with the command's one-line message.
 """
 
 import json
 
-from ._linkfit import InputError, solve_json, solve_many_json
+from ._linkfit import InputError, refine_drawn_json, solve_drawn_json, solve_many_json
 
-__all__ = ["InputError", "solve", "solve_many", "planar_poses"]
+__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "planar_poses",
+           "spatial_poses", "path_points"]
+
+
+class Result(dict):
+    """A result dict, equal to the CLI's JSON, that also carries its drawing for :func:`plot`
+    (``picture``; None for a spatial platform, with the reason in ``picture_note``)."""
+
+    def __init__(self, drawn):
+        super().__init__(json.loads(drawn.result))
+        self.picture = json.loads(drawn.picture) if drawn.picture else None
+        self.picture_note = drawn.why
 
 
 def _plain(value):
@@ -29,6 +43,10 @@ def _plain(value):
     return value
 
 
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def planar_poses(array):
     """Planar poses from an (n, 3) array-like of rows (x, y, theta_deg), as a task's "poses"."""
     rows = _plain(array)
@@ -38,28 +56,113 @@ def planar_poses(array):
     return [{"x": x, "y": y, "theta_deg": theta} for x, y, theta in rows]
 
 
-def _text(task):
+def spatial_poses(array):
+    """Spatial poses from an (n, 4, 4) array-like of homogeneous transforms [[R, d], [0, 1]]
+    (a body point c is at R c + d), as a task's "poses" ({"rotation", "translation"}). The
+    rotations are checked and repaired within the data's precision as any task's are."""
+    transforms = _plain(array)
+    if not isinstance(transforms, list) or any(
+            not isinstance(m, list) or len(m) != 4
+            or any(not isinstance(row, list) or len(row) != 4 for row in m)
+            for m in transforms):
+        raise InputError("poses: expected an (n, 4, 4) array of homogeneous transforms")
+    poses = []
+    for i, m in enumerate(transforms):
+        if m[3] != [0, 0, 0, 1]:
+            raise InputError("poses[%d]: expected the last row of a homogeneous transform, "
+                             "[0, 0, 0, 1]" % i)
+        poses.append({"rotation": [row[:3] for row in m[:3]],
+                      "translation": [row[3] for row in m[:3]]})
+    return poses
+
+
+def path_points(points, input_deg=None):
+    """A path task's "points" from an (n, 2) array-like of x, y and, for prescribed timing, the
+    n input angles in degrees (`input_deg`; None for free timing). An (n, 3) array is read as
+    rows x, y, input_deg."""
+    rows = _plain(points)
+    if isinstance(rows, list) and rows and all(isinstance(r, list) and len(r) == 3 for r in rows):
+        if input_deg is not None:
+            raise InputError("points: an (n, 3) array already holds the input angles")
+        input_deg = [r[2] for r in rows]
+        rows = [r[:2] for r in rows]
+    if not isinstance(rows, list) or any(not isinstance(r, list) or len(r) != 2 for r in rows):
+        raise InputError("points: expected an (n, 2) array of x, y (or (n, 3) with input_deg)")
+    angles = None if input_deg is None else _plain(input_deg)
+    if angles is not None and (not isinstance(angles, list) or len(angles) != len(rows)):
+        raise InputError("points: expected %d input angles, one per point" % len(rows))
+    if angles is None:
+        return [{"x": x, "y": y} for x, y in rows]
+    return [{"x": x, "y": y, "input_deg": a} for (x, y), a in zip(rows, angles)]
+
+
+def _rows(value):
+    """`value` as nested lists when it is an array-like of numbers, else None."""
+    rows = _plain(value)
+    if isinstance(rows, list) and rows and isinstance(rows[0], list):
+        return rows
+    return None
+
+
+def _text(task, what="task"):
+    """JSON text of a task or design given as a dict (numpy arrays allowed) or JSON text."""
     if isinstance(task, (str, bytes)):
         return task.decode() if isinstance(task, bytes) else task
     if not isinstance(task, dict):
-        raise InputError("task: expected a dict or a JSON string, got " + type(task).__name__)
+        raise InputError(what + ": expected a dict or a JSON string, got " + type(task).__name__)
     task = _plain(task)
-    poses = task.get("poses")
-    if (isinstance(poses, list) and poses and isinstance(poses[0], list)
-            and len(poses[0]) == 3 and task.get("space", "planar") == "planar"):
-        task["poses"] = planar_poses(poses)
+    poses = _rows(task.get("poses"))
+    if poses is not None and all(_is_number(v) for v in poses[0]):
+        if task.get("space", "planar") == "planar" and len(poses[0]) == 3:
+            task["poses"] = planar_poses(poses)
+    elif poses is not None and isinstance(poses[0][0], list) and len(poses[0]) == 4:
+        task["poses"] = spatial_poses(poses)
+    points = _rows(task.get("points"))
+    if points is not None and all(_is_number(v) for v in points[0]):
+        task["points"] = path_points(points)
     return json.dumps(task)
 
 
 def solve(task):
     """Solves one task (a dict, or its JSON text); returns the result dict `linkfit solve`
-    writes. Planar "poses" may be given as an (n, 3) array of x, y, theta_deg."""
-    return json.loads(solve_json(_text(task), "task"))
+    writes (a :class:`Result`, which :func:`plot` draws).
+
+    Numpy conveniences: planar "poses" as an (n, 3) array of x, y, theta_deg; spatial "poses"
+    as an (n, 4, 4) array of transforms; path "points" as an (n, 2) array (free timing) or
+    (n, 3) with input_deg.
+    """
+    return Result(solve_drawn_json(_text(task), "task"))
+
+
+def refine(task, design, mechanism=0):
+    """Refines a design against a task, as `linkfit refine` does; returns the result dict (a
+    :class:`Result`).
+
+    `design` is a result of :func:`solve` (or its file's JSON) or a design written by hand in the
+    same form: planar ``{"dyads": [...], "mechanisms": [{"dyads": [input, output]}]}``, path
+    ``{"mechanisms": [{"type": "4R", "input_pivot", "input_moving", "output_pivot",
+    "output_moving", "coupler_point"}]}``, spatial ``{"dyads": [SS, PS or SP dyads],
+    "mechanisms": [{"dyads": [five indices]}]}``. `mechanism` picks which of the design's
+    mechanisms (0, the first listed; a spatial design's platform). The task's weights, exact
+    items and constraints hold; the errors before and after are in the result's notes and in
+    each design's "before_refinement".
+    """
+    if not isinstance(mechanism, int) or isinstance(mechanism, bool):
+        raise InputError("mechanism: expected an index, got " + type(mechanism).__name__)
+    return Result(refine_drawn_json(_text(task), _text(design, "design"), mechanism))
 
 
 def solve_many(tasks, threads=0):
     """Solves a list of tasks on `threads` threads (0: every core), the GIL released; results
-    in input order. Bad input in any task raises InputError naming it (tasks[i])."""
+    (plain dicts, without drawings) in input order. Bad input in any task raises InputError
+    naming it (tasks[i])."""
     texts = [_text(task) for task in tasks]
     sources = ["tasks[%d]" % i for i in range(len(texts))]
     return [json.loads(text) for text in solve_many_json(texts, sources, threads)]
+
+
+def plot(result, ax=None, mechanism=None):
+    """Draws a result of :func:`solve` or :func:`refine` with matplotlib (see
+    :func:`linkfit.drawing.plot`)."""
+    from .drawing import plot as draw
+    return draw(result, ax=ax, mechanism=mechanism)

@@ -572,3 +572,91 @@ TEST_F(CliTest, FitsTwelveRoundedPosesAndRefinesTheResult) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("dyads[0].type"), std::string::npos) << bad.err;
 }
+
+// `refine` takes every kind of task: a path result (prescribed and free timing) and a spatial
+// result as designs, and path and spatial designs written by hand; a bad design exits 2 with
+// one line naming the design and the item.
+TEST_F(CliTest, RefinesPathAndSpatialDesigns) {
+  for (const char* task : {"path_12_points.json", "path_12_points_untimed.json"}) {
+    SCOPED_TRACE(task);
+    const std::string solved = Path(std::string("solved_") + task);
+    ASSERT_EQ(Run("solve '" + DataPath(task) + "' -o '" + solved + "'").status, 0);
+    const nlohmann::json before = nlohmann::json::parse(ReadFile(solved));
+    // The second listed four-bar: a seed left less refined than the first.
+    const RunResult run = Run("refine '" + DataPath(task) + "' '" + solved + "' --mechanism 2");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const nlohmann::json after = nlohmann::json::parse(run.out);
+    EXPECT_EQ(after["problem"], "path");
+    EXPECT_EQ(after["method"], "refine");
+    EXPECT_EQ(after["timing"], before["timing"]);
+    ASSERT_EQ(after["mechanisms"].size(), 1u);
+    const nlohmann::json& refined = after["mechanisms"][0];
+    EXPECT_LE(refined["max_point_error"].get<double>(),
+              before["mechanisms"][1]["max_point_error"].get<double>() * (1 + 1e-9));
+    EXPECT_DOUBLE_EQ(refined["before_refinement"]["max_point_error"].get<double>(),
+                     before["mechanisms"][1]["max_point_error"].get<double>());
+    EXPECT_NE(after["notes"][0].get<std::string>().find("point error before"), std::string::npos);
+  }
+
+  // A path four-bar by hand: the first four-bar `solve` gives for data/path_12_points.json,
+  // rounded to whole millimetres: it comes back to that four-bar's fit.
+  const std::string hand = WriteTask("path_design.json", R"({"mechanisms": [{"type": "4R",
+      "input_pivot": [0, 0], "input_moving": [35, 20], "output_pivot": [120, 0],
+      "output_moving": [127, 80], "coupler_point": [56, 88]}]})");
+  const RunResult by_hand = Run("refine '" + DataPath("path_12_points.json") + "' '" + hand + "'");
+  ASSERT_EQ(by_hand.status, 0) << by_hand.err;
+  const nlohmann::json hand_result = nlohmann::json::parse(by_hand.out)["mechanisms"][0];
+  EXPECT_EQ(hand_result["type"], "4R");
+  EXPECT_GT(hand_result["before_refinement"]["max_point_error"].get<double>(), 0.3);
+  const nlohmann::json first =
+      nlohmann::json::parse(ReadFile(Path("solved_path_12_points.json")))["mechanisms"][0];
+  EXPECT_NEAR(hand_result["max_point_error"].get<double>(), first["max_point_error"].get<double>(),
+              1e-6);
+  for (const char* pivot : {"input_pivot", "output_pivot", "coupler_point"}) {
+    for (int k = 0; k < 2; ++k) {
+      EXPECT_NEAR(hand_result[pivot][k].get<double>(), first[pivot][k].get<double>(), 1e-4);
+    }
+  }
+
+  const std::string spatial = Path("spatial.json");
+  ASSERT_EQ(Run("solve '" + DataPath("platform_7_poses.json") + "' -o '" + spatial + "'").status,
+            0);
+  const RunResult platform =
+      Run("refine '" + DataPath("platform_7_poses.json") + "' '" + spatial + "'");
+  ASSERT_EQ(platform.status, 0) << platform.err;
+  const nlohmann::json platform_result = nlohmann::json::parse(platform.out);
+  EXPECT_EQ(platform_result["method"], "refine");
+  EXPECT_EQ(platform_result["dyads"].size(), 5u);
+  ASSERT_EQ(platform_result["mechanisms"].size(), 1u);
+  EXPECT_EQ(platform_result["mechanisms"][0]["dyads"], nlohmann::json({0, 1, 2, 3, 4}));
+
+  const auto bad = [&](const std::string& task, const std::string& design_text,
+                       const std::string& args = "") {
+    const std::string design = WriteTask("bad_design.json", design_text);
+    const RunResult run = Run("refine '" + DataPath(task) + "' '" + design + "'" + args);
+    EXPECT_EQ(run.status, 2) << run.out;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    return run.err;
+  };
+  EXPECT_NE(bad("path_12_points.json", R"({"mechanisms": [{"type": "4R", "input_pivot": [0, 0]}]})")
+                .find("bad_design.json: mechanisms[0].input_moving: missing field"),
+            std::string::npos);
+  EXPECT_NE(bad("path_12_points.json", R"({"mechanisms": [{"type": "RRRR"}]})")
+                .find("mechanisms[0].type: expected \"4R\""),
+            std::string::npos);
+  EXPECT_NE(bad("platform_7_poses.json", R"({"dyads": [{"type": "SS", "fixed": [0, 0, 0],
+                    "moving": [1, 0, 0], "radius": -1}]})")
+                .find("bad_design.json: dyads[0].radius: must be positive"),
+            std::string::npos);
+  EXPECT_NE(bad("platform_7_poses.json", R"({"dyads": [{"type": "PS", "moving": [0, 0, 0],
+                    "plane_normal": [0, 0, 0], "plane_offset": 1}]})")
+                .find("dyads[0].plane_normal: a plane normal must not be zero"),
+            std::string::npos);
+  EXPECT_NE(bad("path_12_points.json", ReadFile(DataPath("path_12_points.json")), " --mechanism 1")
+                .find("mechanisms: missing field"),
+            std::string::npos);
+  EXPECT_NE(
+      bad("path_12_points.json", ReadFile(Path("solved_path_12_points.json")), " --mechanism 40")
+          .find("--mechanism 40: the design lists"),
+      std::string::npos);
+}

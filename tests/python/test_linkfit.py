@@ -92,3 +92,102 @@ def test_planar_poses_as_an_array():
     assert linkfit.planar_poses(array)[0] == task["poses"][0]
     with pytest.raises(linkfit.InputError):
         linkfit.planar_poses(np.zeros((4, 2)))
+
+
+def cli_refine(task_path, design_path, mechanism=1):
+    completed = subprocess.run([CLI, "refine", str(task_path), str(design_path), "--mechanism",
+                                str(mechanism)], capture_output=True, text=True)
+    return completed
+
+
+@pytest.mark.parametrize("name,mechanism", [("four_bar_12_poses.json", 1),
+                                            ("path_12_points.json", 2),
+                                            ("path_12_points_untimed.json", 3),
+                                            ("platform_7_poses.json", 0)])
+def test_refine_gives_the_cli_result(tmp_path, name, mechanism):
+    task = json.loads((DATA / name).read_text())
+    solved = linkfit.solve(task)
+    design = tmp_path / "design.json"
+    design.write_text(json.dumps(solved))
+    completed = cli_refine(DATA / name, design, mechanism + 1)
+    assert completed.returncode == 0, completed.stderr
+    refined = linkfit.refine(task, solved, mechanism=mechanism)
+    assert refined["method"] == "refine"
+    assert untimed(refined) == untimed(json.loads(completed.stdout))
+    # The design as JSON text gives the same.
+    assert untimed(linkfit.refine(task, design.read_text(), mechanism)) == untimed(refined)
+
+
+def test_refine_bad_design_raises_the_cli_message(tmp_path):
+    design = {"mechanisms": [{"type": "4R", "input_pivot": [0, 0]}]}
+    path = tmp_path / "design.json"
+    path.write_text(json.dumps(design))
+    completed = cli_refine(DATA / "path_12_points.json", path)
+    assert completed.returncode == 2
+    line = completed.stderr.strip()
+    prefix = "linkfit: error: " + str(path) + ": "
+    assert line.startswith(prefix)
+    task = json.loads((DATA / "path_12_points.json").read_text())
+    with pytest.raises(linkfit.InputError) as raised:
+        linkfit.refine(task, design)
+    assert str(raised.value) == "design: " + line[len(prefix):]
+    solved = linkfit.solve(task)
+    with pytest.raises(linkfit.InputError,
+                       match=r"^design: mechanism=40: the design lists \d+ mechanisms$"):
+        linkfit.refine(task, solved, mechanism=40)
+    with pytest.raises(linkfit.InputError):
+        linkfit.refine(task, solved, mechanism="first")
+
+
+def rotation(axis, angle_deg):
+    axis = np.asarray(axis, dtype=float)
+    axis = axis / np.linalg.norm(axis)
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    angle = np.radians(angle_deg)
+    return np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+
+
+def test_spatial_poses_as_transforms():
+    task = json.loads((DATA / "platform_7_poses.json").read_text())
+    transforms = np.zeros((len(task["poses"]), 4, 4))
+    for i, pose in enumerate(task["poses"]):
+        transforms[i, :3, :3] = rotation(pose["axis"], pose["angle_deg"])
+        transforms[i, :3, 3] = pose["translation"]
+        transforms[i, 3, 3] = 1.0
+    from_array = linkfit.solve({"problem": "motion", "space": "spatial", "poses": transforms})
+    expected = linkfit.solve(task)
+    assert len(from_array["dyads"]) == len(expected["dyads"])
+    scale = expected["scale"]
+    for found, wanted in zip(from_array["dyads"], expected["dyads"]):
+        assert found["type"] == wanted["type"]
+        for key in ("fixed", "moving"):
+            if key in wanted:
+                assert np.allclose(found[key], wanted[key], atol=1e-6 * scale)
+    poses = linkfit.spatial_poses(transforms)
+    assert np.allclose(poses[0]["rotation"], transforms[0, :3, :3])
+    assert poses[0]["translation"] == list(transforms[0, :3, 3])
+    bad = transforms.copy()
+    bad[2, 3, 0] = 1.0
+    with pytest.raises(linkfit.InputError, match=r"^poses\[2\]: "):
+        linkfit.spatial_poses(bad)
+    with pytest.raises(linkfit.InputError):
+        linkfit.spatial_poses(np.zeros((3, 3, 3)))
+
+
+def test_path_points_as_arrays():
+    task = json.loads((DATA / "path_12_points.json").read_text())
+    xy = np.array([[p["x"], p["y"]] for p in task["points"]])
+    angles = np.array([p["input_deg"] for p in task["points"]])
+    expected = untimed(linkfit.solve(task))
+    timed = {"problem": "path", "points": linkfit.path_points(xy, angles)}
+    for key in ("precision", "constraints", "options", "scale"):
+        if key in task:
+            timed[key] = task[key]
+    assert untimed(linkfit.solve(timed)) == expected
+    # (n, 3) rows x, y, input_deg given directly as the task's points.
+    rows = dict(timed, points=np.column_stack([xy, angles]))
+    assert untimed(linkfit.solve(rows)) == expected
+    untimed_points = linkfit.path_points(xy)
+    assert untimed_points[0] == {"x": xy[0, 0], "y": xy[0, 1]}
+    with pytest.raises(linkfit.InputError):
+        linkfit.path_points(xy, angles[:3])

@@ -1,0 +1,229 @@
+"""Drawing linkfit results with matplotlib (an optional dependency): ``linkfit.plot``.
+
+The drawing is the content of ``linkfit solve --svg``: the task (poses as small frames, path
+points as crosses, for four poses the Burmester curves) and each listed mechanism in its own panel,
+at the first pose, with its coupler curve, pivots, links, sliders and its defects. The geometry
+comes from the solver (apps/picture.h PictureToJson), attached to the results of
+:func:`linkfit.solve` and :func:`linkfit.refine`.
+"""
+
+import math
+
+# The SVG's colours (apps/picture.cc).
+TASK_X = "#d62728"
+TASK_Y = "#2ca02c"
+COUPLER_CURVE = "#1f77b4"
+CENTER_CURVE = "#9467bd"
+CIRCLE_CURVE = "#ff7f0e"
+PATH_POINT = "#c51b8a"
+LINK = "#333333"
+COUPLER_FILL = "#bcbd22"
+COUPLER_STROKE = "#6b6b12"
+BLOCK_FILL = "#d9d9d9"
+GROUND = "#333333"
+
+
+def _pyplot():
+    try:
+        import matplotlib.pyplot as pyplot
+    except ImportError as error:  # pragma: no cover - depends on the machine
+        raise ImportError("linkfit.plot needs matplotlib (Debian: apt-get install "
+                          "python3-matplotlib)") from error
+    return pyplot
+
+
+def _to_fixed(pose, point):
+    """A point of E at coupler pose (x, y, theta), in Sigma."""
+    x, y, theta = pose
+    c, s = math.cos(theta), math.sin(theta)
+    return (x + c * point[0] - s * point[1], y + s * point[0] + c * point[1])
+
+
+def _direction_to_fixed(pose, direction):
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return (c * direction[0] - s * direction[1], s * direction[0] + c * direction[1])
+
+
+def _hull(points):
+    """Convex hull (monotone chain), counter-clockwise."""
+    points = sorted(set(points))
+    if len(points) < 3:
+        return points
+
+    def cross(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower, upper = [], []
+    for p in points:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(points):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    return lower[:-1] + upper[:-1]
+
+
+def _draw_task(ax, picture, length):
+    arrow = 0.25 * length
+    for i, (x, y, theta) in enumerate(picture["task_poses"]):
+        for colour, angle in ((TASK_X, theta), (TASK_Y, theta + math.pi / 2)):
+            ax.annotate("", xy=(x + arrow * math.cos(angle), y + arrow * math.sin(angle)),
+                        xytext=(x, y), arrowprops=dict(arrowstyle="->", color=colour, lw=1.5))
+        ax.plot([x], [y], "o", color="#222222", markersize=3)
+        ax.annotate(str(i + 1), (x, y), textcoords="offset points", xytext=(-9, -11),
+                    fontsize=8, fontweight="bold", color="#222222")
+    for i, (x, y) in enumerate(picture["path_points"]):
+        ax.plot([x], [y], "x", color=PATH_POINT, markersize=7, mew=2)
+        ax.annotate(str(i + 1), (x, y), textcoords="offset points", xytext=(5, -11), fontsize=8,
+                    fontweight="bold", color=PATH_POINT)
+
+
+def _line_through(ax, point, direction, view, **style):
+    """A line through `point` along `direction`, across the view."""
+    x0, y0, x1, y1 = view
+    span = 2.0 * math.hypot(x1 - x0, y1 - y0) + math.hypot(point[0] - 0.5 * (x0 + x1),
+                                                          point[1] - 0.5 * (y0 + y1))
+    ax.plot([point[0] - span * direction[0], point[0] + span * direction[0]],
+            [point[1] - span * direction[1], point[1] + span * direction[1]], **style)
+
+
+def _draw_mechanism(ax, mechanism, length):
+    pose = mechanism["first_pose"]
+    view = mechanism["view"]
+    dyads = (mechanism["input"], mechanism["output"])
+    origin = (pose[0], pose[1])
+    moving = [_to_fixed(pose, d["moving"]) if d["type"] != "RP" and d["moving"] else None
+              for d in dyads]
+    # Slider lines fixed in Sigma (PR), under everything else.
+    for dyad in dyads:
+        if dyad["type"] == "PR":
+            _line_through(ax, dyad["line_point"], dyad["line_direction"], view, color="#555555",
+                          lw=1.2, ls=(0, (6, 3)), zorder=1)
+    # Cranks and rockers (RR), the coupler body, and rods fixed in E (RP).
+    for dyad, pin in zip(dyads, moving):
+        if dyad["type"] == "RR" and pin is not None:
+            ax.plot([dyad["fixed"][0], pin[0]], [dyad["fixed"][1], pin[1]], color=LINK, lw=2.5,
+                    solid_capstyle="round", zorder=3)
+    body = [origin] + [pin for pin in moving if pin is not None]
+    rods = []
+    for dyad in dyads:
+        if dyad["type"] != "RP":
+            continue
+        direction = _direction_to_fixed(pose, dyad["line_direction"])
+        point = _to_fixed(pose, dyad["line_point"])
+        # Measured from the foot of E's origin on the rod.
+        t_origin = (origin[0] - point[0]) * direction[0] + (origin[1] - point[1]) * direction[1]
+        point = (point[0] + t_origin * direction[0], point[1] + t_origin * direction[1])
+        ts = [0.0]
+        for p in list(body) + ([tuple(dyad["fixed"])] if dyad["fixed"] else []):
+            t = (p[0] - point[0]) * direction[0] + (p[1] - point[1]) * direction[1]
+            ts.append(t)
+            body.append((point[0] + t * direction[0], point[1] + t * direction[1]))
+        lo, hi = min(ts) - 0.6 * length, max(ts) + 0.6 * length
+        rods.append((dyad, point, direction, lo, hi))
+    hull = _hull([tuple(p) for p in body])
+    if len(hull) >= 3:
+        ax.fill([p[0] for p in hull], [p[1] for p in hull], color=COUPLER_FILL, alpha=0.35,
+                zorder=2)
+        ax.plot([p[0] for p in hull + hull[:1]], [p[1] for p in hull + hull[:1]],
+                color=COUPLER_STROKE, lw=1.5, zorder=2)
+    elif len(hull) == 2:
+        ax.plot([hull[0][0], hull[1][0]], [hull[0][1], hull[1][1]], color=COUPLER_STROKE, lw=3,
+                zorder=2)
+    for _, point, direction, lo, hi in rods:
+        ax.plot([point[0] + lo * direction[0], point[0] + hi * direction[0]],
+                [point[1] + lo * direction[1], point[1] + hi * direction[1]],
+                color=COUPLER_STROKE, lw=2.5, solid_capstyle="round", zorder=3)
+    # Slider blocks: PR at its moving pivot, RP at its fixed pivot.
+    for dyad, pin in zip(dyads, moving):
+        if dyad["type"] == "PR" and pin is not None:
+            ax.plot([pin[0]], [pin[1]], "s", color=BLOCK_FILL, mec=LINK, markersize=11,
+                    zorder=4)
+        if dyad["type"] == "RP" and dyad["fixed"]:
+            ax.plot([dyad["fixed"][0]], [dyad["fixed"][1]], "s", color=BLOCK_FILL, mec=LINK,
+                    markersize=11, zorder=4)
+    names = ("A", "B")
+    for name, dyad, pin in zip(names, dyads, moving):
+        if pin is not None:
+            ax.plot([pin[0]], [pin[1]], "o", color="white", mec=LINK, markersize=7, zorder=5)
+            ax.annotate(name, pin, textcoords="offset points", xytext=(6, 5), fontsize=8,
+                        color=LINK)
+        if dyad["type"] != "PR" and dyad["fixed"]:
+            ax.plot([dyad["fixed"][0]], [dyad["fixed"][1]], "^", color=GROUND, markersize=9,
+                    zorder=5)
+            ax.annotate(name + "0", dyad["fixed"], textcoords="offset points", xytext=(7, -4),
+                        fontsize=8, color=LINK)
+    ax.plot([origin[0]], [origin[1]], "o", color=COUPLER_CURVE, markersize=3, zorder=5)
+
+
+def _draw_panel(ax, picture, mechanism):
+    length = picture["length"]
+    view = mechanism["view"] if mechanism is not None else picture["view"]
+    for curve in picture["center_point_curves"]:
+        if curve:
+            ax.plot([p[0] for p in curve], [p[1] for p in curve], color=CENTER_CURVE, lw=1.2)
+    for curve in picture["circle_point_curves"]:
+        if curve:
+            ax.plot([p[0] for p in curve], [p[1] for p in curve], color=CIRCLE_CURVE, lw=1.2,
+                    ls=(0, (6, 3)))
+    if mechanism is not None and mechanism["coupler_curve"]:
+        curve = mechanism["coupler_curve"]
+        ax.plot([p[0] for p in curve], [p[1] for p in curve], color=COUPLER_CURVE, lw=1.6,
+                zorder=2)
+    _draw_task(ax, picture, length)
+    if mechanism is not None:
+        _draw_mechanism(ax, mechanism, length)
+        ax.set_title(mechanism["title"], fontsize=9, loc="left")
+        ax.text(0.01, 0.01, "\n".join(mechanism["labels"]), transform=ax.transAxes, fontsize=7,
+                va="bottom", ha="left", color="#444444",
+                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))
+    ax.set_xlim(view[0], view[2])
+    ax.set_ylim(view[1], view[3])
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(True, color="#ececec", lw=0.8)
+    ax.set_axisbelow(True)
+    ax.tick_params(labelsize=7)
+
+
+def plot(result, ax=None, mechanism=None):
+    """Draws a result of :func:`linkfit.solve` or :func:`linkfit.refine` with matplotlib.
+
+    With ``ax`` (a matplotlib Axes), draws one panel on it: the task and mechanism number
+    ``mechanism`` of the result (0, the first and best ranked, by default); returns ``ax``.
+    Without, makes a figure with one panel per listed mechanism (at most 12, as the SVG), or
+    ``mechanism`` alone when given; returns the figure.
+
+    Spatial platforms are not drawn (as ``linkfit solve --svg``): ValueError says so. A result
+    read back from a file carries no drawing: solve or refine it again from Python.
+    """
+    picture = getattr(result, "picture", None)
+    if picture is None:
+        reason = getattr(result, "picture_note", "")
+        raise ValueError("linkfit.plot: " + (reason or "this result carries no drawing; plot the "
+                                             "result of linkfit.solve or linkfit.refine"))
+    mechanisms = picture["mechanisms"]
+    if mechanism is not None and not 0 <= mechanism < len(mechanisms):
+        raise ValueError("linkfit.plot: mechanism %d: the drawing lists %d mechanisms"
+                         % (mechanism, len(mechanisms)))
+    if ax is not None:
+        index = 0 if mechanism is None else mechanism
+        _draw_panel(ax, picture, mechanisms[index] if mechanisms else None)
+        return ax
+    pyplot = _pyplot()
+    chosen = mechanisms if mechanism is None else [mechanisms[mechanism]]
+    panels = max(1, len(chosen))
+    columns = min(3, panels)
+    rows = (panels + columns - 1) // columns
+    figure, axes = pyplot.subplots(rows, columns, figsize=(4.3 * columns, 4.3 * rows),
+                                   squeeze=False)
+    for k, axis in enumerate(axes.flat):
+        if k < panels:
+            _draw_panel(axis, picture, chosen[k] if chosen else None)
+        else:
+            axis.set_visible(False)
+    if picture["title"]:
+        figure.suptitle(picture["title"])
+    figure.tight_layout()
+    return figure

@@ -1,0 +1,291 @@
+// Refining a design against a task (optimizers/task_solver.h RefineTask; `linkfit refine`):
+// generated path four-bars and spatial platforms, their tasks printed to full, 8, 6 and 4
+// significant digits, their designs moved off by about 1 % of L and written as a result file
+// writes them. The refinement must bring the generator back within the error bound the data's
+// precision allows (tests/support/rounded_task.h), keeping its type.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "lib/design_constraints.h"
+#include "lib/path_motion.h"
+#include "lib/platform_motion.h"
+#include "lib/result_io.h"
+#include "lib/task_io.h"
+#include "optimizers/task_solver.h"
+#include "tests/support/random_path.h"
+#include "tests/support/random_spatial.h"
+#include "tests/support/rounded_task.h"
+
+namespace linkfit {
+namespace {
+
+// Digits of the printed tasks; 17 is full precision.
+constexpr int kDigits[] = {17, 8, 6, 4};
+
+// How far the designs start from their generators, times L (each coordinate uniform in
+// [-kOffset, kOffset]).
+constexpr double kOffset = 0.01;
+
+Eigen::Vector2d Moved(std::mt19937_64& rng, const Eigen::Vector2d& point, double length) {
+  std::uniform_real_distribution<double> offset(-kOffset * length, kOffset * length);
+  return point + Eigen::Vector2d(offset(rng), offset(rng));
+}
+
+Eigen::Vector3d Moved(std::mt19937_64& rng, const Eigen::Vector3d& point, double length) {
+  std::uniform_real_distribution<double> offset(-kOffset * length, kOffset * length);
+  return point + Eigen::Vector3d(offset(rng), offset(rng), offset(rng));
+}
+
+// The four-bar with every pivot, the coupler point and a slider's line moved off.
+PathFourBar MovedFourBar(std::mt19937_64& rng, const PathFourBar& four_bar, double length) {
+  PathFourBar moved = four_bar;
+  const PlanarDyad& input = four_bar.input;
+  const Eigen::Vector2d pivot = Moved(rng, input.fixed_pivot, length);
+  const Eigen::Vector2d pin = Moved(rng, input.moving_pivot, length);
+  moved.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  const PlanarDyad& output = four_bar.output;
+  std::uniform_real_distribution<double> turn(-kOffset, kOffset);
+  const double angle = output.LineAngleDeg() * M_PI / 180.0 + turn(rng);
+  const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+  switch (output.type) {
+    case DyadType::kRR: {
+      const Eigen::Vector2d fixed = Moved(rng, output.fixed_pivot, length);
+      const Eigen::Vector2d moving = Moved(rng, output.moving_pivot, length);
+      moved.output = PlanarDyad::RR(fixed, moving, (moving - fixed).norm());
+      break;
+    }
+    case DyadType::kPR:
+      moved.output = PlanarDyad::PR(Moved(rng, output.moving_pivot, length),
+                                    Moved(rng, output.LineFoot(), length), direction);
+      break;
+    case DyadType::kRP:
+      moved.output = PlanarDyad::RP(Moved(rng, output.fixed_pivot, length),
+                                    Moved(rng, output.LineFoot(), length), direction);
+      break;
+  }
+  moved.coupler_point = Moved(rng, four_bar.coupler_point, length);
+  return moved;
+}
+
+SpatialDyad MovedDyad(std::mt19937_64& rng, const SpatialDyad& dyad, double length) {
+  std::uniform_real_distribution<double> offset(-kOffset, kOffset);
+  const Eigen::Vector3d normal =
+      (dyad.plane_normal + Eigen::Vector3d(offset(rng), offset(rng), offset(rng))).normalized();
+  switch (dyad.type) {
+    case SpatialDyadType::kSS:
+      return SpatialDyad::SS(Moved(rng, dyad.fixed_pivot, length),
+                             Moved(rng, dyad.moving_pivot, length),
+                             dyad.radius + offset(rng) * length);
+    case SpatialDyadType::kPS:
+      return SpatialDyad::PS(Moved(rng, dyad.moving_pivot, length), normal,
+                             dyad.plane_offset + offset(rng) * length);
+    case SpatialDyadType::kSP:
+      break;
+  }
+  return SpatialDyad::SP(Moved(rng, dyad.fixed_pivot, length), normal,
+                         dyad.plane_offset + offset(rng) * length);
+}
+
+// The design as `linkfit solve` writes a path result of it, read back as a design.
+PathDesign PathDesignText(const PathFourBar& four_bar, const std::vector<double>& angles) {
+  PathResult written;
+  PathMechanismReport report;
+  report.type = ClassifyFourBar(four_bar.input.type, four_bar.output.type);
+  report.design = four_bar;
+  report.input_angles = angles;
+  written.mechanisms.push_back(report);
+  return ParsePathDesign(ResultToJson(written, 2), "design.json");
+}
+
+TEST(TaskRefiner, PathDesignsComeBackToTheirGenerators) {
+  int cases = 0;
+  for (const bool free_timing : {false, true}) {
+    for (const DyadType output : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
+      for (const int digits : kDigits) {
+        std::mt19937_64 rng(1500 + 10 * digits + static_cast<int>(output) + 3 * free_timing);
+        const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, output, 12);
+        const std::vector<double> no_angles;
+        const Task task = testing::ReadRounded(testing::PathText(
+            generated.points, free_timing ? no_angles : generated.input_angles, digits));
+        const double length = testing::PathLength(generated.points);
+        const PathFourBar start = MovedFourBar(rng, generated.four_bar, length);
+        SCOPED_TRACE(std::string(free_timing ? "free" : "prescribed") + " timing, output " +
+                     std::to_string(static_cast<int>(output)) + ", " + std::to_string(digits) +
+                     " digits");
+        const PathDesign design = PathDesignText(start, {});
+        const PathResult result = std::get<PathResult>(RefineTask(task, design, RefineChoice()));
+        EXPECT_EQ(result.method, "refine");
+        EXPECT_EQ(result.timing, free_timing ? "free" : "prescribed");
+        ASSERT_EQ(result.mechanisms.size(), 1u);
+        const PathMechanismReport& refined = result.mechanisms[0];
+        EXPECT_EQ(refined.design.output.type, output);
+        // Its transmission angle is the generator's business; a kinematic defect would be the
+        // refinement's.
+        EXPECT_FALSE(HasKinematicDefect(refined.defects));
+        ASSERT_TRUE(refined.seed_max_point_error && refined.max_point_error);
+        EXPECT_LT(*refined.max_point_error, *refined.seed_max_point_error);
+        if (digits == 17) {
+          EXPECT_LT(testing::PathFourBarDistance(refined.design, generated.four_bar, length), 1e-6);
+          EXPECT_LT(*refined.max_point_error, 1e-8 * length);
+        } else {
+          bool rough = false;
+          const double recovery = testing::RoundedPathRecovery(
+              generated.four_bar, result, generated.points,
+              free_timing ? no_angles : generated.input_angles, &rough);
+          EXPECT_TRUE(recovery <= 1.0 || rough)
+              << "recovery " << recovery << ", max point error " << *refined.max_point_error;
+        }
+        ++cases;
+      }
+    }
+  }
+  EXPECT_EQ(cases, 24);
+}
+
+// A free-timing result's fitted input angles start the refinement where the result left it: the
+// refined four-bar is not worse, and the angles are kept monotonic.
+TEST(TaskRefiner, FreeTimingStartsFromTheDesignsAngles) {
+  std::mt19937_64 rng(1551);
+  const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 10);
+  const Task task = testing::ReadRounded(testing::PathText(generated.points, {}, 6));
+  const PathResult solved = SolvePathTask(task);
+  ASSERT_FALSE(solved.mechanisms.empty());
+  const PathMechanismReport& first = solved.mechanisms[0];
+  const PathDesign design = PathDesignText(first.design, first.input_angles);
+  ASSERT_EQ(design.input_angles[0].size(), generated.points.size());
+  const PathResult result = std::get<PathResult>(RefineTask(task, design, RefineChoice()));
+  ASSERT_EQ(result.mechanisms.size(), 1u);
+  const PathMechanismReport& refined = result.mechanisms[0];
+  ASSERT_TRUE(refined.max_point_error && first.max_point_error);
+  EXPECT_LE(*refined.max_point_error, *first.max_point_error * (1.0 + 1e-6));
+  EXPECT_EQ(refined.input_angles.size(), generated.points.size());
+  EXPECT_EQ(refined.defects, first.defects);
+}
+
+TEST(TaskRefiner, SpatialDyadsAndTheirPlatformComeBack) {
+  const std::vector<SpatialDyadType> types = {SpatialDyadType::kSS, SpatialDyadType::kSS,
+                                              SpatialDyadType::kSS, SpatialDyadType::kPS,
+                                              SpatialDyadType::kSP};
+  for (const int digits : kDigits) {
+    SCOPED_TRACE(std::to_string(digits) + " digits");
+    std::mt19937_64 rng(1600 + digits);
+    const testing::PlantedSpatialTask planted = testing::RandomPlatformTask(rng, 10, types);
+    const Task task = testing::ReadRounded(
+        testing::SpatialMotionText(planted.poses, digits, testing::SpatialForm::kDualQuaternion));
+    const double length = SpatialTaskLength(task);
+    SpatialDesign design;
+    for (const SpatialDyad& dyad : planted.planted) {
+      design.dyads.push_back(MovedDyad(rng, dyad, length));
+    }
+    // The platform listed in another order: the refined five keep the platform's order.
+    design.platforms.push_back({4, 3, 2, 1, 0});
+    const SpatialMotionResult result =
+        std::get<SpatialMotionResult>(RefineTask(task, design, RefineChoice()));
+    EXPECT_EQ(result.method, "refine");
+    ASSERT_EQ(result.dyads.size(), 5u);
+    for (int d = 0; d < 5; ++d) {
+      SCOPED_TRACE("dyad " + std::to_string(d));
+      const SpatialDyad& expected = planted.planted[4 - d];
+      const SpatialDyadReport& refined = result.dyads[d];
+      ASSERT_TRUE(refined.seed_max_residual);
+      EXPECT_LT(refined.max_residual, *refined.seed_max_residual);
+      if (digits == 17) {
+        EXPECT_EQ(refined.dyad.type, expected.type);
+        EXPECT_LT(testing::SpatialDyadDistance(refined.dyad, expected), 1e-6);
+      } else {
+        bool rough = false;
+        const double recovery = testing::RoundedRecovery(expected, {refined}, task.precision,
+                                                         task.spatial_poses, length, &rough);
+        EXPECT_TRUE(recovery <= 1.0 || rough) << recovery;
+      }
+    }
+    // The platform moves as the generating one: the poses on the generator's motion may lie on
+    // more than one of its branches, and then on the refined one's too.
+    ASSERT_EQ(result.mechanisms.size(), 1u);
+    const PlatformReport& platform = result.mechanisms[0];
+    EXPECT_EQ(platform.dyads, (std::vector<int>{0, 1, 2, 3, 4}));
+    EXPECT_TRUE(platform.assembles);
+    const PlatformMotionReport generating =
+        TracePlatform({planted.planted.rbegin(), planted.planted.rend()}, planted.poses, length);
+    EXPECT_EQ(platform.one_branch, generating.one_branch) << platform.note;
+    EXPECT_EQ(platform.order, generating.order);
+    ASSERT_TRUE(platform.max_pose_error);
+    if (digits == 17 && generating.one_branch) {
+      EXPECT_LT(*platform.max_pose_error, 1e-6 * length);
+    }
+  }
+}
+
+// A planar design refined under the task's bounds keeps them: the refiner carries the
+// constraints as the solver's refinements do.
+TEST(TaskRefiner, PlanarRefinementKeepsTheTasksBounds) {
+  const std::vector<Task> tasks =
+      ReadTaskFile(std::string(LINKFIT_SOURCE_DIR) + "/data/bounded_four_bar_12_poses.json");
+  const Task& task = tasks[0];
+  ASSERT_TRUE(task.constraints.given);
+  const PlanarMotionResult solved = SolvePlanarTask(task);
+  ASSERT_FALSE(solved.mechanisms.empty());
+  const MechanismReport& first = solved.mechanisms[0];
+  ASSERT_TRUE(first.violates.empty());
+  const PlanarMotionResult refined = RefinePlanarDesign(task, solved.dyads[first.input_dyad].dyad,
+                                                        solved.dyads[first.output_dyad].dyad);
+  ASSERT_EQ(refined.mechanisms.size(), 1u);
+  EXPECT_TRUE(refined.mechanisms[0].violates.empty());
+  ASSERT_TRUE(refined.mechanisms[0].max_pose_error && first.max_pose_error);
+  EXPECT_LE(*refined.mechanisms[0].max_pose_error, *first.max_pose_error * (1.0 + 1e-6));
+}
+
+// What does not fit the task is bad input, said in one line naming the design and the item.
+TEST(TaskRefiner, DesignsThatDoNotFitTheTaskAreBadInput) {
+  std::mt19937_64 rng(1700);
+  const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 8);
+  const Task path_task =
+      testing::ReadRounded(testing::PathText(generated.points, generated.input_angles, 17));
+  const PathDesign two_angles = PathDesignText(generated.four_bar, {0.0, 0.1});
+  RefineChoice choice;
+  choice.design_source = "d.json";
+  const auto message = [](const auto& call) {
+    try {
+      call();
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("<no error>");
+  };
+  EXPECT_EQ(message([&] { RefineTask(path_task, two_angles, choice); }),
+            "d.json: mechanisms[0].input_deg: expected 8 angles (one per point of the task), got "
+            "2");
+  choice.mechanism = 1;
+  choice.mechanism_item = "d.json: --mechanism 2";
+  EXPECT_EQ(message([&] { RefineTask(path_task, two_angles, choice); }),
+            "d.json: --mechanism 2: the design lists 1 mechanisms");
+
+  const testing::PlantedSpatialTask planted = testing::RandomPlatformTask(rng, 6);
+  const Task spatial_task = SpatialMotionTask(planted.poses);
+  SpatialDesign spatial;
+  spatial.dyads = planted.planted;
+  RefineChoice spatial_choice;
+  spatial_choice.task_source = "t.json";
+  EXPECT_EQ(message([&] { RefineTask(spatial_task, spatial, spatial_choice); }),
+            "t.json: refine of spatial dyads takes at least seven poses (an SS dyad has seven "
+            "parameters), the task has 6");
+  EXPECT_EQ(message([&] {
+              ParseSpatialDesign(R"({"dyads": [{"type": "RR", "fixed": [0, 0, 0]}]})", "d.json");
+            }),
+            "d.json: dyads[0].type: expected \"SS\", \"PS\" or \"SP\", got \"RR\" (a planar "
+            "dyad: refine planar data as a planar task)");
+  EXPECT_EQ(message([&] {
+              ParsePathDesign(R"({"mechanisms": [{"type": "4R", "input_pivot": [0, 0],
+                  "input_moving": [1, 0], "output_pivot": [3, 0], "output_moving": [2, 1]}]})",
+                              "d.json");
+            }),
+            "d.json: mechanisms[0].coupler_point: missing field");
+}
+
+}  // namespace
+}  // namespace linkfit

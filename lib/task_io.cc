@@ -349,6 +349,43 @@ class TaskParser {
   TaskParser(const std::string& source, const TaskReadOptions& options)
       : source_(source), options_(options) {}
 
+  // A design's optional "mechanisms": each {"dyads": [...]} of `count` different indices below
+  // `dyads`; `expected` says what the list is in messages.
+  std::vector<std::vector<int>> MechanismDyads(const Json& root, size_t count, size_t dyads,
+                                               const std::string& expected) const {
+    std::vector<std::vector<int>> all;
+    if (!root.contains("mechanisms")) return all;
+    const Json& mechanisms = root.at("mechanisms");
+    if (!mechanisms.is_array()) {
+      Fail("mechanisms", "expected an array, got " + Describe(mechanisms));
+    }
+    for (size_t m = 0; m < mechanisms.size(); ++m) {
+      const std::string item = IndexItem("mechanisms", m);
+      const Json& list = Field(Object(mechanisms[m], item), item, "dyads");
+      const std::string list_item = KeyItem(item, "dyads");
+      if (!list.is_array() || list.size() != count) {
+        Fail(list_item, "expected " + expected + ", got " + Describe(list));
+      }
+      std::vector<int> indices;
+      for (size_t k = 0; k < count; ++k) {
+        if (!list[k].is_number_integer() || list[k].get<long long>() < 0 ||
+            list[k].get<long long>() >= static_cast<long long>(dyads)) {
+          Fail(IndexItem(list_item, k), "expected a dyad index below " + std::to_string(dyads) +
+                                            ", got " + Describe(list[k]));
+        }
+        const int index = static_cast<int>(list[k].get<long long>());
+        if (std::find(indices.begin(), indices.end(), index) != indices.end()) {
+          Fail(count == 2 ? list_item : IndexItem(list_item, k),
+               count == 2 ? "a four-bar needs two different dyads"
+                          : "dyad " + std::to_string(index) + " given twice");
+        }
+        indices.push_back(index);
+      }
+      all.push_back(indices);
+    }
+    return all;
+  }
+
   PlanarDesign ParseDesignText(const std::string& text) const {
     const Json root = ParseJson(text);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
@@ -381,31 +418,9 @@ class TaskParser {
         Fail(KeyItem(item, "type"), "expected \"RR\", \"PR\" or \"RP\", got " + Describe(type));
       }
     }
-    if (root.contains("mechanisms")) {
-      const Json& mechanisms = root.at("mechanisms");
-      if (!mechanisms.is_array()) {
-        Fail("mechanisms", "expected an array, got " + Describe(mechanisms));
-      }
-      for (size_t m = 0; m < mechanisms.size(); ++m) {
-        const std::string item = IndexItem("mechanisms", m);
-        const Json& pair = Field(Object(mechanisms[m], item), item, "dyads");
-        const std::string pair_item = KeyItem(item, "dyads");
-        if (!pair.is_array() || pair.size() != 2) {
-          Fail(pair_item, "expected [input, output] dyad indices, got " + Describe(pair));
-        }
-        int index[2];
-        for (int k = 0; k < 2; ++k) {
-          if (!pair[k].is_number_integer() || pair[k].get<long long>() < 0 ||
-              pair[k].get<long long>() >= static_cast<long long>(design.dyads.size())) {
-            Fail(IndexItem(pair_item, k), "expected a dyad index below " +
-                                              std::to_string(design.dyads.size()) + ", got " +
-                                              Describe(pair[k]));
-          }
-          index[k] = static_cast<int>(pair[k].get<long long>());
-        }
-        if (index[0] == index[1]) Fail(pair_item, "a four-bar needs two different dyads");
-        design.mechanisms.emplace_back(index[0], index[1]);
-      }
+    for (const std::vector<int>& pair :
+         MechanismDyads(root, 2, design.dyads.size(), "[input, output] dyad indices")) {
+      design.mechanisms.emplace_back(pair[0], pair[1]);
     }
     return design;
   }
@@ -513,35 +528,8 @@ class TaskParser {
                          : Describe(type)));
       }
     }
-    if (root.contains("mechanisms")) {
-      const Json& mechanisms = root.at("mechanisms");
-      if (!mechanisms.is_array()) {
-        Fail("mechanisms", "expected an array, got " + Describe(mechanisms));
-      }
-      for (size_t m = 0; m < mechanisms.size(); ++m) {
-        const std::string item = IndexItem("mechanisms", m);
-        const Json& five = Field(Object(mechanisms[m], item), item, "dyads");
-        const std::string five_item = KeyItem(item, "dyads");
-        if (!five.is_array() || five.size() != 5) {
-          Fail(five_item, "expected the platform's five dyad indices, got " + Describe(five));
-        }
-        std::vector<int> platform;
-        for (size_t k = 0; k < five.size(); ++k) {
-          if (!five[k].is_number_integer() || five[k].get<long long>() < 0 ||
-              five[k].get<long long>() >= static_cast<long long>(design.dyads.size())) {
-            Fail(IndexItem(five_item, k), "expected a dyad index below " +
-                                              std::to_string(design.dyads.size()) + ", got " +
-                                              Describe(five[k]));
-          }
-          const int index = static_cast<int>(five[k].get<long long>());
-          if (std::find(platform.begin(), platform.end(), index) != platform.end()) {
-            Fail(IndexItem(five_item, k), "dyad " + std::to_string(index) + " given twice");
-          }
-          platform.push_back(index);
-        }
-        design.platforms.push_back(platform);
-      }
-    }
+    design.platforms =
+        MechanismDyads(root, 5, design.dyads.size(), "the platform's five dyad indices");
     return design;
   }
 

@@ -95,6 +95,18 @@ PathData Data(const Task& task) {
   return data;
 }
 
+// What a path result says of its task (precision, closed, constraints, scale, timing); returns
+// whether the timing is free.
+bool StartResult(const Task& task, const PathData& data, PathResult* result) {
+  result->precision = task.precision;
+  result->closed = task.closed;
+  result->constraints = task.constraints;
+  result->scale = data.length;
+  const bool free_timing = data.angles.size() != data.points.size();
+  result->timing = free_timing ? "free" : "prescribed";
+  return free_timing;
+}
+
 PathMechanismReport Report(const PathFourBar& design, const PathData& data,
                            const std::vector<double>& angles) {
   PathMechanismReport report;
@@ -919,12 +931,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   options.timed_path.precision = task.precision;
   options.path_refiner.closed = task.closed;
   options.path_refiner.constraints = task.constraints;
-  result.precision = task.precision;
-  result.closed = task.closed;
-  result.constraints = task.constraints;
-  result.scale = data.length;
-  const bool free_timing = data.angles.size() != data.points.size();
-  result.timing = free_timing ? "free" : "prescribed";
+  const bool free_timing = StartResult(task, data, &result);
   const int count = static_cast<int>(data.points.size());
   std::vector<PathFourBar> fits;  // free timing: the four-bars through the points
   if (count < 5) {
@@ -1103,14 +1110,9 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
   refiner.closed = task.closed;
   refiner.constraints = task.constraints;
   PathResult result;
+  const bool free_timing = StartResult(task, data, &result);
   result.method = "refine";
   result.effort = EffortName(task.effort);
-  result.precision = task.precision;
-  result.closed = task.closed;
-  result.constraints = task.constraints;
-  result.scale = data.length;
-  const bool free_timing = data.angles.size() != data.points.size();
-  result.timing = free_timing ? "free" : "prescribed";
   const auto transmission = [](const PathMechanismReport& report) {
     return std::find(report.defects.begin(), report.defects.end(), "transmission") !=
            report.defects.end();

@@ -28,8 +28,14 @@
 // The least-squares paths (more poses or points than the minimum, every effort level, noise) are
 // measured by `linkfit bench` (apps/trade_bench.h), which also sweeps the numerical extremes.
 //
-//   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--seed S]
-//                 [--only planar|spatial|path]
+// Then `linkfit refine` (RefineTask): designs moved 1 % of L off random planar four-bars, path
+// four-bars (prescribed and free timing) and spatial platforms, refined against their tasks
+// printed to 17, 6 and 4 significant digits: the share that comes back to the generator (within
+// 1e-6 of its size at full precision, within twice the stated error bound when rounded), the
+// share whose bound says the data do not determine it, and the time of the refinement.
+//
+//   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
+//                 [--seed S] [--only planar|spatial|path|refine]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -37,8 +43,10 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <optional>
 #include <random>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "apps/percentile.h"
@@ -48,9 +56,11 @@
 #include "fitting/timed_path.h"
 #include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
+#include "tests/support/moved_design.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
+#include "tests/support/rounded_task.h"
 
 namespace {
 
@@ -334,6 +344,178 @@ void RunPath(int tasks, uint64_t seed) {
   RunPathExact("inverted s-c (crank+RP)", DyadType::kRP, tasks, seed + 2);
 }
 
+// The generator's recovery from a refined result: at full precision (17 digits) its largest
+// relative difference from the refined design is at most 1e-6; from rounded data within twice
+// the error bound the result states (tests/support/rounded_task.h), or the bound says the data
+// do not determine it (rough).
+// A design the move left unable to reach every pose or point (it does not assemble there, or
+// the crank cannot be driven through them) is counted apart when it is not recovered: its
+// refinement starts outside the generator's basin.
+enum class Recovered { kYes, kRough, kSeedOff, kNo };
+
+Recovered FromRounded(double recovery, bool rough) {
+  if (recovery <= 1.0) return Recovered::kYes;
+  return rough ? Recovered::kRough : Recovered::kNo;
+}
+
+Recovered SeedOff(Recovered recovered, bool seed_reaches) {
+  return recovered == Recovered::kNo && !seed_reaches ? Recovered::kSeedOff : recovered;
+}
+
+// One row of the refine table: `tasks` designs moved 1 % of L off their generators, refined
+// against tasks printed to `digits` significant digits; `refine` makes a task, refines its moved
+// design and judges the generator's recovery.
+template <typename RefineOne>
+void RunRefineRow(const std::string& name, int digits, int tasks, uint64_t seed,
+                  RefineOne refine_one) {
+  std::mt19937_64 rng(seed);
+  int counts[4] = {0, 0, 0, 0};
+  std::vector<double> times;
+  for (int t = 0; t < tasks; ++t) {
+    double seconds = 0.0;
+    ++counts[static_cast<int>(refine_one(rng, digits, &seconds))];
+    times.push_back(1e3 * seconds);
+  }
+  std::printf("%-34s %6d %6d %9.1f%% %7.1f%% %8.1f%% %7.1f%% %10.2f %8.2f\n", name.c_str(), digits,
+              tasks, 100.0 * counts[0] / tasks, 100.0 * counts[1] / tasks,
+              100.0 * counts[2] / tasks, 100.0 * counts[3] / tasks, Percentile(times, 0.5),
+              Percentile(times, 0.99));
+}
+
+constexpr double kRefineOffset = 0.01;  // designs start this much (times L) off
+
+template <typename Call>
+linkfit::TaskResult Timed(Call call, double* seconds) {
+  const auto begin = std::chrono::steady_clock::now();
+  linkfit::TaskResult result = call();
+  *seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return result;
+}
+
+void RunRefine(int tasks, uint64_t seed) {
+  namespace t = linkfit::testing;
+  std::printf(
+      "\nlinkfit refine (optimizers/task_solver.h RefineTask): designs moved up to 1 %% of L off "
+      "their generators in every coordinate, refined against the generator's task printed to "
+      "`digits` significant digits (17: full); recovered = within 1e-6 of the generator's size "
+      "(full) or within twice the stated error bound (rounded); rough = the bound says the data "
+      "do not determine it; seed_off = missed from a design the move left unable to reach every "
+      "pose or point; time of RefineTask alone, one core\n");
+  std::printf("%-34s %6s %6s %10s %8s %9s %8s %10s %8s\n", "family", "digits", "tasks", "recovered",
+              "rough", "seed_off", "missed", "median_ms", "p99_ms");
+  const int all_digits[] = {17, 6, 4};
+  for (const DyadType output : {DyadType::kRR, DyadType::kPR}) {
+    const std::string name = std::string("planar motion, 12 poses, ") +
+                             (output == DyadType::kRR ? "4R" : "slider-crank");
+    for (const int digits : all_digits) {
+      RunRefineRow(name, digits, tasks, seed++, [&](std::mt19937_64& rng, int d, double* seconds) {
+        const t::GeneratedTask generated = t::RandomTask(rng, DyadType::kRR, output, 12);
+        const linkfit::Task task = t::ReadRounded(t::PlanarMotionText(generated.poses, d));
+        const double length = linkfit::CharacteristicLength(generated.poses);
+        linkfit::PlanarDesign design;
+        design.dyads = {t::MovedPlanarDyad(rng, generated.input, kRefineOffset * length, length),
+                        t::MovedPlanarDyad(rng, generated.output, kRefineOffset * length, length)};
+        const auto result = std::get<linkfit::PlanarMotionResult>(
+            Timed([&] { return linkfit::RefineTask(task, design, {}); }, seconds));
+        const std::optional<double>& seed_error = result.mechanisms[0].seed_max_pose_error;
+        const bool seed_reaches = seed_error && std::isfinite(*seed_error);
+        if (d == 17) {
+          const double error =
+              std::max(t::NearestDyadDistance({result.dyads[0].dyad, result.dyads[1].dyad},
+                                              generated.input, length),
+                       t::NearestDyadDistance({result.dyads[0].dyad, result.dyads[1].dyad},
+                                              generated.output, length));
+          return SeedOff(error <= 1e-6 ? Recovered::kYes : Recovered::kNo, seed_reaches);
+        }
+        bool rough = false;
+        const double recovery =
+            std::max(t::RoundedRecovery(generated.input, result.dyads, task.precision,
+                                        task.planar_poses, &rough),
+                     t::RoundedRecovery(generated.output, result.dyads, task.precision,
+                                        task.planar_poses, &rough));
+        return SeedOff(FromRounded(recovery, rough), seed_reaches);
+      });
+    }
+  }
+  for (const bool free_timing : {false, true}) {
+    for (const DyadType output : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
+      const std::string name =
+          std::string(free_timing ? "path, 12 points, free, " : "path, 12 timed points, ") +
+          (output == DyadType::kRR   ? "4R"
+           : output == DyadType::kPR ? "s-c"
+                                     : "inv. s-c");
+      for (const int digits : all_digits) {
+        RunRefineRow(
+            name, digits, tasks, seed++, [&](std::mt19937_64& rng, int d, double* seconds) {
+              const t::GeneratedPathTask generated = t::RandomPathTask(rng, output, 12);
+              const std::vector<double> angles =
+                  free_timing ? std::vector<double>() : generated.input_angles;
+              const linkfit::Task task = t::ReadRounded(t::PathText(generated.points, angles, d));
+              const double length = t::PathLength(generated.points);
+              linkfit::PathDesign design;
+              design.four_bars = {
+                  t::MovedPathFourBar(rng, generated.four_bar, kRefineOffset * length, length)};
+              design.input_angles = {{}};
+              linkfit::TaskResult any;
+              try {
+                any = Timed([&] { return linkfit::RefineTask(task, design, {}); }, seconds);
+              } catch (const linkfit::InputError&) {
+                return Recovered::kSeedOff;  // the moved four-bar no longer assembles
+              }
+              const linkfit::PathResult& result = std::get<linkfit::PathResult>(any);
+              const linkfit::PathMechanismReport& refined = result.mechanisms[0];
+              const bool seed_reaches = refined.seed_max_point_error.has_value();
+              if (d == 17) {
+                const bool near =
+                    refined.max_point_error &&
+                    t::PathFourBarDistance(refined.design, generated.four_bar, length) <= 1e-6;
+                return SeedOff(near ? Recovered::kYes : Recovered::kNo, seed_reaches);
+              }
+              bool rough = false;
+              const double recovery = t::RoundedPathRecovery(generated.four_bar, result,
+                                                             generated.points, angles, &rough);
+              return SeedOff(FromRounded(recovery, rough), seed_reaches);
+            });
+      }
+    }
+  }
+  const std::vector<linkfit::SpatialDyadType> types = {
+      linkfit::SpatialDyadType::kSS, linkfit::SpatialDyadType::kSS, linkfit::SpatialDyadType::kSS,
+      linkfit::SpatialDyadType::kPS, linkfit::SpatialDyadType::kSP};
+  for (const int digits : all_digits) {
+    RunRefineRow(
+        "spatial, 10 poses, SS+SS+SS+PS+SP", digits, tasks, seed++,
+        [&](std::mt19937_64& rng, int d, double* seconds) {
+          const t::PlantedSpatialTask planted = t::RandomPlatformTask(rng, 10, types);
+          const linkfit::Task task = t::ReadRounded(
+              t::SpatialMotionText(planted.poses, d, t::SpatialForm::kDualQuaternion));
+          const double length = linkfit::SpatialTaskLength(task);
+          linkfit::SpatialDesign design;
+          for (const linkfit::SpatialDyad& dyad : planted.planted) {
+            design.dyads.push_back(t::MovedSpatialDyad(rng, dyad, kRefineOffset * length, length));
+          }
+          const auto result = std::get<linkfit::SpatialMotionResult>(
+              Timed([&] { return linkfit::RefineTask(task, design, {}); }, seconds));
+          Recovered worst = Recovered::kYes;
+          for (size_t k = 0; k < planted.planted.size(); ++k) {
+            Recovered one;
+            if (d == 17) {
+              one = t::SpatialDyadDistance(result.dyads[k].dyad, planted.planted[k]) <= 1e-6
+                        ? Recovered::kYes
+                        : Recovered::kNo;
+            } else {
+              bool rough = false;
+              const double recovery =
+                  t::RoundedRecovery(planted.planted[k], {result.dyads[k]}, task.precision,
+                                     task.spatial_poses, length, &rough);
+              one = FromRounded(recovery, rough);
+            }
+            worst = std::max(worst, one);
+          }
+          return worst;
+        });
+  }
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -342,6 +524,7 @@ int main(int argc, char** argv) {
   uint64_t seed = 2026;
   std::string only;
   int path_tasks = 10000;
+  int refine_tasks = 100;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
@@ -353,10 +536,12 @@ int main(int argc, char** argv) {
       only = argv[++i];
     } else if (!std::strcmp(argv[i], "--path-tasks") && i + 1 < argc) {
       path_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--refine-tasks") && i + 1 < argc) {
+      refine_tasks = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
-                   "[--seed S] [--only planar|spatial|path]\n"
+                   "[--refine-tasks R] [--seed S] [--only planar|spatial|path|refine]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -367,6 +552,10 @@ int main(int argc, char** argv) {
   }
   if (only == "path") {
     RunPath(path_tasks, seed);
+    return 0;
+  }
+  if (only == "refine") {
+    RunRefine(refine_tasks, seed);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
@@ -384,6 +573,7 @@ int main(int argc, char** argv) {
   if (only != "planar") {
     RunSpatial(spatial_tasks, seed);
     RunPath(path_tasks, seed);
+    RunRefine(refine_tasks, seed);
   }
   return 0;
 }

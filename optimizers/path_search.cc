@@ -196,11 +196,23 @@ nlopt::algorithm ToNlopt(GlobalAlgorithm algorithm) {
   return kAlgorithms[static_cast<int>(algorithm)];
 }
 
-// An output circle the crank cannot close at some point (its least-squares radius, fitted to the
-// coupler poses, is out of reach there near a toggle) makes a four-bar that cannot be driven
-// through the points, and the refiner keeps such a seed unchanged. With its radius moved into the
-// range every point allows, kDrivableMargin of that range inside it, the four-bar assembles at
-// every point and the refinement can start. False for another output type or an empty range.
+// Whether two four-bars (task units) agree to kDistinct * length in every parameter.
+bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
+  if (a.output.type != b.output.type) return false;
+  const DyadBlocks x = ToBlocks(a.output), y = ToBlocks(b.output);
+  const double distance =
+      std::max({(a.input.fixed_pivot - b.input.fixed_pivot).norm(),
+                (a.input.moving_pivot - b.input.moving_pivot).norm(),
+                (a.coupler_point - b.coupler_point).norm(),
+                std::hypot(x.point[0] - y.point[0], x.point[1] - y.point[1]),
+                std::hypot(x.second[0] - y.second[0], x.second[1] - y.second[1]) *
+                    (a.output.type == DyadType::kRR ? 1.0 : length),
+                std::abs(x.scalar[0] - y.scalar[0])});
+  return distance <= kDistinct * length;
+}
+
+}  // namespace
+
 bool DrivableOutput(const PlanarDyad& output, const Eigen::Vector2d& crank_pivot,
                     const Eigen::Vector2d& crank_pin, const std::vector<double>& turns,
                     PlanarDyad* drivable) {
@@ -221,23 +233,6 @@ bool DrivableOutput(const PlanarDyad& output, const Eigen::Vector2d& crank_pivot
   drivable->radius = std::clamp(std::abs(output.radius), low + margin, high - margin);
   return true;
 }
-
-// Whether two four-bars (task units) agree to kDistinct * length in every parameter.
-bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
-  if (a.output.type != b.output.type) return false;
-  const DyadBlocks x = ToBlocks(a.output), y = ToBlocks(b.output);
-  const double distance =
-      std::max({(a.input.fixed_pivot - b.input.fixed_pivot).norm(),
-                (a.input.moving_pivot - b.input.moving_pivot).norm(),
-                (a.coupler_point - b.coupler_point).norm(),
-                std::hypot(x.point[0] - y.point[0], x.point[1] - y.point[1]),
-                std::hypot(x.second[0] - y.second[0], x.second[1] - y.second[1]) *
-                    (a.output.type == DyadType::kRR ? 1.0 : length),
-                std::abs(x.scalar[0] - y.scalar[0])});
-  return distance <= kDistinct * length;
-}
-
-}  // namespace
 
 int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,
                        const std::vector<double>& weights, const std::vector<bool>& exact,

@@ -51,6 +51,17 @@ struct PathSearchSummary {
   double best_cost = 0.0;  // 1/2 sum w e^2 of the best returned four-bar (0 when none)
 };
 
+// An output circle the crank cannot close at some point (e.g. its least-squares radius, fitted to
+// the coupler poses, is out of reach there near a toggle) makes a four-bar that cannot be driven
+// through the points, and the refiner keeps such a seed unchanged. With its radius moved into the
+// range every point allows (the crank turned by `turns` from `crank_pin` about `crank_pivot`; the
+// output's moving pivot keeps its distance from the pin), a thousandth of that range inside it,
+// the four-bar assembles at every point and the refinement can start. False for another output
+// type or an empty range.
+bool DrivableOutput(const PlanarDyad& output, const Eigen::Vector2d& crank_pivot,
+                    const Eigen::Vector2d& crank_pin, const std::vector<double>& turns,
+                    PlanarDyad* drivable);
+
 // Prescribed timing only. Returns the number of four-bars written to `four_bars` (best first).
 // Throws std::invalid_argument as RefinePathFourBar does, and for options out of range.
 int SearchPathFourBars(const std::vector<Eigen::Vector2d>& points,

@@ -15,6 +15,7 @@
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/precision.h"
+#include "optimizers/path_search.h"
 #include "optimizers/task_solver.h"
 
 namespace linkfit {
@@ -41,6 +42,8 @@ constexpr int kFreeTimingSubsets = 2;
 // refinement under a fixed timing and projection before the angles are freed.
 constexpr int kProjectionSamples = 180;
 constexpr int kAlternations = 3;
+// Rounds of a refine's joint free-timing refinement while each lowers the cost.
+constexpr int kRefineRounds = 4;
 // Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
@@ -1068,6 +1071,28 @@ bool Improves(const PathMechanismReport& refined, const PathMechanismReport& see
   return !seed.max_point_error || *refined.max_point_error < *seed.max_point_error;
 }
 
+// A projected timing's points out of order (a coupler curve that passes near itself offers a
+// point two places): each interior point whose angle is not between its neighbours', when those
+// are in order, gets the angle between them in proportion to the chords; a last point out of
+// order, its predecessor's step again.
+void InterpolateOutOfOrder(const std::vector<Eigen::Vector2d>& points,
+                           std::vector<double>* angles) {
+  std::vector<double>& a = *angles;
+  const size_t n = a.size();
+  if (n < 3) return;
+  const double direction = a.back() >= a.front() ? 1.0 : -1.0;
+  const auto ordered = [&](double from, double to) { return direction * (to - from) >= 0.0; };
+  for (size_t j = 1; j + 1 < n; ++j) {
+    if (ordered(a[j - 1], a[j]) && ordered(a[j], a[j + 1])) continue;
+    if (!ordered(a[j - 1], a[j + 1])) continue;
+    const double before = (points[j] - points[j - 1]).norm();
+    const double after = (points[j + 1] - points[j]).norm();
+    const double share = before + after > 0.0 ? before / (before + after) : 0.5;
+    a[j] = a[j - 1] + share * (a[j + 1] - a[j - 1]);
+  }
+  if (!ordered(a[n - 2], a[n - 1])) a[n - 1] = a[n - 2] + (a[n - 2] - a[n - 3]);
+}
+
 bool RefineInSteps(const PathData& data, const PathRefinerOptions& options, bool free_timing,
                    PathFourBar* design, std::vector<double>* angles) {
   constexpr int kFirstSteps = 64, kMaxRounds = 40;
@@ -1117,13 +1142,15 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
     return std::find(report.defects.begin(), report.defects.end(), "transmission") !=
            report.defects.end();
   };
-  // A design whose transmission angle is good keeps it: the refiner holds it (a penalty under
-  // prescribed timing, and it refuses a result below it either way), as a designer refining the
-  // recommended four-bar expects.
+  // With constraints given, a design whose transmission angle keeps their minimum keeps it: the
+  // refiner holds it (a penalty under prescribed timing, and it refuses a result below it either
+  // way). Without, the refinement is the fit's, and a note says when it costs the angle.
+  bool seed_transmission_kept = false;
   const auto hold_if_kept = [&](const PathMechanismReport& seed_report) {
     PathMechanismReport judged = seed_report;
     JudgeTransmission(data, &judged);
-    if (judged.max_point_error && !transmission(judged)) {
+    seed_transmission_kept = judged.max_point_error && !transmission(judged);
+    if (task.constraints.given && seed_transmission_kept) {
       refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
     }
   };
@@ -1136,10 +1163,22 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
           "the four-bar does not assemble at its crank's first angle: its output dyad cannot "
           "reach the coupler as given");
     }
-    const std::optional<PathMechanismReport> once = RefinedReport(data, refiner, four_bar);
+    // A design the crank cannot drive through every point starts with its output circle moved
+    // into reach (DrivableOutput, path_search.h), as the search's seeds do.
+    PathFourBar start = four_bar;
+    if (!seed.max_point_error) {
+      std::vector<double> turns;
+      for (double angle : data.angles) turns.push_back(angle - data.angles.front());
+      PlanarDyad drivable;
+      if (DrivableOutput(four_bar.output, four_bar.input.fixed_pivot, four_bar.input.moving_pivot,
+                         turns, &drivable)) {
+        start.output = drivable;
+      }
+    }
+    const std::optional<PathMechanismReport> once = RefinedReport(data, refiner, start);
     refined = once ? *once : seed;
     if (!Improves(refined, seed)) {
-      PathFourBar design = four_bar;
+      PathFourBar design = start;
       std::vector<double> angles = data.angles;
       if (RefineInSteps(data, refiner, false, &design, &angles)) {
         refined = Report(design, data, data.angles);
@@ -1193,6 +1232,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
           angles = *projected;
         }
       }
+      if (!angles.empty()) InterpolateOutOfOrder(data.points, &angles);
     }
     if (angles.empty()) {
       throw std::invalid_argument(
@@ -1213,8 +1253,16 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
       PathFourBar design = four_bar;
       PathRefinerOptions free_options = refiner;
       free_options.max_iterations = kFreeTimingIterations;
-      RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &free_angles,
-                        &design, free_options);
+      // An ill-conditioned four-bar (a long, flat valley of the fit) can take more than one
+      // round of iterations: further rounds while each lowers the cost by a thousandth.
+      double cost = std::numeric_limits<double>::infinity();
+      for (int round = 0; round < kRefineRounds; ++round) {
+        const RefinerSummary summary =
+            RefinePathFourBar(data.points, data.weights, data.exact, data.length, true,
+                              &free_angles, &design, free_options);
+        if (!(summary.final_cost < 0.999 * cost) || !(summary.final_cost > 0.0)) break;
+        cost = summary.final_cost;
+      }
       refined = Report(design, data, free_angles);
       refined.input_angles = free_angles;
       direct =
@@ -1236,6 +1284,9 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
     JudgeTransmission(data, &refined);
   }
   refined.seed_max_point_error = seed.max_point_error;
+  if (seed_transmission_kept && transmission(refined)) {
+    result.notes.push_back(TransmissionNote(task.constraints));
+  }
   result.mechanisms.push_back(refined);
   const auto text = [](const std::optional<double>& value) {
     if (!value) return std::string("none (not driven through the points)");

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
+#include <tuple>
 
 #include "fitting/model_choice.h"
 #include "lib/task_io.h"
@@ -728,17 +729,34 @@ TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
 
 namespace {
 
-// "before: max a, RMS b; after: max c, RMS d (n iterations)" of a refinement, `what` the error.
+// "before: max a, RMS b; after: max c, RMS d (n iterations)" of a refinement, `what` the error;
+// a design not driven through the poses has no error ("none").
 std::string BeforeAfterNote(const std::string& what, double initial_max, double initial_rms,
                             double final_max, double final_rms, int iterations) {
-  char line[240];
-  std::snprintf(line, sizeof(line),
-                "%s before: max %.6g, RMS %.6g; after: max %.6g, RMS %.6g (%d iterations)",
-                what.c_str(), initial_max, initial_rms, final_max, final_rms, iterations);
-  return line;
+  const auto pair = [](double max, double rms) {
+    if (!std::isfinite(max)) return std::string("none (not driven through the poses)");
+    char text[80];
+    std::snprintf(text, sizeof(text), "max %.6g, RMS %.6g", max, rms);
+    return std::string(text);
+  };
+  return what + " before: " + pair(initial_max, initial_rms) +
+         "; after: " + pair(final_max, final_rms) + " (" + std::to_string(iterations) +
+         " iterations)";
 }
 
 }  // namespace
+
+constexpr double kInfinityValue = std::numeric_limits<double>::infinity();
+
+std::string TransmissionNote(const DesignConstraints& constraints) {
+  char line[240];
+  std::snprintf(line, sizeof(line),
+                "the refined design's transmission angle falls below %.3g deg, the design's did "
+                "not: give \"constraints\": {\"min_transmission_angle_deg\": %.3g} in the task "
+                "to hold it",
+                MinTransmissionAngleDeg(constraints), MinTransmissionAngleDeg(constraints));
+  return line;
+}
 
 PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
                                       const PlanarDyad& output, const TaskSolverOptions& options) {
@@ -746,10 +764,12 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);
   FourBarRefinerOptions refiner = options.four_bar_refiner;
   refiner.constraints = task.constraints;
-  // Refines the design with `with` and judges it: the dyads' reports and the four-bar's.
-  const auto refine = [&](const FourBarRefinerOptions& with, RefinerSummary* summary) {
+  // Refines a design from `from_input` and `from_output` with `with` and judges it: the dyads'
+  // reports and the four-bar's.
+  const auto refine_from = [&](const PlanarDyad& from_input, const PlanarDyad& from_output,
+                               const FourBarRefinerOptions& with, RefinerSummary* summary) {
     PlanarMotionResult result;
-    PlanarDyad refined_input = input, refined_output = output;
+    PlanarDyad refined_input = from_input, refined_output = from_output;
     *summary = RefineFourBar(poses, task.pose_weights, task.pose_exact, length, &refined_input,
                              &refined_output, with);
     for (const PlanarDyad& dyad : {refined_input, refined_output}) {
@@ -762,23 +782,63 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
     }
     MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length);
     JudgeMechanism(task.constraints, result.dyads, length, &mechanism);
-    mechanism.seed_max_pose_error = summary->initial_max;
     result.mechanisms.push_back(mechanism);
+    return result;
+  };
+  // The design's own refinement, and the one that first refines each dyad on its residuals (the
+  // solver's dyad stage, planar_dyad_refiner.h): a design outside the four-bar refiner's reach
+  // (it does not assemble at the first pose, or its circuit leads elsewhere) comes in from its
+  // dyads' own optima. The better of the two is kept: the one driven through the poses, then
+  // with fewer kinematic defects, fewer broken constraints, the smaller largest pose error.
+  const auto refine = [&](const FourBarRefinerOptions& with, RefinerSummary* summary) {
+    PlanarMotionResult result = refine_from(input, output, with, summary);
+    PlanarDyadRefinerOptions dyad_options = options.planar_refiner;
+    dyad_options.constraints = task.constraints;
+    PlanarDyad dyad_input = input, dyad_output = output;
+    for (PlanarDyad* dyad : {&dyad_input, &dyad_output}) {
+      RefinePlanarDyad(poses, task.pose_weights, task.pose_exact, length, dyad, dyad_options);
+    }
+    RefinerSummary via_summary;
+    PlanarMotionResult via = refine_from(dyad_input, dyad_output, with, &via_summary);
+    const auto key = [](const MechanismReport& mechanism) {
+      const int kinematic = static_cast<int>(
+          std::count_if(mechanism.defects.begin(), mechanism.defects.end(),
+                        [](const std::string& defect) { return defect != "transmission"; }));
+      return std::make_tuple(!mechanism.max_pose_error.has_value(), kinematic,
+                             mechanism.violates.size(),
+                             mechanism.max_pose_error.value_or(kInfinityValue));
+    };
+    if (key(via.mechanisms[0]) < key(result.mechanisms[0])) {
+      via_summary.initial_cost = summary->initial_cost;
+      via_summary.initial_rms = summary->initial_rms;
+      via_summary.initial_max = summary->initial_max;
+      via_summary.iterations += summary->iterations;
+      via_summary.seconds += summary->seconds;
+      via.notes.push_back(
+          "refined dyad by dyad on their residuals first: the four-bar refinement of the design "
+          "itself ended worse");
+      result = via;
+      *summary = via_summary;
+    } else {
+      summary->seconds += via_summary.seconds;
+    }
+    result.mechanisms[0].seed_max_pose_error = summary->initial_max;
     return result;
   };
   const auto has = [](const MechanismReport& mechanism, const char* defect) {
     return std::find(mechanism.defects.begin(), mechanism.defects.end(), defect) !=
            mechanism.defects.end();
   };
-  // A design whose transmission angle is good keeps it: the refiner holds it
-  // (FourBarRefinerOptions::min_transmission_deg), as a designer refining the recommended
-  // four-bar expects.
+  // With constraints given, a design whose transmission angle keeps their minimum keeps it: the
+  // refiner holds it (FourBarRefinerOptions::min_transmission_deg). Without, the refinement is
+  // the fit's, and a note says when it costs the angle.
   std::vector<DyadReport> seed_dyads(2);
   seed_dyads[0].dyad = input;
   seed_dyads[1].dyad = output;
   MechanismReport seed = AnalyzeDyadPair(seed_dyads, 0, 1, poses, length);
   JudgeMechanism(task.constraints, seed_dyads, length, &seed);
-  if (seed.max_pose_error && !has(seed, "transmission")) {
+  const bool seed_transmission_kept = seed.max_pose_error && !has(seed, "transmission");
+  if (task.constraints.given && seed_transmission_kept) {
     refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
   }
   RefinerSummary summary;
@@ -801,6 +861,9 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
       result = held_result;
       summary = held_summary;
     }
+  }
+  if (seed_transmission_kept && has(result.mechanisms[0], "transmission")) {
+    result.notes.push_back(TransmissionNote(task.constraints));
   }
   result.method = "refine";
   result.scale = length;

@@ -79,7 +79,10 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
 // `linkfit refine` and linkfit.refine: a design (a result file's, or written by hand) refined
 // against a task, the result in the form `linkfit solve` gives, with "method": "refine", the
 // errors before and after in a note and each design's "before_refinement". The task's weights,
-// exact poses or points and design constraints hold as in the solver's refinements.
+// exact poses or points and design constraints hold as in the solver's refinements; with
+// constraints given, a design whose transmission angle keeps their minimum keeps it (planar and
+// path four-bars); without, the refinement is the fit's, and a note says when that costs the
+// transmission angle.
 //   - planar motion: the four-bar of two dyads refined on its pose error (four_bar_refiner.h);
 //   - path problems: the crank-driven four-bar refined on its point errors (path_refiner.h),
 //     under the task's timing; free timing starts from the design's fitted input angles, or from
@@ -99,6 +102,10 @@ struct RefineChoice {
 // the task's kind (ParseTaskDesign).
 TaskResult RefineTask(const Task& task, const TaskDesign& design, const RefineChoice& choice,
                       const TaskSolverOptions& options = {});
+
+// The note of a refinement whose result's transmission angle falls below the task's minimum
+// where the design's did not (a task without constraints: the refinement is the fit's).
+std::string TransmissionNote(const DesignConstraints& constraints);
 
 // The refinements RefineTask dispatches to, one per kind of task.
 PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,

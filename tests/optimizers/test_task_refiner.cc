@@ -5,6 +5,7 @@
 // precision allows (tests/support/rounded_task.h), keeping its type.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -17,6 +18,7 @@
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
+#include "tests/support/moved_design.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
 #include "tests/support/rounded_task.h"
@@ -28,68 +30,8 @@ namespace {
 constexpr int kDigits[] = {17, 8, 6, 4};
 
 // How far the designs start from their generators, times L (each coordinate uniform in
-// [-kOffset, kOffset]).
+// [-kOffset, kOffset] L; tests/support/moved_design.h).
 constexpr double kOffset = 0.01;
-
-Eigen::Vector2d Moved(std::mt19937_64& rng, const Eigen::Vector2d& point, double length) {
-  std::uniform_real_distribution<double> offset(-kOffset * length, kOffset * length);
-  return point + Eigen::Vector2d(offset(rng), offset(rng));
-}
-
-Eigen::Vector3d Moved(std::mt19937_64& rng, const Eigen::Vector3d& point, double length) {
-  std::uniform_real_distribution<double> offset(-kOffset * length, kOffset * length);
-  return point + Eigen::Vector3d(offset(rng), offset(rng), offset(rng));
-}
-
-// The four-bar with every pivot, the coupler point and a slider's line moved off.
-PathFourBar MovedFourBar(std::mt19937_64& rng, const PathFourBar& four_bar, double length) {
-  PathFourBar moved = four_bar;
-  const PlanarDyad& input = four_bar.input;
-  const Eigen::Vector2d pivot = Moved(rng, input.fixed_pivot, length);
-  const Eigen::Vector2d pin = Moved(rng, input.moving_pivot, length);
-  moved.input = PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
-  const PlanarDyad& output = four_bar.output;
-  std::uniform_real_distribution<double> turn(-kOffset, kOffset);
-  const double angle = output.LineAngleDeg() * M_PI / 180.0 + turn(rng);
-  const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
-  switch (output.type) {
-    case DyadType::kRR: {
-      const Eigen::Vector2d fixed = Moved(rng, output.fixed_pivot, length);
-      const Eigen::Vector2d moving = Moved(rng, output.moving_pivot, length);
-      moved.output = PlanarDyad::RR(fixed, moving, (moving - fixed).norm());
-      break;
-    }
-    case DyadType::kPR:
-      moved.output = PlanarDyad::PR(Moved(rng, output.moving_pivot, length),
-                                    Moved(rng, output.LineFoot(), length), direction);
-      break;
-    case DyadType::kRP:
-      moved.output = PlanarDyad::RP(Moved(rng, output.fixed_pivot, length),
-                                    Moved(rng, output.LineFoot(), length), direction);
-      break;
-  }
-  moved.coupler_point = Moved(rng, four_bar.coupler_point, length);
-  return moved;
-}
-
-SpatialDyad MovedDyad(std::mt19937_64& rng, const SpatialDyad& dyad, double length) {
-  std::uniform_real_distribution<double> offset(-kOffset, kOffset);
-  const Eigen::Vector3d normal =
-      (dyad.plane_normal + Eigen::Vector3d(offset(rng), offset(rng), offset(rng))).normalized();
-  switch (dyad.type) {
-    case SpatialDyadType::kSS:
-      return SpatialDyad::SS(Moved(rng, dyad.fixed_pivot, length),
-                             Moved(rng, dyad.moving_pivot, length),
-                             dyad.radius + offset(rng) * length);
-    case SpatialDyadType::kPS:
-      return SpatialDyad::PS(Moved(rng, dyad.moving_pivot, length), normal,
-                             dyad.plane_offset + offset(rng) * length);
-    case SpatialDyadType::kSP:
-      break;
-  }
-  return SpatialDyad::SP(Moved(rng, dyad.fixed_pivot, length), normal,
-                         dyad.plane_offset + offset(rng) * length);
-}
 
 // The design as `linkfit solve` writes a path result of it, read back as a design.
 PathDesign PathDesignText(const PathFourBar& four_bar, const std::vector<double>& angles) {
@@ -113,7 +55,8 @@ TEST(TaskRefiner, PathDesignsComeBackToTheirGenerators) {
         const Task task = testing::ReadRounded(testing::PathText(
             generated.points, free_timing ? no_angles : generated.input_angles, digits));
         const double length = testing::PathLength(generated.points);
-        const PathFourBar start = MovedFourBar(rng, generated.four_bar, length);
+        const PathFourBar start =
+            testing::MovedPathFourBar(rng, generated.four_bar, kOffset * length, length);
         SCOPED_TRACE(std::string(free_timing ? "free" : "prescribed") + " timing, output " +
                      std::to_string(static_cast<int>(output)) + ", " + std::to_string(digits) +
                      " digits");
@@ -148,23 +91,40 @@ TEST(TaskRefiner, PathDesignsComeBackToTheirGenerators) {
 }
 
 // A free-timing result's fitted input angles start the refinement where the result left it: the
-// refined four-bar is not worse, and the angles are kept monotonic.
+// refined four-bar is not worse, and the angles are kept monotonic. Without constraints the
+// refinement is the fit's, and a note says when it costs the transmission angle; with a minimum
+// transmission angle given, the solver's defect-free first design stays defect-free.
 TEST(TaskRefiner, FreeTimingStartsFromTheDesignsAngles) {
   std::mt19937_64 rng(1551);
   const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, 10);
-  const Task task = testing::ReadRounded(testing::PathText(generated.points, {}, 6));
-  const PathResult solved = SolvePathTask(task);
-  ASSERT_FALSE(solved.mechanisms.empty());
-  const PathMechanismReport& first = solved.mechanisms[0];
-  const PathDesign design = PathDesignText(first.design, first.input_angles);
-  ASSERT_EQ(design.input_angles[0].size(), generated.points.size());
-  const PathResult result = std::get<PathResult>(RefineTask(task, design, RefineChoice()));
-  ASSERT_EQ(result.mechanisms.size(), 1u);
-  const PathMechanismReport& refined = result.mechanisms[0];
-  ASSERT_TRUE(refined.max_point_error && first.max_point_error);
-  EXPECT_LE(*refined.max_point_error, *first.max_point_error * (1.0 + 1e-6));
-  EXPECT_EQ(refined.input_angles.size(), generated.points.size());
-  EXPECT_EQ(refined.defects, first.defects);
+  const std::string text = testing::PathText(generated.points, {}, 6);
+  for (const bool constrained : {false, true}) {
+    SCOPED_TRACE(constrained ? "min_transmission_angle_deg given" : "no constraints");
+    const Task task = testing::ReadRounded(
+        constrained ? R"({"constraints": {"min_transmission_angle_deg": 30}, )" + text.substr(1)
+                    : text);
+    ASSERT_EQ(task.constraints.given, constrained);
+    const PathResult solved = SolvePathTask(task);
+    ASSERT_FALSE(solved.mechanisms.empty());
+    const PathMechanismReport& first = solved.mechanisms[0];
+    ASSERT_TRUE(first.defects.empty());
+    const PathDesign design = PathDesignText(first.design, first.input_angles);
+    ASSERT_EQ(design.input_angles[0].size(), generated.points.size());
+    const PathResult result = std::get<PathResult>(RefineTask(task, design, RefineChoice()));
+    ASSERT_EQ(result.mechanisms.size(), 1u);
+    const PathMechanismReport& refined = result.mechanisms[0];
+    ASSERT_TRUE(refined.max_point_error && first.max_point_error);
+    EXPECT_LE(*refined.max_point_error, *first.max_point_error * (1.0 + 1e-6));
+    EXPECT_EQ(refined.input_angles.size(), generated.points.size());
+    EXPECT_FALSE(HasKinematicDefect(refined.defects));
+    const bool noted = std::any_of(result.notes.begin(), result.notes.end(), [](const auto& note) {
+      return note.find("min_transmission_angle_deg") != std::string::npos;
+    });
+    EXPECT_EQ(noted, !refined.defects.empty());
+    if (constrained) {
+      EXPECT_TRUE(refined.defects.empty());
+    }
+  }
 }
 
 TEST(TaskRefiner, SpatialDyadsAndTheirPlatformComeBack) {
@@ -180,7 +140,7 @@ TEST(TaskRefiner, SpatialDyadsAndTheirPlatformComeBack) {
     const double length = SpatialTaskLength(task);
     SpatialDesign design;
     for (const SpatialDyad& dyad : planted.planted) {
-      design.dyads.push_back(MovedDyad(rng, dyad, length));
+      design.dyads.push_back(testing::MovedSpatialDyad(rng, dyad, kOffset * length, length));
     }
     // The platform listed in another order: the refined five keep the platform's order.
     design.platforms.push_back({4, 3, 2, 1, 0});

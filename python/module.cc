@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "apps/picture.h"
@@ -30,21 +31,27 @@ std::string SolveText(const std::string& text, const std::string& source) {
   return ResultToJson(SolveTask(task), 2);
 }
 
-// The result's JSON text, and its picture's (apps/picture.h PictureToJson, the SVG's content;
-// empty for a spatial platform, with the reason).
+// A solved task: the result's JSON text, and what its picture is drawn from (apps/picture.h
+// PictureToJson, the SVG's content), made only when asked (linkfit.plot): it costs about as much
+// as a five-pose solve.
 struct Drawn {
   std::string result;
-  std::string picture;
-  std::string why;
+  Task task;
+  TaskResult solved;
+
+  // The picture's JSON text, or empty with the reason (a spatial platform) in *why.
+  std::string Picture(std::string* why) const {
+    constexpr size_t kPanels = 12;  // as `linkfit solve --svg`
+    const std::optional<linkfit::Picture> picture = TaskPicture("", task, solved, kPanels, why);
+    return picture ? PictureToJson(*picture) : std::string();
+  }
 };
 
-Drawn WithPicture(const Task& task, const TaskResult& result) {
+Drawn WithPicture(const Task& task, TaskResult result) {
   Drawn drawn;
   drawn.result = ResultToJson(result, 2);
-  constexpr size_t kPanels = 12;  // as `linkfit solve --svg`
-  if (const std::optional<Picture> picture = TaskPicture("", task, result, kPanels, &drawn.why)) {
-    drawn.picture = PictureToJson(*picture);
-  }
+  drawn.task = task;
+  drawn.solved = std::move(result);
   return drawn;
 }
 
@@ -112,8 +119,18 @@ PYBIND11_MODULE(_linkfit, m) {
       "Solves one task given as JSON text; returns the result as the CLI's JSON text.");
   py::class_<linkfit::Drawn>(m, "Drawn")
       .def_readonly("result", &linkfit::Drawn::result)
-      .def_readonly("picture", &linkfit::Drawn::picture)
-      .def_readonly("why", &linkfit::Drawn::why);
+      .def(
+          "picture",
+          [](const linkfit::Drawn& drawn) {
+            std::string why;
+            std::string picture;
+            {
+              py::gil_scoped_release release;
+              picture = drawn.Picture(&why);
+            }
+            return py::make_tuple(picture, why);
+          },
+          "The picture's JSON text and, when there is none, why.");
   m.def(
       "solve_drawn_json",
       [](const std::string& text, const std::string& source) {

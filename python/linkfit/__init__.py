@@ -23,13 +23,23 @@ __all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "pla
 
 
 class Result(dict):
-    """A result dict, equal to the CLI's JSON, that also carries its drawing for :func:`plot`
-    (``picture``; None for a spatial platform, with the reason in ``picture_note``)."""
+    """A result dict, equal to the CLI's JSON, that also carries what :func:`plot` draws:
+    ``picture`` (made when first asked; None for a spatial platform, with the reason in
+    ``picture_note``)."""
 
     def __init__(self, drawn):
         super().__init__(json.loads(drawn.result))
-        self.picture = json.loads(drawn.picture) if drawn.picture else None
-        self.picture_note = drawn.why
+        self._drawn = drawn
+        self._picture = None
+        self.picture_note = ""
+
+    @property
+    def picture(self):
+        if self._drawn is not None:
+            text, self.picture_note = self._drawn.picture()
+            self._picture = json.loads(text) if text else None
+            self._drawn = None
+        return self._picture
 
 
 def _plain(value):

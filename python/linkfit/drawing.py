@@ -198,7 +198,7 @@ def plot(result, ax=None, mechanism=None):
     Spatial platforms are not drawn (as ``linkfit solve --svg``): ValueError says so. A result
     read back from a file carries no drawing: solve or refine it again from Python.
     """
-    picture = getattr(result, "picture", None)
+    picture = getattr(result, "picture", None)  # made here, on first use
     if picture is None:
         reason = getattr(result, "picture_note", "")
         raise ValueError("linkfit.plot: " + (reason or "this result carries no drawing; plot the "

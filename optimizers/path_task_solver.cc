@@ -1283,6 +1283,23 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
     }
     JudgeTransmission(data, &refined);
   }
+  // Never worse than the design: a refinement that is no longer driven through the points, adds
+  // a kinematic defect, or fits worse by both the largest and the RMS point error (a fallback can
+  // end there) gives the design back.
+  const bool new_defect =
+      std::any_of(refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
+        return defect != "transmission" &&
+               std::find(seed.defects.begin(), seed.defects.end(), defect) == seed.defects.end();
+      });
+  const bool worse = seed.max_point_error &&
+                     (!refined.max_point_error ||
+                      (*refined.max_point_error > *seed.max_point_error &&
+                       refined.rms_point_error.value_or(0.0) > seed.rms_point_error.value_or(0.0)));
+  if (worse || (seed.max_point_error && new_defect)) {
+    refined = seed;
+    JudgeTransmission(data, &refined);
+    result.notes.push_back("no refinement improved the design: it is given back unchanged");
+  }
   refined.seed_max_point_error = seed.max_point_error;
   if (seed_transmission_kept && transmission(refined)) {
     result.notes.push_back(TransmissionNote(task.constraints));

@@ -386,13 +386,20 @@ class TaskParser {
     return all;
   }
 
-  PlanarDesign ParseDesignText(const std::string& text) const {
-    const Json root = ParseJson(text);
+  // A design's JSON: an object whose `key` is a non-empty array (of `what`, for messages).
+  Json DesignRoot(const std::string& text, const char* key, const std::string& what) const {
+    Json root = ParseJson(text);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
-    const Json& dyads = Field(root, "", "dyads");
-    if (!dyads.is_array() || dyads.empty()) {
-      Fail("dyads", "expected a non-empty array of dyads, got " + Describe(dyads));
+    const Json& list = Field(root, "", key);
+    if (!list.is_array() || list.empty()) {
+      Fail(key, "expected a non-empty array of " + what + ", got " + Describe(list));
     }
+    return root;
+  }
+
+  PlanarDesign ParseDesignText(const std::string& text) const {
+    const Json root = DesignRoot(text, "dyads", "dyads");
+    const Json& dyads = root.at("dyads");
     PlanarDesign design;
     for (size_t i = 0; i < dyads.size(); ++i) {
       const std::string item = IndexItem("dyads", i);
@@ -426,13 +433,8 @@ class TaskParser {
   }
 
   PathDesign ParsePathDesignText(const std::string& text) const {
-    const Json root = ParseJson(text);
-    if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
-    const Json& mechanisms = Field(root, "", "mechanisms");
-    if (!mechanisms.is_array() || mechanisms.empty()) {
-      Fail("mechanisms",
-           "expected a non-empty array of path four-bars, got " + Describe(mechanisms));
-    }
+    const Json root = DesignRoot(text, "mechanisms", "path four-bars");
+    const Json& mechanisms = root.at("mechanisms");
     PathDesign design;
     for (size_t m = 0; m < mechanisms.size(); ++m) {
       const std::string item = IndexItem("mechanisms", m);
@@ -488,12 +490,8 @@ class TaskParser {
   }
 
   SpatialDesign ParseSpatialDesignText(const std::string& text) const {
-    const Json root = ParseJson(text);
-    if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
-    const Json& dyads = Field(root, "", "dyads");
-    if (!dyads.is_array() || dyads.empty()) {
-      Fail("dyads", "expected a non-empty array of spatial dyads, got " + Describe(dyads));
-    }
+    const Json root = DesignRoot(text, "dyads", "spatial dyads");
+    const Json& dyads = root.at("dyads");
     SpatialDesign design;
     for (size_t i = 0; i < dyads.size(); ++i) {
       const std::string item = IndexItem("dyads", i);

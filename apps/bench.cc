@@ -36,6 +36,8 @@
 //
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
 //                 [--seed S] [--only planar|spatial|path|refine]
+#include <glog/logging.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -519,6 +521,9 @@ void RunRefine(int tasks, uint64_t seed) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Ceres reports steps the refiners handle through glog at ERROR level (the CLI silences it the
+  // same way, apps/cli.cc RunCli): the tables stay clean.
+  FLAGS_minloglevel = google::GLOG_FATAL;
   int tasks = 100000;
   int spatial_tasks = 10000;
   uint64_t seed = 2026;

@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 
@@ -1032,25 +1033,30 @@ Picture MakePicture(const std::string& title, const Task& task, const PlanarMoti
                     *report.transmission_min_deg);
       mechanism.labels.push_back(text);
     }
+    // The circuit's coupler poses: traced here (the analysis behind the ranking does not).
+    std::vector<PlanarPose> cycle = report.cycle;
+    if (cycle.empty() && !task.planar_poses.empty()) {
+      FourBarMotionOptions trace;
+      trace.trace_cycle = true;
+      cycle = AnalyzeFourBar(mechanism.input, mechanism.output, task.planar_poses, result.scale,
+                             trace)
+                  .cycle;
+    }
     // The links at the first pose: the assembled configuration on the mechanism's circuit
     // nearest the first task pose.
     mechanism.first_pose = task.planar_poses.front();
     double nearest = std::numeric_limits<double>::infinity();
-    for (const PlanarPose& pose : report.cycle) {
+    for (const PlanarPose& pose : cycle) {
       const double error = PoseError(pose, task.planar_poses.front(), result.scale);
       if (error < nearest) {
         nearest = error;
         mechanism.first_pose = pose;
       }
     }
-    for (const PlanarPose& pose : report.cycle) {
-      mechanism.coupler_curve.push_back(pose.origin_in_fixed);
-    }
+    for (const PlanarPose& pose : cycle) mechanism.coupler_curve.push_back(pose.origin_in_fixed);
     // About 120 frames for the animation.
-    const size_t stride = std::max<size_t>(1, report.cycle.size() / 120);
-    for (size_t k = 0; k < report.cycle.size(); k += stride) {
-      mechanism.cycle.push_back(report.cycle[k]);
-    }
+    const size_t stride = std::max<size_t>(1, cycle.size() / 120);
+    for (size_t k = 0; k < cycle.size(); k += stride) mechanism.cycle.push_back(cycle[k]);
     picture.mechanisms.push_back(std::move(mechanism));
   }
   return picture;

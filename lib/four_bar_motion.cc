@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "lib/four_bar_closure.h"
 #include "lib/mechanism.h"
 
 namespace linkfit {
@@ -252,9 +253,9 @@ FourBarLocation LocatePose(const FourBarMotion& motion, const PlanarDyad& input,
   return location;
 }
 
-FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output,
-                               const std::vector<PlanarPose>& poses, double length,
-                               const FourBarMotionOptions& options) {
+FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad& output,
+                                      const std::vector<PlanarPose>& poses, double length,
+                                      const FourBarMotionOptions& options) {
   FourBarAnalysis analysis;
   const FourBarMotion motion = TraceFourBar(input, output, poses, length, options);
   for (const PlanarPose& pose : poses) {
@@ -365,6 +366,305 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
           return configurations[std::min(label, count - 1)];
         },
         &analysis.transmission_min_deg, &analysis.transmission_max_deg);
+  }
+  return analysis;
+}
+
+namespace {
+
+// A circuit of the closed-form motion: an interval of the closure, and the assembly label it
+// keeps (0 or 1), or -1 for both (the two branches of a limited input, joined at a finite end).
+struct ClosedCircuit {
+  int interval = 0;
+  int label = -1;
+  bool rotates_fully = false;
+};
+
+// The circuits as TraceFourBar forms them: a full turn (or a slider range open at both ends)
+// gives a circuit per label; an interval with a finite end joins its two labels there.
+std::vector<ClosedCircuit> ClosedCircuits(const FourBarClosure& closure) {
+  std::vector<ClosedCircuit> circuits;
+  for (size_t i = 0; i < closure.intervals.size(); ++i) {
+    const ClosureInterval& interval = closure.intervals[i];
+    const bool joined =
+        closure.labels == 2 && !closure.full_turn && !(interval.open_start && interval.open_end);
+    if (joined) {
+      circuits.push_back({static_cast<int>(i), -1, false});
+      continue;
+    }
+    for (int label = 0; label < closure.labels; ++label) {
+      circuits.push_back({static_cast<int>(i), label, closure.angle_input && closure.full_turn});
+    }
+  }
+  return circuits;
+}
+
+// The interval holding `value`, or (an assembly admitted by AssembleFourBar's tolerance just
+// beyond an end) the one with the nearest end.
+int NearestInterval(const FourBarClosure& closure, double value) {
+  const int inside = ClosureIntervalOf(closure, value);
+  if (inside >= 0 || closure.intervals.empty()) return inside;
+  int nearest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < closure.intervals.size(); ++i) {
+    const ClosureInterval& interval = closure.intervals[i];
+    for (const double end : {interval.start, interval.end}) {
+      if (!std::isfinite(end)) continue;
+      double distance = std::abs(value - end);
+      if (closure.angle_input) {
+        distance = PositiveAngle(distance);
+        distance = std::min(distance, kTwoPi - distance);
+      }
+      if (distance < best) {
+        best = distance;
+        nearest = static_cast<int>(i);
+      }
+    }
+  }
+  return nearest;
+}
+
+// The coupler poses along a circuit, `samples` of them over its interval (label 0 forward and
+// label 1 back for a joined circuit). An open slider side is sampled to `margin` beyond the
+// task's input values.
+std::vector<PlanarPose> CircuitPoses(const PlanarDyad& input, const PlanarDyad& output,
+                                     const FourBarClosure& closure, const ClosedCircuit& circuit,
+                                     double lo, double hi, int samples, double length) {
+  const ClosureInterval& interval = closure.intervals[circuit.interval];
+  const double start = interval.open_start ? lo : interval.start;
+  const double end = interval.open_end ? hi : interval.end;
+  std::vector<PlanarPose> poses, configurations, back;
+  const int steps = std::max(samples - 1, 1);
+  for (int k = 0; k <= steps; ++k) {
+    const double value = start + (end - start) * k / steps;
+    const int count = AssembleFourBar(input, output, value, 1e-9 * length, &configurations);
+    if (count == 0) continue;
+    if (circuit.label >= 0) {
+      poses.push_back(configurations[std::min(circuit.label, count - 1)]);
+    } else {
+      poses.push_back(configurations[0]);
+      back.push_back(configurations[count - 1]);
+    }
+  }
+  poses.insert(poses.end(), back.rbegin(), back.rend());
+  return poses;
+}
+
+// The transmission angle over the input from `start` over `extent` (RR or PR input, RR or PR
+// output), in closed form. It depends on the input pin M1(u) only through one scalar S:
+//   RR output: S = |M1 - F2|^2 = d^2, and cos gamma = (|v|^2 + r2^2 - d^2) / (2 |v| r2), gamma
+//     the coupler-rocker angle growing with d; folded to [0, 90] as TransmissionAngleDeg:
+//     90 - |90 - gamma|;
+//   PR output: S = n . M1, the coupler leans off the slider line by asin(|n . q - S| / |v|),
+//     and the transmission angle is 90 degrees less that.
+// S is p + rho cos(u - phi) of a crank angle (monotonic between phi and phi + pi) and a
+// polynomial of degree <= 2 of a slider position (monotonic either side of its vertex): its range
+// over the way is at the ends and at those critical values within it.
+void ClosedTransmission(const PlanarDyad& input, const PlanarDyad& output, double start,
+                        double extent, std::optional<double>* min_deg,
+                        std::optional<double>* max_deg) {
+  const bool squared = output.type == DyadType::kRR;
+  const Eigen::Vector2d normal(-output.line_direction.y(), output.line_direction.x());
+  const auto scalar = [&](double u) {
+    const Eigen::Vector2d pin =
+        input.type == DyadType::kRR
+            ? Eigen::Vector2d(input.fixed_pivot +
+                              input.radius * Eigen::Vector2d(std::cos(u), std::sin(u)))
+            : Eigen::Vector2d(input.line_point + u * input.line_direction);
+    return squared ? (pin - output.fixed_pivot).squaredNorm() : normal.dot(pin);
+  };
+  const double from = std::min(start, start + extent), to = std::max(start, start + extent);
+  double low = std::min(scalar(from), scalar(to)), high = std::max(scalar(from), scalar(to));
+  const auto consider = [&](double u) {
+    if (u < from || u > to) return;
+    low = std::min(low, scalar(u));
+    high = std::max(high, scalar(u));
+  };
+  if (input.type == DyadType::kRR) {
+    // S's critical crank angles: along (or against) the direction that S grows with.
+    const Eigen::Vector2d toward =
+        squared ? Eigen::Vector2d(input.fixed_pivot - output.fixed_pivot) : normal;
+    const double phi = std::atan2(toward.y(), toward.x());
+    for (int k = 0; k < 2; ++k) {
+      const double critical = phi + k * M_PI;
+      for (double u = critical + std::ceil((from - critical) / kTwoPi) * kTwoPi; u <= to;
+           u += kTwoPi) {
+        consider(u);
+      }
+    }
+  } else if (squared) {
+    // |q1 + s d1 - F2|^2 is least at s = -d1 . (q1 - F2) / |d1|^2.
+    consider(-input.line_direction.dot(input.line_point - output.fixed_pivot) /
+             input.line_direction.squaredNorm());
+  }
+  const double side = (output.moving_pivot - input.moving_pivot).norm();
+  if (!(side > 0.0)) return;
+  if (squared) {
+    const double rocker = output.radius;
+    if (!(rocker > 0.0)) return;
+    const auto gamma = [&](double d2) {
+      const double x = (side * side + rocker * rocker - d2) / (2.0 * side * rocker);
+      return std::acos(std::clamp(x, -1.0, 1.0)) * 180.0 / M_PI;
+    };
+    const auto fold = [](double g) { return 90.0 - std::abs(90.0 - g); };
+    const double g_low = gamma(low), g_high = gamma(high);  // gamma grows with d^2
+    *min_deg = std::min(fold(g_low), fold(g_high));
+    *max_deg = g_low <= 90.0 && g_high >= 90.0 ? 90.0 : std::max(fold(g_low), fold(g_high));
+    return;
+  }
+  // The coupler's lean off the slider line: |n . q - S| / |v|, least 0 where S passes n . q.
+  const double level = normal.dot(output.line_point);
+  const double most = std::max(std::abs(level - low), std::abs(level - high));
+  const double least =
+      low <= level && level <= high ? 0.0 : std::min(std::abs(level - low), std::abs(level - high));
+  const auto transmission = [&](double lean) {
+    return 90.0 - std::asin(std::min(1.0, lean / side)) * 180.0 / M_PI;
+  };
+  *min_deg = transmission(most);
+  *max_deg = transmission(least);
+}
+
+}  // namespace
+
+FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output,
+                               const std::vector<PlanarPose>& poses, double length,
+                               const FourBarMotionOptions& options) {
+  FourBarAnalysis analysis;
+  const FourBarClosure closure = SolveFourBarClosure(input, output);
+  const std::vector<ClosedCircuit> circuits = ClosedCircuits(closure);
+  std::vector<PlanarPose> configurations;
+  // Where each pose lies: its input value, the configuration nearest it there, the circuit of
+  // that configuration's interval and label.
+  for (const PlanarPose& pose : poses) {
+    FourBarLocation location;
+    location.input = InputValue(input, pose);
+    const int count = Assemble(input, output, location.input, length, &configurations);
+    if (count > 0) {
+      int label = 0;
+      for (int l = 1; l < count; ++l) {
+        if (PoseError(configurations[l], pose, length) <
+            PoseError(configurations[label], pose, length)) {
+          label = l;
+        }
+      }
+      location.pose_error = PoseError(configurations[label], pose, length);
+      const int interval = NearestInterval(closure, location.input);
+      for (size_t c = 0; c < circuits.size() && interval >= 0; ++c) {
+        if (circuits[c].interval == interval &&
+            (circuits[c].label < 0 || circuits[c].label == label)) {
+          location.circuit = static_cast<int>(c);
+          location.branch = circuits[c].label >= 0 ? 0 : label;
+          break;
+        }
+      }
+    }
+    analysis.locations.push_back(location);
+  }
+  if (poses.empty() || analysis.locations[0].circuit < 0) return analysis;
+  const int circuit_index = analysis.locations[0].circuit;
+  const ClosedCircuit& circuit = circuits[circuit_index];
+  const ClosureInterval& interval = closure.intervals[circuit.interval];
+  analysis.circuit = circuit_index;
+  analysis.input_rotates_fully = circuit.rotates_fully;
+  // A slider's open side is drawn (and searched) to slider_margin times the task's range beyond
+  // its input values, as TraceFourBar samples it.
+  double lo = 0.0, hi = 0.0;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const double value = analysis.locations[j].input;
+    lo = j == 0 ? value : std::min(lo, value);
+    hi = j == 0 ? value : std::max(hi, value);
+  }
+  const double margin = options.slider_margin * std::max(hi - lo, length);
+  lo -= margin;
+  hi += margin;
+  if (options.trace_cycle) {
+    analysis.cycle = CircuitPoses(input, output, closure, circuit, lo, hi, options.samples, length);
+  }
+
+  // Defects (as AnalyzeFourBarSampled decides them).
+  bool one_circuit = true, one_branch = true;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    one_circuit = one_circuit && analysis.locations[j].circuit == circuit_index;
+    if (j > 0 && analysis.locations[j].branch != analysis.locations[j - 1].branch) {
+      one_branch = false;
+    }
+  }
+  if (!one_circuit) analysis.defects.push_back("circuit");
+  if (one_circuit && !one_branch) analysis.defects.push_back("branch");
+  bool increasing = true, decreasing = true;
+  if (one_circuit && one_branch && poses.size() > 1) {
+    if (circuit.rotates_fully) {
+      double forward = 0.0, backward = 0.0;
+      for (size_t j = 1; j < poses.size(); ++j) {
+        const double step =
+            PositiveAngle(analysis.locations[j].input - analysis.locations[j - 1].input);
+        forward += step;
+        backward += step == 0.0 ? 0.0 : kTwoPi - step;
+      }
+      increasing = forward < kTwoPi;
+      decreasing = backward < kTwoPi;
+    } else {
+      // Positions along the interval, measured from just before its start (a pose admitted by
+      // the assembly's tolerance may lie a hair before it).
+      const double origin = interval.start - 1e-9;
+      const auto position = [&](double value) {
+        return closure.angle_input ? PositiveAngle(value - origin) : value;
+      };
+      for (size_t j = 1; j < poses.size(); ++j) {
+        const double a = position(analysis.locations[j - 1].input);
+        const double b = position(analysis.locations[j].input);
+        increasing = increasing && b > a;
+        decreasing = decreasing && b < a;
+      }
+    }
+    if (!increasing && !decreasing) analysis.defects.push_back("order");
+  }
+
+  // Pose error on the one circuit; a pose off it is measured to the circuit's nearest
+  // configuration (sampled: the rare case of a circuit defect), or at its own input to the
+  // configuration of the circuit's label.
+  double worst = 0.0;
+  std::vector<PlanarPose> circuit_poses;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const FourBarLocation& location = analysis.locations[j];
+    double error = std::numeric_limits<double>::infinity();
+    if (location.circuit == circuit_index) {
+      error = location.pose_error;
+    } else {
+      const int count = Assemble(input, output, location.input, length, &configurations);
+      if (circuit.label >= 0 && circuit.label < count) {
+        error = PoseError(configurations[circuit.label], poses[j], length);
+      }
+      if (circuit_poses.empty()) {
+        circuit_poses =
+            CircuitPoses(input, output, closure, circuit, lo, hi, options.samples, length);
+      }
+      for (const PlanarPose& sample : circuit_poses) {
+        error = std::min(error, PoseError(sample, poses[j], length));
+      }
+    }
+    worst = std::max(worst, error);
+  }
+  analysis.max_pose_error = worst;
+
+  // Transmission angle over the motion from the first to the last pose, along the branch.
+  if (input.type == DyadType::kRP || output.type == DyadType::kRP) {
+    analysis.transmission_note = "defined for dyads that both pin the coupler (no RP dyad)";
+  } else if (!analysis.defects.empty() && analysis.defects.front() != "order") {
+    analysis.transmission_note = "the poses are not on one branch";
+  } else {
+    const double start = analysis.locations.front().input;
+    const double end = analysis.locations.back().input;
+    double extent = end - start;
+    if (closure.angle_input && circuit.rotates_fully) {
+      extent = !increasing && decreasing ? -PositiveAngle(start - end) : PositiveAngle(end - start);
+    } else if (closure.angle_input) {
+      // Within the interval (the short way round may cross where it does not assemble).
+      const double origin = interval.start - 1e-9;
+      extent = PositiveAngle(end - origin) - PositiveAngle(start - origin);
+    }
+    ClosedTransmission(input, output, start, extent, &analysis.transmission_min_deg,
+                       &analysis.transmission_max_deg);
   }
   return analysis;
 }

@@ -30,6 +30,9 @@ struct FourBarMotionOptions {
   // Slider inputs: the sampled range is the task's input range widened by this many times
   // max(range, L) on each side.
   double slider_margin = 3.0;
+  // AnalyzeFourBar: trace the circuit's coupler poses (FourBarAnalysis::cycle, for pictures)
+  // with `samples` of them; the analysis itself does not need them.
+  bool trace_cycle = false;
 };
 
 struct FourBarSample {
@@ -96,9 +99,20 @@ struct FourBarAnalysis {
   std::vector<PlanarPose> cycle;  // coupler poses along the circuit (for pictures)
 };
 
+// In closed form (four_bar_closure.h): the circuits and branches from the closure's intervals
+// and the assembly labels, the defects from the poses' input values on them, the 4R's
+// transmission-angle extremes from the crank's critical angles (other types: 180 samples of the
+// motion between the first and the last pose). The circuit is sampled only for a pose off it
+// (its nearest configuration) and for the cycle (options.trace_cycle).
 FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output,
                                const std::vector<PlanarPose>& poses, double length,
                                const FourBarMotionOptions& options = {});
+
+// The same analysis from the sampled trace (TraceFourBar, LocatePose; the cycle always): the
+// oracle of AnalyzeFourBar's tests.
+FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad& output,
+                                      const std::vector<PlanarPose>& poses, double length,
+                                      const FourBarMotionOptions& options = {});
 
 // Transmission angle at a configuration, folded into [0, 90] degrees: 90 minus the angle
 // between the coupler line (input pin to output pin, in Sigma) and the direction in which the

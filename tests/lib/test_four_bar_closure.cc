@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "lib/four_bar_closure.h"
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
+#include "tests/support/moved_design.h"
 #include "tests/support/random_mechanism.h"
 
 namespace linkfit {
@@ -196,6 +198,102 @@ TEST(FourBarClosure, FindsAnArcBetweenTwoSamples) {
   // The sampled trace steps over it.
   const FourBarMotion motion = TraceFourBar(input, rocker, {}, 1.0);
   EXPECT_TRUE(motion.circuits.empty());
+}
+
+// The closed-form analysis (AnalyzeFourBar) against the sampled one (AnalyzeFourBarSampled) on
+// random four-bars of all nine type pairs, each dyad as the input, on their own tasks (5 and 12
+// poses) and with the dyads moved 5 % of L off (defects, poses off the circuit): the same
+// circuit, defects, full turn and pose error; the exact transmission extremes bracket those of
+// 2000 samples of the way within a sample's change.
+TEST(FourBarClosure, AnalysisAgreesWithTheSampledOracle) {
+  std::mt19937_64 rng(1619);
+  const DyadType types[] = {DyadType::kRR, DyadType::kPR, DyadType::kRP};
+  int compared = 0, with_defects = 0, transmissions = 0;
+  for (DyadType a : types) {
+    for (DyadType b : types) {
+      for (int trial = 0; trial < 24; ++trial) {
+        const int count = trial % 2 ? 12 : 5;
+        const testing::GeneratedTask task = testing::RandomTask(rng, a, b, count);
+        const double length = CharacteristicLength(task.poses);
+        PlanarDyad input = task.input, output = task.output;
+        if (trial % 3 == 2) {
+          input = testing::MovedPlanarDyad(rng, input, 0.05 * length, length);
+          output = testing::MovedPlanarDyad(rng, output, 0.05 * length, length);
+        }
+        for (int way = 0; way < 2; ++way) {
+          const PlanarDyad& in = way == 0 ? input : output;
+          const PlanarDyad& out = way == 0 ? output : input;
+          SCOPED_TRACE(std::string(DyadTypeName(in.type)) + "+" + DyadTypeName(out.type) +
+                       " trial " + std::to_string(trial));
+          const FourBarAnalysis closed = AnalyzeFourBar(in, out, task.poses, length);
+          const FourBarAnalysis sampled = AnalyzeFourBarSampled(in, out, task.poses, length);
+          // A configuration within a sampling step of an input limit can fall either side of the
+          // sampler's last sample: compare only where every pose is well inside its interval.
+          const FourBarClosure closure = SolveFourBarClosure(in, out);
+          bool clear = true;
+          for (const FourBarLocation& location : sampled.locations) {
+            clear = clear && DistanceToEnd(closure, location.input) > 0.02;
+          }
+          if (!clear) continue;
+          ASSERT_EQ(closed.max_pose_error.has_value(), sampled.max_pose_error.has_value());
+          EXPECT_EQ(closed.defects, sampled.defects);
+          EXPECT_EQ(closed.input_rotates_fully, sampled.input_rotates_fully);
+          if (closed.max_pose_error && closed.defects.empty()) {
+            EXPECT_NEAR(*closed.max_pose_error, *sampled.max_pose_error, 1e-9 * length);
+          }
+          with_defects += !closed.defects.empty();
+          if (closed.transmission_min_deg) {
+            // The oracle: 2000 samples of the crank's way from the first pose to the last: within
+            // its interval for a limited crank (the sampled analysis takes the short way round,
+            // which can cross where the four-bar does not assemble), forward for a full turn
+            // unless only backward visits the poses in order.
+            const auto positive = [](double angle) {
+              return std::fmod(std::fmod(angle, 2.0 * kPi) + 2.0 * kPi, 2.0 * kPi);
+            };
+            const double start = closed.locations.front().input;
+            double extent = closed.locations.back().input - start;  // a slider
+            if (!closure.angle_input) {
+            } else if (closed.input_rotates_fully) {
+              double forward = 0.0;
+              for (size_t j = 1; j < closed.locations.size(); ++j) {
+                forward += positive(closed.locations[j].input - closed.locations[j - 1].input);
+              }
+              const double end = closed.locations.back().input;
+              extent = forward < 2.0 * kPi ? positive(end - start) : -positive(start - end);
+            } else {
+              const int interval = ClosureIntervalOf(closure, start, 1e-9);
+              ASSERT_GE(interval, 0);
+              const double origin = closure.intervals[interval].start - 1e-9;
+              extent = positive(closed.locations.back().input - origin) - positive(start - origin);
+            }
+            std::optional<double> low, high;
+            std::vector<PlanarPose> configurations;
+            TransmissionRangeDeg(
+                in, out, 2000,
+                [&](int k) -> std::optional<PlanarPose> {
+                  if (AssembleFourBar(in, out, start + extent * k / 2000, 1e-9 * length,
+                                      &configurations) == 0) {
+                    return std::nullopt;
+                  }
+                  return configurations[0];
+                },
+                &low, &high);
+            ASSERT_TRUE(low.has_value());
+            // Exact extremes: at or beyond the sampled ones, by less than a sample's change.
+            EXPECT_LE(*closed.transmission_min_deg, *low + 1e-9);
+            EXPECT_GE(*closed.transmission_max_deg, *high - 1e-9);
+            EXPECT_GT(*closed.transmission_min_deg, *low - 0.2);
+            EXPECT_LT(*closed.transmission_max_deg, *high + 0.2);
+            ++transmissions;
+          }
+          ++compared;
+        }
+      }
+    }
+  }
+  EXPECT_GT(compared, 300);
+  EXPECT_GT(with_defects, 20);
+  EXPECT_GT(transmissions, 20);
 }
 
 }  // namespace

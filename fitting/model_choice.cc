@@ -1,6 +1,7 @@
 #include "fitting/model_choice.h"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
@@ -49,6 +50,28 @@ Eigen::VectorXd ParameterMoves(const JacobianSvd& svd, const Eigen::VectorXd& un
   if (!(sigma[sigma.size() - 1] > 1e-12 * sigma[0])) return Eigen::VectorXd();
   const Eigen::MatrixXd pseudo_inverse =
       svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+  return pseudo_inverse.cwiseAbs() * uncertainty;
+}
+
+// ParameterMoves of a Jacobian of full column rank from its QR factorization with column
+// pivoting, J P = Q R: J^+ = P R^-1 Q1^T, the same matrix as the SVD's, at a fraction of the cost
+// (the analysis of every dyad of a five-pose task needs it). The rank test compares R's last
+// diagonal entry with its first, as the SVD's test compares the singular values (they agree
+// within a factor sqrt(n)); empty when it fails.
+Eigen::VectorXd ParameterMovesQr(const Eigen::MatrixXd& jacobian,
+                                 const Eigen::VectorXd& uncertainty) {
+  const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(jacobian);
+  const Eigen::Index p = jacobian.cols();
+  const Eigen::MatrixXd& packed = qr.matrixQR();
+  if (!(std::abs(packed(p - 1, p - 1)) > 1e-12 * std::abs(packed(0, 0)))) {
+    return Eigen::VectorXd();
+  }
+  // R^-1 Q1^T: Q^T applied to the identity's first p rows, then the triangular solve.
+  Eigen::MatrixXd q1t = Eigen::MatrixXd::Identity(jacobian.rows(), jacobian.rows());
+  q1t.applyOnTheLeft(qr.householderQ().transpose());
+  const Eigen::MatrixXd pseudo_inverse_permuted =
+      packed.topLeftCorner(p, p).triangularView<Eigen::Upper>().solve(q1t.topRows(p));
+  const Eigen::MatrixXd pseudo_inverse = qr.colsPermutation() * pseudo_inverse_permuted;
   return pseudo_inverse.cwiseAbs() * uncertainty;
 }
 
@@ -269,7 +292,7 @@ PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<Plana
         pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
     uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
   }
-  const Eigen::VectorXd moves = ParameterMoves(SvdOf(jacobian), uncertainty);
+  const Eigen::VectorXd moves = ParameterMovesQr(jacobian, uncertainty);
   if (moves.size() == 0) return bounds;
   const auto finite = [](double value) {
     return std::isfinite(value) ? value : std::numeric_limits<double>::infinity();

@@ -450,6 +450,59 @@ std::vector<PlanarPose> CircuitPoses(const PlanarDyad& input, const PlanarDyad& 
   return poses;
 }
 
+// The pose error of `pose` from the circuit's nearest configuration: kNearestSamples over the
+// interval on each of the circuit's labels, then golden-section search about the best one.
+double NearestOnCircuit(const PlanarDyad& input, const PlanarDyad& output,
+                        const FourBarClosure& closure, const ClosedCircuit& circuit, double lo,
+                        double hi, const PlanarPose& pose, double length) {
+  constexpr int kNearestSamples = 16, kIterations = 20;
+  const ClosureInterval& interval = closure.intervals[circuit.interval];
+  const double start = interval.open_start ? lo : interval.start;
+  const double end = interval.open_end ? hi : interval.end;
+  std::vector<PlanarPose> configurations;
+  double best = std::numeric_limits<double>::infinity();
+  for (int label = 0; label < closure.labels; ++label) {
+    if (circuit.label >= 0 && circuit.label != label) continue;
+    const auto error = [&](double t) {
+      const int count =
+          AssembleFourBar(input, output, start + (end - start) * t, 1e-9 * length, &configurations);
+      if (count == 0) return std::numeric_limits<double>::infinity();
+      return PoseError(configurations[std::min(label, count - 1)], pose, length);
+    };
+    int nearest = 0;
+    double least = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < kNearestSamples; ++k) {
+      const double e = error(static_cast<double>(k) / (kNearestSamples - 1));
+      if (e < least) {
+        least = e;
+        nearest = k;
+      }
+    }
+    const double step = 1.0 / (kNearestSamples - 1);
+    double a = std::max(0.0, (nearest - 1) * step), b = std::min(1.0, (nearest + 1) * step);
+    const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
+    double c = b - ratio * (b - a), d = a + ratio * (b - a);
+    double at_c = error(c), at_d = error(d);
+    for (int iteration = 0; iteration < kIterations; ++iteration) {
+      if (at_c < at_d) {
+        b = d;
+        d = c;
+        at_d = at_c;
+        c = b - ratio * (b - a);
+        at_c = error(c);
+      } else {
+        a = c;
+        c = d;
+        at_c = at_d;
+        d = a + ratio * (b - a);
+        at_d = error(d);
+      }
+    }
+    best = std::min({best, least, at_c, at_d});
+  }
+  return best;
+}
+
 // The transmission angle over the input from `start` over `extent` (RR or PR input, RR or PR
 // output), in closed form. It depends on the input pin M1(u) only through one scalar S:
 //   RR output: S = |M1 - F2|^2 = d^2, and cos gamma = (|v|^2 + r2^2 - d^2) / (2 |v| r2), gamma
@@ -621,10 +674,9 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
   }
 
   // Pose error on the one circuit; a pose off it is measured to the circuit's nearest
-  // configuration (sampled: the rare case of a circuit defect), or at its own input to the
-  // configuration of the circuit's label.
+  // configuration (NearestOnCircuit), or at its own input to the configuration of the circuit's
+  // label.
   double worst = 0.0;
-  std::vector<PlanarPose> circuit_poses;
   for (size_t j = 0; j < poses.size(); ++j) {
     const FourBarLocation& location = analysis.locations[j];
     double error = std::numeric_limits<double>::infinity();
@@ -635,13 +687,8 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
       if (circuit.label >= 0 && circuit.label < count) {
         error = PoseError(configurations[circuit.label], poses[j], length);
       }
-      if (circuit_poses.empty()) {
-        circuit_poses =
-            CircuitPoses(input, output, closure, circuit, lo, hi, options.samples, length);
-      }
-      for (const PlanarPose& sample : circuit_poses) {
-        error = std::min(error, PoseError(sample, poses[j], length));
-      }
+      error = std::min(error,
+                       NearestOnCircuit(input, output, closure, circuit, lo, hi, poses[j], length));
     }
     worst = std::max(worst, error);
   }

@@ -5,6 +5,8 @@
 namespace linkfit {
 
 double WrapAngle(double angle) {
+  // Most angles are already wrapped (atan2's, and sums of two): std::remainder is slow.
+  if (angle > -M_PI && angle <= M_PI) return angle;
   double wrapped = std::remainder(angle, 2.0 * M_PI);  // in [-pi, pi]
   if (wrapped <= -M_PI) wrapped += 2.0 * M_PI;
   return wrapped;

@@ -7,6 +7,7 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdio>
 #include <exception>
@@ -16,6 +17,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "apps/picture.h"
@@ -143,28 +145,182 @@ struct SolveOutputs {
   int animate_index = 1;      // --mechanism: which mechanism to animate (1 = the first listed)
   std::vector<int> platform;  // --platform: five dyad indices (spatial motion)
   std::string effort;         // --effort: overrides the task's options.effort
+  int jobs = 0;               // --jobs: threads of a .jsonl batch (0: the machine's)
 };
 
-// `linkfit solve`: every task is read and validated before anything is solved or written.
+// The command line's overrides of a task: --platform and --effort.
+void ApplyOverrides(const SolveOutputs& outputs, const std::string& task_path, Task* task) {
+  if (!outputs.platform.empty()) {
+    if (task->space != Space::kSpatial) {
+      throw InputError(task_path + ": --platform: used by spatial motion problems only");
+    }
+    task->platform = outputs.platform;
+  }
+  if (outputs.effort == "fast") task->effort = Effort::kFast;
+  if (outputs.effort == "balanced") task->effort = Effort::kBalanced;
+  if (outputs.effort == "thorough") task->effort = Effort::kThorough;
+}
+
+// Lines of a file read in bounded pieces: a line longer than `max_bytes` is bad input, so a
+// device without newlines (/dev/zero) cannot exhaust memory.
+class LineReader {
+ public:
+  LineReader(const std::string& path, size_t max_bytes) : path_(path), max_bytes_(max_bytes) {
+    std::error_code error;
+    if (std::filesystem::is_directory(path, error)) {
+      throw InputError(path + ": is a directory, not a task file");
+    }
+    file_.open(path, std::ios::binary);
+    if (!file_) throw InputError(path + ": cannot open file");
+  }
+  // The next line (without its newline) and its number; false at the end of the file.
+  bool Next(std::string* line, size_t* number) {
+    line->clear();
+    while (true) {
+      const size_t newline = buffer_.find('\n', start_);
+      if (newline != std::string::npos) {
+        line->append(buffer_, start_, newline - start_);
+        start_ = newline + 1;
+        *number = ++count_;
+        return true;
+      }
+      line->append(buffer_, start_, std::string::npos);
+      buffer_.clear();
+      start_ = 0;
+      if (line->size() > max_bytes_) {
+        throw InputError(path_ + ":" + std::to_string(count_ + 1) + ": line too long (more than " +
+                         std::to_string(max_bytes_ >> 20) + " MiB)");
+      }
+      if (!file_) {
+        if (file_.bad()) throw InputError(path_ + ": cannot read file");
+        if (line->empty()) return false;
+        *number = ++count_;
+        return true;
+      }
+      buffer_.resize(kChunk);
+      file_.read(buffer_.data(), static_cast<std::streamsize>(kChunk));
+      buffer_.resize(static_cast<size_t>(file_.gcount()));
+    }
+  }
+
+ private:
+  static constexpr size_t kChunk = size_t{1} << 20;
+  std::string path_;
+  size_t max_bytes_;
+  std::ifstream file_;
+  std::string buffer_;
+  size_t start_ = 0;
+  size_t count_ = 0;
+};
+
+// Runs work(i) for i in [0, count) on `jobs` threads (the calling one among them).
+template <typename Work>
+void ParallelFor(size_t count, unsigned jobs, const Work& work) {
+  std::atomic<size_t> next(0);
+  const auto run = [&]() {
+    for (size_t i = next++; i < count; i = next++) work(i);
+  };
+  std::vector<std::thread> pool;
+  for (unsigned w = 1; w < std::min<size_t>(jobs, count); ++w) pool.emplace_back(run);
+  run();
+  for (std::thread& thread : pool) thread.join();
+}
+
+// `linkfit solve TASKS.jsonl`: the lines are read in chunks; each chunk is parsed, solved and
+// written on `jobs` threads, in input order, to a temporary file, which becomes the result file
+// (or is copied to stdout) only when every line is solved: bad input on any line (the first by
+// position) leaves no result. Memory holds one chunk, whatever the file's length.
+int SolveBatch(const std::string& task_path, const SolveOutputs& outputs, unsigned jobs) {
+  constexpr size_t kChunkTasks = 4096;
+  constexpr size_t kMaxLineBytes = size_t{256} << 20;
+  LineReader reader(task_path, kMaxLineBytes);
+  const bool to_stdout = outputs.result_path.empty() || outputs.result_path == "-";
+  std::filesystem::path temporary;
+  if (to_stdout) {
+    temporary = std::filesystem::temp_directory_path() /
+                ("linkfit-batch." + std::to_string(::getpid()) + ".jsonl");
+  } else {
+    const std::filesystem::path target(outputs.result_path);
+    temporary = target.parent_path() /
+                ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()));
+  }
+  std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+  if (!out) throw OutputError(temporary.string() + ": cannot write file");
+  // Removes the temporary file unless it was moved into place.
+  struct Cleanup {
+    std::filesystem::path path;
+    ~Cleanup() {
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+    }
+  } cleanup{temporary};
+  std::vector<std::string> lines, sources, texts;
+  std::vector<std::exception_ptr> errors;
+  size_t solved = 0;
+  bool more = true;
+  while (more) {
+    lines.clear();
+    sources.clear();
+    std::string line;
+    size_t number = 0;
+    while (lines.size() < kChunkTasks && (more = reader.Next(&line, &number))) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      lines.push_back(line);
+      sources.push_back(task_path + ":" + std::to_string(number));
+    }
+    texts.assign(lines.size(), std::string());
+    errors.assign(lines.size(), nullptr);
+    ParallelFor(lines.size(), jobs, [&](size_t i) {
+      try {
+        Task task = ParseTask(lines[i], sources[i]);
+        ApplyOverrides(outputs, task_path, &task);
+        texts[i] = ResultToJson(SolveTask(task), -1) + "\n";
+      } catch (...) {
+        errors[i] = std::current_exception();
+      }
+    });
+    for (const std::exception_ptr& error : errors) {
+      if (error) std::rethrow_exception(error);
+    }
+    for (const std::string& text : texts) out << text;
+    if (!out) throw OutputError(temporary.string() + ": cannot write file");
+    solved += lines.size();
+  }
+  if (solved == 0) throw InputError(task_path + ": empty file, expected a task");
+  out.close();
+  if (!out) throw OutputError(temporary.string() + ": cannot write file");
+  if (to_stdout) {
+    std::ifstream in(temporary, std::ios::binary);
+    std::cout << in.rdbuf() << std::flush;
+    if (!std::cout) throw std::runtime_error("cannot write to standard output");
+    return kExitOk;
+  }
+  std::error_code error;
+  std::filesystem::rename(temporary, outputs.result_path, error);
+  if (error)
+    throw OutputError(outputs.result_path + ": cannot write file (" + error.message() + ")");
+  cleanup.path.clear();
+  return kExitOk;
+}
+
+// `linkfit solve`: every task is read and validated before anything is solved or written; a
+// .jsonl batch streams (SolveBatch).
 int Solve(const std::string& task_path, const SolveOutputs& outputs) {
-  const std::vector<Task> tasks = ReadTaskFile(task_path);
   const bool batch = IsJsonLines(task_path);
   if (batch && (!outputs.svg_path.empty() || !outputs.animate_path.empty())) {
     throw InputError(task_path + ": --svg and --animate draw one task; a .jsonl file holds many");
   }
-  const int indent = batch ? -1 : 2;
+  if (batch) {
+    const unsigned jobs = outputs.jobs > 0 ? static_cast<unsigned>(outputs.jobs)
+                                           : std::max(1u, std::thread::hardware_concurrency());
+    return SolveBatch(task_path, outputs, jobs);
+  }
+  const std::vector<Task> tasks = ReadTaskFile(task_path);
+  const int indent = 2;
   std::string text;
   std::vector<TaskResult> results;
   for (Task task : tasks) {
-    if (!outputs.platform.empty()) {
-      if (task.space != Space::kSpatial) {
-        throw InputError(task_path + ": --platform: used by spatial motion problems only");
-      }
-      task.platform = outputs.platform;
-    }
-    if (outputs.effort == "fast") task.effort = Effort::kFast;
-    if (outputs.effort == "balanced") task.effort = Effort::kBalanced;
-    if (outputs.effort == "thorough") task.effort = Effort::kThorough;
+    ApplyOverrides(outputs, task_path, &task);
     results.push_back(SolveTask(task));
     text += ResultToJson(results.back(), indent) + "\n";
   }
@@ -257,6 +413,11 @@ int Run(int argc, char** argv) {
                    "by Ceres; the default) or thorough (plus an NLopt global search); overrides "
                    "the task's options.effort")
       ->check(CLI::IsMember({"fast", "balanced", "thorough"}));
+  solve
+      ->add_option("--jobs", outputs.jobs,
+                   "a .jsonl batch: solve on this many threads (default: every core); results "
+                   "keep the input order")
+      ->check(CLI::PositiveNumber);
   solve
       ->add_option("--platform", outputs.platform,
                    "spatial motion: the five dyads (indices in the result) to build the platform "

@@ -194,6 +194,26 @@ namespace {
 
 constexpr double kSolveTolerance = 1e-9;  // relative to the task's L
 
+// A result without its timing fields (they differ from run to run).
+nlohmann::json Untimed(const nlohmann::json& value) {
+  if (value.is_object()) {
+    nlohmann::json object = nlohmann::json::object();
+    for (const auto& item : value.items()) {
+      const std::string& key = item.key();
+      const bool timing = (key.size() > 3 && key.compare(key.size() - 3, 3, "_ms") == 0) ||
+                          (key.size() > 8 && key.compare(key.size() - 8, 8, "_seconds") == 0);
+      if (!timing) object[key] = Untimed(item.value());
+    }
+    return object;
+  }
+  if (value.is_array()) {
+    nlohmann::json array = nlohmann::json::array();
+    for (const nlohmann::json& item : value) array.push_back(Untimed(item));
+    return array;
+  }
+  return value;
+}
+
 std::string DataPath(const std::string& name) {
   return std::string(LINKFIT_SOURCE_DIR) + "/data/" + name;
 }
@@ -311,6 +331,58 @@ TEST_F(CliTest, SolvesAJsonLinesBatch) {
   ASSERT_EQ(results.size(), 2u);
   EXPECT_TRUE(HasRR(results[0], 100.0, 0.0, 87.5, 0.0, 75.0));
   EXPECT_TRUE(HasRR(results[1], 0.0, 0.0, 0.0, 0.0, 30.0));
+}
+
+// A batch streams through chunks solved on --jobs threads: every job count gives the results of
+// solving the lines one by one, in input order, over more lines than a chunk holds (4096) and with
+// blank lines between; a bad line past the first chunk leaves no result file and nothing on
+// stdout.
+TEST_F(CliTest, BatchKeepsTheInputOrderOnEveryJobCount) {
+  std::vector<std::string> kinds;
+  for (const char* name : {"four_bar_5_poses.json", "slider_crank_5_poses.json",
+                           "path_5_points.json", "four_bar_3_poses.json"}) {
+    kinds.push_back(nlohmann::json::parse(ReadFile(DataPath(name))).dump());
+  }
+  std::string text;
+  constexpr int kLines = 4500;
+  for (int i = 0; i < kLines; ++i)
+    text += kinds[i % kinds.size()] + (i % 1000 == 7 ? "\n\n" : "\n");
+  const std::string batch = WriteTask("big.jsonl", text);
+  std::vector<std::string> expected;
+  for (const std::string& kind : kinds) {
+    const RunResult one = Run("solve '" + WriteTask("one.jsonl", kind + "\n") + "'");
+    ASSERT_EQ(one.status, 0) << one.err;
+    expected.push_back(Untimed(nlohmann::json::parse(one.out)).dump());
+  }
+  for (const char* jobs : {"1", "2", "3"}) {
+    SCOPED_TRACE(std::string("--jobs ") + jobs);
+    const std::string output = Path(std::string("big_") + jobs + ".jsonl");
+    const RunResult run = Run("solve '" + batch + "' --jobs " + jobs + " -o '" + output + "'");
+    ASSERT_EQ(run.status, 0) << run.err;
+    std::istringstream lines(ReadFile(output));
+    std::string line;
+    int count = 0;
+    while (std::getline(lines, line)) {
+      ASSERT_EQ(Untimed(nlohmann::json::parse(line)).dump(), expected[count % kinds.size()])
+          << "line " << count + 1;
+      ++count;
+    }
+    EXPECT_EQ(count, kLines);
+  }
+  // Line 4400 (in the second chunk) bad: exit 2, one line naming it, no result anywhere.
+  std::string bad_text;
+  for (int i = 0; i < 4400; ++i) bad_text += kinds[0] + "\n";
+  bad_text += "{\"poses\": 3}\n" + kinds[0] + "\n";
+  const std::string bad = WriteTask("bad.jsonl", bad_text);
+  const std::string output = Path("bad_results.jsonl");
+  for (const std::string& target : {std::string(" -o '") + output + "'", std::string()}) {
+    const RunResult run = Run("solve '" + bad + "'" + target);
+    EXPECT_EQ(run.status, 2);
+    EXPECT_EQ(run.err, "linkfit: error: " + bad +
+                           ":4401: poses: expected an array, got a number\n");
+    EXPECT_TRUE(run.out.empty());
+    EXPECT_FALSE(std::filesystem::exists(output));
+  }
 }
 
 // --svg and --animate draw the bundled four-bar: well-formed files that render, written along

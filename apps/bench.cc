@@ -269,6 +269,26 @@ void RunSpatialLeastSquares(int tasks, int count, double noise, uint64_t seed) {
               Percentile(e2e_us, 0.99));
 }
 
+// Seven poses on a random 5-SS platform, end to end: SolveSpatialTask (the 20 roots, the dyads,
+// the platform of the five of smallest radius traced through the poses). Tasks whose platform
+// motion holds seven distinct poses (RandomPlatformTask draws again otherwise).
+void RunSpatialEndToEnd(int tasks, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<double> e2e_us;
+  int one_branch = 0;
+  for (int t = 0; t < tasks; ++t) {
+    const linkfit::testing::PlantedSpatialTask planted =
+        linkfit::testing::RandomPlatformTask(rng, 7);
+    linkfit::Task task = linkfit::SpatialMotionTask(planted.poses);
+    const auto begin = std::chrono::steady_clock::now();
+    const linkfit::SpatialMotionResult result = linkfit::SolveSpatialTask(task);
+    e2e_us.push_back(MicrosecondsSince(begin));
+    one_branch += !result.mechanisms.empty() && result.mechanisms[0].one_branch;
+  }
+  std::printf("%-30s %8d %11.1f%% %10.1f %8.1f\n", "7 poses on a 5-SS, end to end", tasks,
+              100.0 * one_branch / tasks, Percentile(e2e_us, 0.5), Percentile(e2e_us, 0.99));
+}
+
 void RunSpatial(int tasks, uint64_t seed) {
   std::printf("\nseven-pose spatial Burmester solver (seed 000), %d random tasks\n", tasks);
   std::printf("%-30s %8s %12s %12s %12s %6s %10s %8s\n", "family", "tasks", "all_20_ok",
@@ -277,6 +297,11 @@ void RunSpatial(int tasks, uint64_t seed) {
   std::printf("%-30s %8s %12s %12s %10s %8s\n", "family", "tasks", "recovered", "worst_err",
               "median_us", "p99_us");
   RunSpatialPlanted(tasks / 10, seed + 1);
+  std::printf(
+      "end to end (SolveSpatialTask): the share whose default platform passes every pose on one "
+      "branch, and the time\n");
+  std::printf("%-30s %8s %12s %10s %8s\n", "family", "tasks", "one_branch", "e2e_med_us", "p99_us");
+  RunSpatialEndToEnd(std::max(1, tasks / 20), seed + 2);
   std::printf(
       "least squares on planted SS dyads: median RMS residual / L of the planted dyads' "
       "seeds before and after refinement, of the planted dyads themselves, and the "

@@ -44,7 +44,7 @@ namespace linkfit {
 
 struct PlatformMotionOptions {
   // Largest predictor step, in units of L (arc length in the metric sqrt(|dd|^2 + (L dtheta)^2)).
-  double step = 0.02;
+  double step = 0.1;
   int max_steps = 20000;  // continuation steps per direction
   // Relative to L: every dyad's residual (signed distance) at the first pose must be within this.
   double assembly_tolerance = 1e-6;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lib/platform_motion.h"
+#include "tests/support/random_spatial.h"
 
 namespace linkfit {
 namespace {
@@ -567,6 +568,38 @@ TEST(PlatformMotion, PoseOnAnotherCircuitIsNotOnTheBranch) {
     }
   }
   EXPECT_TRUE(found) << "no platform with a second circuit among the seeds tried";
+}
+
+// The default continuation step (0.1 L, halved where the corrector or the tangent says the curve
+// turns) traces the same motion as steps of 0.005 L on random platforms of SS, PS and SP dyads:
+// the same branch, loop, order of the task poses, and pose errors; it does not jump to another
+// branch of the curve.
+TEST(PlatformMotion, DefaultStepsTraceTheFineStepsMotion) {
+  std::mt19937_64 rng(1660);
+  const std::vector<std::vector<SpatialDyadType>> kinds = {
+      std::vector<SpatialDyadType>(5, SpatialDyadType::kSS),
+      {SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kSS, SpatialDyadType::kPS,
+       SpatialDyadType::kSP}};
+  PlatformMotionOptions fine;
+  fine.step = 0.005;
+  int traced = 0, loops = 0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const testing::PlantedSpatialTask task =
+        testing::RandomPlatformTask(rng, 8, kinds[trial % kinds.size()]);
+    SCOPED_TRACE("trial " + std::to_string(trial));
+    const PlatformMotionReport coarse = TracePlatform(task.planted, task.poses, 1.0);
+    const PlatformMotionReport reference = TracePlatform(task.planted, task.poses, 1.0, fine);
+    ASSERT_EQ(coarse.assembles, reference.assembles);
+    EXPECT_EQ(coarse.one_branch, reference.one_branch) << coarse.note << " / " << reference.note;
+    EXPECT_EQ(coarse.closed, reference.closed);
+    EXPECT_EQ(coarse.order, reference.order);
+    EXPECT_NEAR(coarse.max_pose_error, reference.max_pose_error, 1e-6);
+    EXPECT_LT(coarse.steps, reference.steps);
+    loops += coarse.closed;
+    ++traced;
+  }
+  EXPECT_EQ(traced, 60);
+  EXPECT_GT(loops, 10);
 }
 
 }  // namespace

@@ -7,7 +7,6 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cstdio>
 #include <exception>
@@ -17,9 +16,9 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "apps/parallel.h"
 #include "apps/picture.h"
 #include "apps/trade_bench.h"
 #include "lib/result_io.h"
@@ -112,29 +111,74 @@ bool IsJsonLines(const std::string& path) {
   return extension == ".jsonl";
 }
 
-// Writes `text` to a temporary file next to `path` and renames it into place, so a reader
-// never sees a partial result and a failure leaves no file behind.
-void WriteFileAtomically(const std::string& path, const std::string& text) {
-  const std::filesystem::path target(path);
-  const std::filesystem::path temporary =
-      target.parent_path() /
-      ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()));
-  {
-    std::ofstream file(temporary, std::ios::binary | std::ios::trunc);
-    if (file) file << text;
-    file.close();
-    if (!file) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      throw OutputError(path + ": cannot write file");
+// A result written through a temporary file, next to `path` (or in the temporary directory for
+// standard output: "" or "-"), that Commit moves into place (or copies to standard output), so a
+// reader never sees a partial result and a failure leaves no file behind.
+class AtomicOutput {
+ public:
+  explicit AtomicOutput(const std::string& path)
+      : path_(path), to_stdout_(path.empty() || path == "-") {
+    const std::string pid = std::to_string(::getpid());
+    if (to_stdout_) {
+      temporary_ = std::filesystem::temp_directory_path() / ("linkfit-result." + pid);
+    } else {
+      const std::filesystem::path target(path);
+      temporary_ = target.parent_path() / ("." + target.filename().string() + ".tmp." + pid);
     }
+    file_.open(temporary_, std::ios::binary | std::ios::trunc);
+    if (!file_) Fail();
   }
-  std::error_code error;
-  std::filesystem::rename(temporary, target, error);
-  if (error) {
+  ~AtomicOutput() {
+    if (committed_) return;
+    file_.close();
     std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw OutputError(path + ": cannot write file (" + error.message() + ")");
+    std::filesystem::remove(temporary_, ignored);
+  }
+  std::ostream& stream() { return file_; }
+  // Throws when writing failed so far.
+  void Check() {
+    if (!file_) Fail();
+  }
+  void Commit() {
+    file_.close();
+    Check();
+    if (to_stdout_) {
+      std::ifstream in(temporary_, std::ios::binary);
+      std::cout << in.rdbuf() << std::flush;
+      if (!std::cout) throw std::runtime_error("cannot write to standard output");
+      return;  // the destructor removes the temporary file
+    }
+    std::error_code error;
+    std::filesystem::rename(temporary_, path_, error);
+    if (error) throw OutputError(path_ + ": cannot write file (" + error.message() + ")");
+    committed_ = true;
+  }
+
+ private:
+  [[noreturn]] void Fail() const {
+    throw OutputError((to_stdout_ ? temporary_.string() : path_) + ": cannot write file");
+  }
+  std::string path_;
+  bool to_stdout_;
+  std::filesystem::path temporary_;
+  std::ofstream file_;
+  bool committed_ = false;
+};
+
+// Writes `text` to `path` through AtomicOutput.
+void WriteFileAtomically(const std::string& path, const std::string& text) {
+  AtomicOutput output(path);
+  output.stream() << text;
+  output.Commit();
+}
+
+// A result to standard output ("" or "-") or, atomically, to a file.
+void WriteResult(const std::string& path, const std::string& text) {
+  if (path.empty() || path == "-") {
+    std::cout << text << std::flush;
+    if (!std::cout) throw std::runtime_error("cannot write to standard output");
+  } else {
+    WriteFileAtomically(path, text);
   }
 }
 
@@ -213,47 +257,15 @@ class LineReader {
   size_t count_ = 0;
 };
 
-// Runs work(i) for i in [0, count) on `jobs` threads (the calling one among them).
-template <typename Work>
-void ParallelFor(size_t count, unsigned jobs, const Work& work) {
-  std::atomic<size_t> next(0);
-  const auto run = [&]() {
-    for (size_t i = next++; i < count; i = next++) work(i);
-  };
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < std::min<size_t>(jobs, count); ++w) pool.emplace_back(run);
-  run();
-  for (std::thread& thread : pool) thread.join();
-}
-
 // `linkfit solve TASKS.jsonl`: the lines are read in chunks; each chunk is parsed, solved and
-// written on `jobs` threads, in input order, to a temporary file, which becomes the result file
+// written on `jobs` threads, in input order, to an AtomicOutput, which becomes the result file
 // (or is copied to stdout) only when every line is solved: bad input on any line (the first by
 // position) leaves no result. Memory holds one chunk, whatever the file's length.
 int SolveBatch(const std::string& task_path, const SolveOutputs& outputs, unsigned jobs) {
   constexpr size_t kChunkTasks = 4096;
   constexpr size_t kMaxLineBytes = size_t{256} << 20;
   LineReader reader(task_path, kMaxLineBytes);
-  const bool to_stdout = outputs.result_path.empty() || outputs.result_path == "-";
-  std::filesystem::path temporary;
-  if (to_stdout) {
-    temporary = std::filesystem::temp_directory_path() /
-                ("linkfit-batch." + std::to_string(::getpid()) + ".jsonl");
-  } else {
-    const std::filesystem::path target(outputs.result_path);
-    temporary = target.parent_path() /
-                ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()));
-  }
-  std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-  if (!out) throw OutputError(temporary.string() + ": cannot write file");
-  // Removes the temporary file unless it was moved into place.
-  struct Cleanup {
-    std::filesystem::path path;
-    ~Cleanup() {
-      std::error_code ignored;
-      std::filesystem::remove(path, ignored);
-    }
-  } cleanup{temporary};
+  AtomicOutput out(outputs.result_path);
   std::vector<std::string> lines, sources, texts;
   std::vector<std::exception_ptr> errors;
   size_t solved = 0;
@@ -282,24 +294,12 @@ int SolveBatch(const std::string& task_path, const SolveOutputs& outputs, unsign
     for (const std::exception_ptr& error : errors) {
       if (error) std::rethrow_exception(error);
     }
-    for (const std::string& text : texts) out << text;
-    if (!out) throw OutputError(temporary.string() + ": cannot write file");
+    for (const std::string& text : texts) out.stream() << text;
+    out.Check();
     solved += lines.size();
   }
   if (solved == 0) throw InputError(task_path + ": empty file, expected a task");
-  out.close();
-  if (!out) throw OutputError(temporary.string() + ": cannot write file");
-  if (to_stdout) {
-    std::ifstream in(temporary, std::ios::binary);
-    std::cout << in.rdbuf() << std::flush;
-    if (!std::cout) throw std::runtime_error("cannot write to standard output");
-    return kExitOk;
-  }
-  std::error_code error;
-  std::filesystem::rename(temporary, outputs.result_path, error);
-  if (error)
-    throw OutputError(outputs.result_path + ": cannot write file (" + error.message() + ")");
-  cleanup.path.clear();
+  out.Commit();
   return kExitOk;
 }
 
@@ -311,9 +311,7 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
     throw InputError(task_path + ": --svg and --animate draw one task; a .jsonl file holds many");
   }
   if (batch) {
-    const unsigned jobs = outputs.jobs > 0 ? static_cast<unsigned>(outputs.jobs)
-                                           : std::max(1u, std::thread::hardware_concurrency());
-    return SolveBatch(task_path, outputs, jobs);
+    return SolveBatch(task_path, outputs, ThreadCount(outputs.jobs));
   }
   const std::vector<Task> tasks = ReadTaskFile(task_path);
   const int indent = 2;
@@ -349,12 +347,7 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
       animation = RenderAnimation(picture, index, extension == ".html" || extension == ".htm");
     }
   }
-  if (outputs.result_path.empty() || outputs.result_path == "-") {
-    std::cout << text << std::flush;
-    if (!std::cout) throw std::runtime_error("cannot write to standard output");
-  } else {
-    WriteFileAtomically(outputs.result_path, text);
-  }
+  WriteResult(outputs.result_path, text);
   if (!svg.empty()) WriteFileAtomically(outputs.svg_path, svg);
   if (!animation.empty()) WriteFileAtomically(outputs.animate_path, animation);
   return kExitOk;
@@ -375,12 +368,7 @@ int Refine(const std::string& task_path, const std::string& design_path,
   choice.design_source = design_path;
   choice.mechanism_item = design_path + ": --mechanism " + std::to_string(mechanism_index);
   const std::string text = ResultToJson(RefineTask(task, design, choice), 2) + "\n";
-  if (result_path.empty() || result_path == "-") {
-    std::cout << text << std::flush;
-    if (!std::cout) throw std::runtime_error("cannot write to standard output");
-  } else {
-    WriteFileAtomically(result_path, text);
-  }
+  WriteResult(result_path, text);
   return kExitOk;
 }
 

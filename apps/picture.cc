@@ -1038,9 +1038,9 @@ Picture MakePicture(const std::string& title, const Task& task, const PlanarMoti
     if (cycle.empty() && !task.planar_poses.empty()) {
       FourBarMotionOptions trace;
       trace.trace_cycle = true;
-      cycle = AnalyzeFourBar(mechanism.input, mechanism.output, task.planar_poses, result.scale,
-                             trace)
-                  .cycle;
+      cycle =
+          AnalyzeFourBar(mechanism.input, mechanism.output, task.planar_poses, result.scale, trace)
+              .cycle;
     }
     // The links at the first pose: the assembled configuration on the mechanism's circuit
     // nearest the first task pose.

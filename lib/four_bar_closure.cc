@@ -114,6 +114,58 @@ void QuadraticSet(double a, double b, double c, double lo, double hi, FourBarClo
 
 }  // namespace
 
+namespace {
+
+// InputClosureScalar's coefficients and range.
+ClosureScalar ScalarOf(const PlanarDyad& input, const PlanarDyad& output) {
+  ClosureScalar scalar;
+  scalar.crank = input.type == DyadType::kRR;
+  const double link = (output.moving_pivot - input.moving_pivot).norm();
+  // f = |M1 - F2| or n . (M1 - q): with M1 = B + r (cos u, sin u) (crank) or q1 + u d1
+  // (slider) and w = B - point (or q1 - point), S = |w|^2 + r^2 + 2 r w . (cos, sin) or
+  // |w|^2 + 2 u w . d1 + u^2 |d1|^2 (squared); n . w + r n . (cos, sin) or n . w + u n . d1.
+  const Eigen::Vector2d base = scalar.crank ? input.fixed_pivot : input.line_point;
+  const double r = input.radius;
+  const Eigen::Vector2d& d1 = input.line_direction;
+  if (output.type == DyadType::kPR) {
+    const Eigen::Vector2d n = Perp(output.line_direction);
+    const double w = n.dot(base - output.line_point);
+    scalar.c0 = w;
+    scalar.c1 = scalar.crank ? r * n.x() : n.dot(d1);
+    scalar.c2 = scalar.crank ? r * n.y() : 0.0;
+    scalar.low = -link;
+    scalar.high = link;
+    return scalar;
+  }
+  const Eigen::Vector2d w = base - output.fixed_pivot;
+  scalar.squared = true;
+  if (scalar.crank) {
+    scalar.c0 = w.squaredNorm() + r * r;
+    scalar.c1 = 2.0 * r * w.x();
+    scalar.c2 = 2.0 * r * w.y();
+  } else {
+    scalar.c0 = w.squaredNorm();
+    scalar.c1 = 2.0 * d1.dot(w);
+    scalar.c2 = d1.squaredNorm();
+  }
+  if (output.type == DyadType::kRR) {
+    scalar.low = std::abs(link - output.radius);
+    scalar.high = link + output.radius;
+  } else {
+    scalar.low = std::abs(Perp(output.line_direction).dot(input.moving_pivot - output.line_point));
+  }
+  return scalar;
+}
+
+}  // namespace
+
+ClosureScalar InputClosureScalar(const PlanarDyad& input, const PlanarDyad& output) {
+  ClosureScalar scalar = ScalarOf(input, output);
+  scalar.amplitude = std::hypot(scalar.c1, scalar.c2);
+  scalar.peak = std::atan2(scalar.c2, scalar.c1);
+  return scalar;
+}
+
 FourBarClosure SolveFourBarClosure(const PlanarDyad& input, const PlanarDyad& output) {
   FourBarClosure closure;
   closure.angle_input = input.type != DyadType::kPR;
@@ -146,52 +198,17 @@ FourBarClosure SolveFourBarClosure(const PlanarDyad& input, const PlanarDyad& ou
     }
     return closure;
   }
-  // RR or PR input: S of the input pin M1(u), p + q cos u + r sin u (crank) or a u^2 + b u + c
-  // (slider); `range` the S range that closes the output.
-  const Eigen::Vector2d v = output.moving_pivot - input.moving_pivot;
-  double lo = -kInfinity, hi = kInfinity;
-  // S = |M1 - P|^2 (squared) or S = n . M1 (linear, n = `normal`), P = `point`.
-  bool squared = true;
-  Eigen::Vector2d point = Eigen::Vector2d::Zero(), normal = Eigen::Vector2d::Zero();
-  switch (output.type) {
-    case DyadType::kRR:
-      point = output.fixed_pivot;
-      lo = (v.norm() - output.radius) * (v.norm() - output.radius);
-      hi = (v.norm() + output.radius) * (v.norm() + output.radius);
-      break;
-    case DyadType::kPR:
-      squared = false;
-      normal = Perp(output.line_direction);
-      lo = normal.dot(output.line_point) - v.norm();
-      hi = normal.dot(output.line_point) + v.norm();
-      break;
-    case DyadType::kRP: {
-      point = output.fixed_pivot;
-      const double c = Perp(output.line_direction).dot(output.line_point - input.moving_pivot);
-      lo = c * c;
-      break;
-    }
+  // RR or PR input: f of the input pin in [low, high] (InputClosureScalar); S's range.
+  const ClosureScalar scalar = InputClosureScalar(input, output);
+  double lo = scalar.low, hi = scalar.high;
+  if (scalar.squared) {
+    lo = std::max(lo, 0.0) * std::max(lo, 0.0);
+    hi = hi * hi;
   }
-  if (input.type == DyadType::kRR) {
-    // M1(u) = F1 + r1 (cos u, sin u).
-    const double r1 = input.radius;
-    if (squared) {
-      const Eigen::Vector2d w0 = input.fixed_pivot - point;
-      SinusoidSet(w0.squaredNorm() + r1 * r1, 2.0 * r1 * w0.x(), 2.0 * r1 * w0.y(), lo, hi,
-                  &closure);
-    } else {
-      SinusoidSet(normal.dot(input.fixed_pivot), r1 * normal.x(), r1 * normal.y(), lo, hi,
-                  &closure);
-    }
+  if (scalar.crank) {
+    SinusoidSet(scalar.c0, scalar.c1, scalar.c2, lo, hi, &closure);
   } else {
-    // M1(s) = q1 + s d1.
-    const Eigen::Vector2d& d1 = input.line_direction;
-    if (squared) {
-      const Eigen::Vector2d w0 = input.line_point - point;
-      QuadraticSet(d1.squaredNorm(), 2.0 * d1.dot(w0), w0.squaredNorm(), lo, hi, &closure);
-    } else {
-      QuadraticSet(0.0, normal.dot(d1), normal.dot(input.line_point), lo, hi, &closure);
-    }
+    QuadraticSet(scalar.c2, scalar.c1, scalar.c0, lo, hi, &closure);
   }
   std::sort(closure.intervals.begin(), closure.intervals.end(),
             [](const ClosureInterval& a, const ClosureInterval& b) { return a.start < b.start; });

@@ -21,6 +21,9 @@
 #ifndef LINKFIT_LIB_FOUR_BAR_CLOSURE_H_
 #define LINKFIT_LIB_FOUR_BAR_CLOSURE_H_
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <vector>
 
 #include "lib/dyad.h"
@@ -51,6 +54,85 @@ struct FourBarClosure {
   // parallel (RP input, PR output). Not an interval end: the coupler runs off to infinity there.
   std::vector<double> singular;
 };
+
+// The output's closure as one scalar of an RR or PR input's pin M1 (the file comment): f in
+// [low, high], with
+//   RR output: f = |M1 - F2| in [|l - r2|, l + r2], l = |m2 - m1| (squared: S = f^2);
+//   PR output: f = n . (M1 - q) in [-l, l];
+//   RP output: f = |M1 - F2| >= |n_E . (m1 - q_E)| (squared);
+// and S (f^2 or f) = c0 + c1 cos u + c2 sin u of a crank angle u, c0 + c1 u + c2 u^2 of a
+// slider position u.
+struct ClosureScalar {
+  bool crank = true;  // RR input (S a sinusoid), else PR (S a polynomial)
+  double c0 = 0.0, c1 = 0.0, c2 = 0.0;
+  bool squared = false;  // S is f^2 (a distance), not f
+  double low = -std::numeric_limits<double>::infinity();
+  double high = std::numeric_limits<double>::infinity();
+  // A crank's sinusoid: hypot(c1, c2) and atan2(c2, c1), where it is largest (set by
+  // InputClosureScalar: Range runs at every step of a path's drive).
+  double amplitude = 0.0;
+  double peak = 0.0;
+
+  // S at input value u.
+  double S(double u) const;
+  // Smallest and largest f over the input values from `start` over `sweep` (either sign; a crank
+  // sweep of a turn or more covers the whole sinusoid): S at the ends and at its extremes within
+  // (a sinusoid's at atan2(c2, c1) and that plus pi, a parabola's vertex).
+  void Range(double start, double sweep, double* smallest, double* largest) const;
+  // Whether f stays within [low - slack, high + slack] over the sweep.
+  bool Holds(double start, double sweep, double slack) const;
+};
+
+// Inline: the path solver's drive checks the closure at every step.
+inline constexpr double kClosurePi = 3.14159265358979323846;
+inline constexpr double kClosureTwoPi = 2.0 * kClosurePi;
+
+inline double ClosureScalar::S(double u) const {
+  return crank ? c0 + c1 * std::cos(u) + c2 * std::sin(u) : c0 + (c1 + c2 * u) * u;
+}
+
+inline void ClosureScalar::Range(double start, double sweep, double* smallest,
+                                 double* largest) const {
+  const double a = std::min(start, start + sweep), b = std::max(start, start + sweep);
+  double low_s = std::min(S(a), S(b)), high_s = std::max(S(a), S(b));
+  const auto consider = [&](double u) {
+    if (u < a || u > b) return;
+    low_s = std::min(low_s, S(u));
+    high_s = std::max(high_s, S(u));
+  };
+  if (crank) {
+    if (std::abs(sweep) >= kClosureTwoPi) {
+      low_s = c0 - amplitude;
+      high_s = c0 + amplitude;
+    } else {
+      // The sinusoid's largest value at its peak, its smallest at the peak + pi.
+      for (int k = 0; k < 2; ++k) {
+        const double extreme = peak + k * kClosurePi;
+        // The first angle >= a congruent to the extreme.
+        const double candidate = extreme + std::ceil((a - extreme) / kClosureTwoPi) * kClosureTwoPi;
+        if (candidate <= b) (k == 0 ? high_s : low_s) = c0 + (k == 0 ? amplitude : -amplitude);
+      }
+    }
+  } else if (c2 != 0.0) {
+    consider(-c1 / (2.0 * c2));  // the parabola's vertex
+  }
+  if (squared) {
+    *smallest = std::sqrt(std::max(low_s, 0.0));
+    *largest = std::sqrt(std::max(high_s, 0.0));
+  } else {
+    *smallest = low_s;
+    *largest = high_s;
+  }
+}
+
+inline bool ClosureScalar::Holds(double start, double sweep, double slack) const {
+  double smallest, largest;
+  Range(start, sweep, &smallest, &largest);
+  return smallest >= low - slack && largest <= high + slack;
+}
+
+// The closure scalar of the four-bar driven by `input` (RR or PR; not RP).
+ClosureScalar InputClosureScalar(const PlanarDyad& input, const PlanarDyad& output);
 
 // The closure of the four-bar driven by `input`.
 FourBarClosure SolveFourBarClosure(const PlanarDyad& input, const PlanarDyad& output);

@@ -1,10 +1,12 @@
 #include "lib/four_bar_motion.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include "lib/four_bar_closure.h"
+#include "lib/golden_section.h"
 #include "lib/mechanism.h"
 
 namespace linkfit {
@@ -253,6 +255,77 @@ FourBarLocation LocatePose(const FourBarMotion& motion, const PlanarDyad& input,
   return location;
 }
 
+namespace {
+
+// Which way a monotonic input visits the poses in order.
+struct Visit {
+  bool increasing = true;
+  bool decreasing = true;
+};
+
+// The defects of poses located on a motion (Chase and Mirth's, the file comment): "circuit" when
+// a pose is off the first pose's circuit, "branch" when consecutive poses are on different
+// branches of it, "order" when on one branch the input cannot run monotonically through their
+// values: around a full turn the forward (or backward) steps must add up to less than a turn;
+// on a limited input `position` measures each value along the circuit.
+template <typename Position>
+Visit JudgeDefects(const std::vector<FourBarLocation>& locations, int circuit_index,
+                   bool rotates_fully, const Position& position,
+                   std::vector<std::string>* defects) {
+  bool one_circuit = true, one_branch = true;
+  for (size_t j = 0; j < locations.size(); ++j) {
+    one_circuit = one_circuit && locations[j].circuit == circuit_index;
+    if (j > 0 && locations[j].branch != locations[j - 1].branch) one_branch = false;
+  }
+  if (!one_circuit) defects->push_back("circuit");
+  if (one_circuit && !one_branch) defects->push_back("branch");
+  Visit visit;
+  if (!one_circuit || !one_branch || locations.size() < 2) return visit;
+  if (rotates_fully) {
+    double forward = 0.0, backward = 0.0;
+    for (size_t j = 1; j < locations.size(); ++j) {
+      const double step = PositiveAngle(locations[j].input - locations[j - 1].input);
+      forward += step;
+      backward += step == 0.0 ? 0.0 : kTwoPi - step;
+    }
+    visit.increasing = forward < kTwoPi;
+    visit.decreasing = backward < kTwoPi;
+  } else {
+    for (size_t j = 1; j < locations.size(); ++j) {
+      const double a = position(locations[j - 1].input), b = position(locations[j].input);
+      visit.increasing = visit.increasing && b > a;
+      visit.decreasing = visit.decreasing && b < a;
+    }
+  }
+  if (!visit.increasing && !visit.decreasing) defects->push_back("order");
+  return visit;
+}
+
+// The largest pose error on the first pose's circuit: a pose on it at its own location, one off
+// it `off_circuit(j)`.
+template <typename OffCircuit>
+double MaxPoseError(const std::vector<FourBarLocation>& locations, int circuit_index,
+                    const OffCircuit& off_circuit) {
+  double worst = 0.0;
+  for (size_t j = 0; j < locations.size(); ++j) {
+    worst = std::max(
+        worst, locations[j].circuit == circuit_index ? locations[j].pose_error : off_circuit(j));
+  }
+  return worst;
+}
+
+// Why the transmission angle over the poses is not given (empty when it is).
+std::string TransmissionNote(const PlanarDyad& input, const PlanarDyad& output,
+                             const std::vector<std::string>& defects) {
+  if (input.type == DyadType::kRP || output.type == DyadType::kRP) {
+    return "defined for dyads that both pin the coupler (no RP dyad)";
+  }
+  if (!defects.empty() && defects.front() != "order") return "the poses are not on one branch";
+  return "";
+}
+
+}  // namespace
+
 FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad& output,
                                       const std::vector<PlanarPose>& poses, double length,
                                       const FourBarMotionOptions& options) {
@@ -268,82 +341,38 @@ FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad&
   analysis.input_rotates_fully = circuit.input_rotates_fully;
   for (const FourBarSample& sample : circuit.samples) analysis.cycle.push_back(sample.coupler);
 
-  // Defects.
-  bool one_circuit = true, one_branch = true;
-  for (size_t j = 0; j < poses.size(); ++j) {
-    one_circuit = one_circuit && analysis.locations[j].circuit == circuit_index;
-    if (j > 0 && analysis.locations[j].branch != analysis.locations[j - 1].branch) {
-      one_branch = false;
-    }
-  }
-  if (!one_circuit) analysis.defects.push_back("circuit");
-  if (one_circuit && !one_branch) analysis.defects.push_back("branch");
-  // Order: on one branch the input must run monotonically through the poses' input values,
-  // in either direction (angles measured around the circuit from its first sample).
-  bool increasing = true, decreasing = true;
-  if (one_circuit && one_branch && poses.size() > 1) {
-    const bool periodic = IsAngleInput(input);
-    // Measured from one step before the circuit's first sample: a pose may lie between that
-    // sample and the input's true limit.
-    const double origin = circuit.input_start - circuit.input_step;
-    auto position = [&](double value) {
-      return periodic && !circuit.input_rotates_fully ? PositiveAngle(value - origin) : value;
-    };
-    if (circuit.input_rotates_fully) {
-      // Around a full turn: the forward (or backward) increments between consecutive poses
-      // must add up to less than one turn.
-      double forward = 0.0, backward = 0.0;
-      for (size_t j = 1; j < poses.size(); ++j) {
-        const double step =
-            PositiveAngle(analysis.locations[j].input - analysis.locations[j - 1].input);
-        forward += step;
-        backward += step == 0.0 ? 0.0 : kTwoPi - step;
-      }
-      increasing = forward < kTwoPi;
-      decreasing = backward < kTwoPi;
-    } else {
-      for (size_t j = 1; j < poses.size(); ++j) {
-        const double a = position(analysis.locations[j - 1].input);
-        const double b = position(analysis.locations[j].input);
-        increasing = increasing && b > a;
-        decreasing = decreasing && b < a;
-      }
-    }
-    if (!increasing && !decreasing) analysis.defects.push_back("order");
-  }
+  // Defects; positions measured from one step before the circuit's first sample (a pose may lie
+  // between that sample and the input's true limit).
+  const bool periodic = IsAngleInput(input);
+  const double origin = circuit.input_start - circuit.input_step;
+  const Visit visit = JudgeDefects(
+      analysis.locations, circuit_index, circuit.input_rotates_fully,
+      [&](double value) {
+        return periodic && !circuit.input_rotates_fully ? PositiveAngle(value - origin) : value;
+      },
+      &analysis.defects);
+  const bool increasing = visit.increasing, decreasing = visit.decreasing;
 
-  // Pose error on the one circuit.
-  double worst = 0.0;
+  // Pose error on the one circuit; a pose not reachable on it at its input value: the nearest
+  // configuration of the circuit, or at the same input the configuration of the circuit's label.
   std::vector<PlanarPose> configurations;
-  for (size_t j = 0; j < poses.size(); ++j) {
-    const FourBarLocation& location = analysis.locations[j];
+  analysis.max_pose_error = MaxPoseError(analysis.locations, circuit_index, [&](size_t j) {
     double error = std::numeric_limits<double>::infinity();
-    if (location.circuit == circuit_index) {
-      error = location.pose_error;
-    } else {
-      // Not reachable on this circuit at its input value: the nearest configuration of the
-      // circuit, or at the same input the configuration of the circuit's label.
-      const int count = Assemble(input, output, location.input, length, &configurations);
-      if (circuit.label >= 0 && circuit.label < count) {
-        error = PoseError(configurations[circuit.label], poses[j], length);
-      }
-      for (const FourBarSample& sample : circuit.samples) {
-        error = std::min(error, PoseError(sample.coupler, poses[j], length));
-      }
+    const int count = Assemble(input, output, analysis.locations[j].input, length, &configurations);
+    if (circuit.label >= 0 && circuit.label < count) {
+      error = PoseError(configurations[circuit.label], poses[j], length);
     }
-    worst = std::max(worst, error);
-  }
-  analysis.max_pose_error = worst;
+    for (const FourBarSample& sample : circuit.samples) {
+      error = std::min(error, PoseError(sample.coupler, poses[j], length));
+    }
+    return error;
+  });
 
   // Transmission angle over the motion from the first to the last pose, along the branch.
-  if (input.type == DyadType::kRP || output.type == DyadType::kRP) {
-    analysis.transmission_note = "defined for dyads that both pin the coupler (no RP dyad)";
-  } else if (!analysis.defects.empty() && analysis.defects.front() != "order") {
-    analysis.transmission_note = "the poses are not on one branch";
-  } else {
+  analysis.transmission_note = TransmissionNote(input, output, analysis.defects);
+  if (analysis.transmission_note.empty()) {
     const double start = analysis.locations.front().input;
     const double end = analysis.locations.back().input;
-    const bool periodic = IsAngleInput(input);
     // Direction and extent: for a full turn, the direction that visits the poses in order;
     // otherwise straight from the first to the last value.
     double extent = end - start;
@@ -479,97 +508,47 @@ double NearestOnCircuit(const PlanarDyad& input, const PlanarDyad& output,
       }
     }
     const double step = 1.0 / (kNearestSamples - 1);
-    double a = std::max(0.0, (nearest - 1) * step), b = std::min(1.0, (nearest + 1) * step);
-    const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-    double c = b - ratio * (b - a), d = a + ratio * (b - a);
-    double at_c = error(c), at_d = error(d);
-    for (int iteration = 0; iteration < kIterations; ++iteration) {
-      if (at_c < at_d) {
-        b = d;
-        d = c;
-        at_d = at_c;
-        c = b - ratio * (b - a);
-        at_c = error(c);
-      } else {
-        a = c;
-        c = d;
-        at_c = at_d;
-        d = a + ratio * (b - a);
-        at_d = error(d);
-      }
-    }
-    best = std::min({best, least, at_c, at_d});
+    // kIterations evaluations after the first two: one shrink more (the last only narrows).
+    const GoldenSection search =
+        GoldenSectionSearch(error, std::max(0.0, (nearest - 1) * step),
+                            std::min(1.0, (nearest + 1) * step), kIterations + 1);
+    best = std::min({best, least, search.least});
   }
   return best;
 }
 
 // The transmission angle over the input from `start` over `extent` (RR or PR input, RR or PR
-// output), in closed form. It depends on the input pin M1(u) only through one scalar S:
-//   RR output: S = |M1 - F2|^2 = d^2, and cos gamma = (|v|^2 + r2^2 - d^2) / (2 |v| r2), gamma
-//     the coupler-rocker angle growing with d; folded to [0, 90] as TransmissionAngleDeg:
+// output), in closed form: it depends on the input pin only through the closure scalar f
+// (four_bar_closure.h ClosureScalar), whose range over the way is exact.
+//   RR output: f = d = |M1 - F2|, and cos gamma = (l^2 + r2^2 - d^2) / (2 l r2), gamma the
+//     coupler-rocker angle growing with d; folded to [0, 90] as TransmissionAngleDeg:
 //     90 - |90 - gamma|;
-//   PR output: S = n . M1, the coupler leans off the slider line by asin(|n . q - S| / |v|),
-//     and the transmission angle is 90 degrees less that.
-// S is p + rho cos(u - phi) of a crank angle (monotonic between phi and phi + pi) and a
-// polynomial of degree <= 2 of a slider position (monotonic either side of its vertex): its range
-// over the way is at the ends and at those critical values within it.
+//   PR output: f = n . (M1 - q), the coupler leans off the slider line by asin(|f| / l), and the
+//     transmission angle is 90 degrees less that.
 void ClosedTransmission(const PlanarDyad& input, const PlanarDyad& output, double start,
                         double extent, std::optional<double>* min_deg,
                         std::optional<double>* max_deg) {
-  const bool squared = output.type == DyadType::kRR;
-  const Eigen::Vector2d normal(-output.line_direction.y(), output.line_direction.x());
-  const auto scalar = [&](double u) {
-    const Eigen::Vector2d pin =
-        input.type == DyadType::kRR
-            ? Eigen::Vector2d(input.fixed_pivot +
-                              input.radius * Eigen::Vector2d(std::cos(u), std::sin(u)))
-            : Eigen::Vector2d(input.line_point + u * input.line_direction);
-    return squared ? (pin - output.fixed_pivot).squaredNorm() : normal.dot(pin);
-  };
-  const double from = std::min(start, start + extent), to = std::max(start, start + extent);
-  double low = std::min(scalar(from), scalar(to)), high = std::max(scalar(from), scalar(to));
-  const auto consider = [&](double u) {
-    if (u < from || u > to) return;
-    low = std::min(low, scalar(u));
-    high = std::max(high, scalar(u));
-  };
-  if (input.type == DyadType::kRR) {
-    // S's critical crank angles: along (or against) the direction that S grows with.
-    const Eigen::Vector2d toward =
-        squared ? Eigen::Vector2d(input.fixed_pivot - output.fixed_pivot) : normal;
-    const double phi = std::atan2(toward.y(), toward.x());
-    for (int k = 0; k < 2; ++k) {
-      const double critical = phi + k * M_PI;
-      for (double u = critical + std::ceil((from - critical) / kTwoPi) * kTwoPi; u <= to;
-           u += kTwoPi) {
-        consider(u);
-      }
-    }
-  } else if (squared) {
-    // |q1 + s d1 - F2|^2 is least at s = -d1 . (q1 - F2) / |d1|^2.
-    consider(-input.line_direction.dot(input.line_point - output.fixed_pivot) /
-             input.line_direction.squaredNorm());
-  }
+  const ClosureScalar scalar = InputClosureScalar(input, output);
+  double low = 0.0, high = 0.0;
+  scalar.Range(start, extent, &low, &high);
   const double side = (output.moving_pivot - input.moving_pivot).norm();
   if (!(side > 0.0)) return;
-  if (squared) {
+  if (output.type == DyadType::kRR) {
     const double rocker = output.radius;
     if (!(rocker > 0.0)) return;
-    const auto gamma = [&](double d2) {
-      const double x = (side * side + rocker * rocker - d2) / (2.0 * side * rocker);
+    const auto gamma = [&](double d) {
+      const double x = (side * side + rocker * rocker - d * d) / (2.0 * side * rocker);
       return std::acos(std::clamp(x, -1.0, 1.0)) * 180.0 / M_PI;
     };
     const auto fold = [](double g) { return 90.0 - std::abs(90.0 - g); };
-    const double g_low = gamma(low), g_high = gamma(high);  // gamma grows with d^2
+    const double g_low = gamma(low), g_high = gamma(high);  // gamma grows with d
     *min_deg = std::min(fold(g_low), fold(g_high));
     *max_deg = g_low <= 90.0 && g_high >= 90.0 ? 90.0 : std::max(fold(g_low), fold(g_high));
     return;
   }
-  // The coupler's lean off the slider line: |n . q - S| / |v|, least 0 where S passes n . q.
-  const double level = normal.dot(output.line_point);
-  const double most = std::max(std::abs(level - low), std::abs(level - high));
-  const double least =
-      low <= level && level <= high ? 0.0 : std::min(std::abs(level - low), std::abs(level - high));
+  // The coupler's lean |f| / l, least 0 where f passes 0.
+  const double most = std::max(std::abs(low), std::abs(high));
+  const double least = low <= 0.0 && 0.0 <= high ? 0.0 : std::min(std::abs(low), std::abs(high));
   const auto transmission = [&](double lean) {
     return 90.0 - std::asin(std::min(1.0, lean / side)) * 180.0 / M_PI;
   };
@@ -587,20 +566,20 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
   const std::vector<ClosedCircuit> circuits = ClosedCircuits(closure);
   std::vector<PlanarPose> configurations;
   // Where each pose lies: its input value, the configuration nearest it there, the circuit of
-  // that configuration's interval and label.
+  // that configuration's interval and label. The pose's error at each label is kept for a pose
+  // off the first pose's circuit.
+  std::vector<std::array<double, 2>> label_errors;
   for (const PlanarPose& pose : poses) {
     FourBarLocation location;
     location.input = InputValue(input, pose);
     const int count = Assemble(input, output, location.input, length, &configurations);
+    std::array<double, 2> errors = {std::numeric_limits<double>::infinity(),
+                                    std::numeric_limits<double>::infinity()};
+    for (int l = 0; l < count; ++l) errors[l] = PoseError(configurations[l], pose, length);
+    label_errors.push_back(errors);
     if (count > 0) {
-      int label = 0;
-      for (int l = 1; l < count; ++l) {
-        if (PoseError(configurations[l], pose, length) <
-            PoseError(configurations[label], pose, length)) {
-          label = l;
-        }
-      }
-      location.pose_error = PoseError(configurations[label], pose, length);
+      const int label = count > 1 && errors[1] < errors[0] ? 1 : 0;
+      location.pose_error = errors[label];
       const int interval = NearestInterval(closure, location.input);
       for (size_t c = 0; c < circuits.size() && interval >= 0; ++c) {
         if (circuits[c].interval == interval &&
@@ -634,81 +613,37 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
     analysis.cycle = CircuitPoses(input, output, closure, circuit, lo, hi, options.samples, length);
   }
 
-  // Defects (as AnalyzeFourBarSampled decides them).
-  bool one_circuit = true, one_branch = true;
-  for (size_t j = 0; j < poses.size(); ++j) {
-    one_circuit = one_circuit && analysis.locations[j].circuit == circuit_index;
-    if (j > 0 && analysis.locations[j].branch != analysis.locations[j - 1].branch) {
-      one_branch = false;
-    }
-  }
-  if (!one_circuit) analysis.defects.push_back("circuit");
-  if (one_circuit && !one_branch) analysis.defects.push_back("branch");
-  bool increasing = true, decreasing = true;
-  if (one_circuit && one_branch && poses.size() > 1) {
-    if (circuit.rotates_fully) {
-      double forward = 0.0, backward = 0.0;
-      for (size_t j = 1; j < poses.size(); ++j) {
-        const double step =
-            PositiveAngle(analysis.locations[j].input - analysis.locations[j - 1].input);
-        forward += step;
-        backward += step == 0.0 ? 0.0 : kTwoPi - step;
-      }
-      increasing = forward < kTwoPi;
-      decreasing = backward < kTwoPi;
-    } else {
-      // Positions along the interval, measured from just before its start (a pose admitted by
-      // the assembly's tolerance may lie a hair before it).
-      const double origin = interval.start - 1e-9;
-      const auto position = [&](double value) {
-        return closure.angle_input ? PositiveAngle(value - origin) : value;
-      };
-      for (size_t j = 1; j < poses.size(); ++j) {
-        const double a = position(analysis.locations[j - 1].input);
-        const double b = position(analysis.locations[j].input);
-        increasing = increasing && b > a;
-        decreasing = decreasing && b < a;
-      }
-    }
-    if (!increasing && !decreasing) analysis.defects.push_back("order");
-  }
+  // Defects; positions along the interval measured from just before its start (a pose admitted
+  // by the assembly's tolerance may lie a hair before it).
+  const double origin = interval.start - 1e-9;
+  const auto position = [&](double value) {
+    return closure.angle_input ? PositiveAngle(value - origin) : value;
+  };
+  const Visit visit = JudgeDefects(analysis.locations, circuit_index, circuit.rotates_fully,
+                                   position, &analysis.defects);
 
   // Pose error on the one circuit; a pose off it is measured to the circuit's nearest
   // configuration (NearestOnCircuit), or at its own input to the configuration of the circuit's
   // label.
-  double worst = 0.0;
-  for (size_t j = 0; j < poses.size(); ++j) {
-    const FourBarLocation& location = analysis.locations[j];
-    double error = std::numeric_limits<double>::infinity();
-    if (location.circuit == circuit_index) {
-      error = location.pose_error;
-    } else {
-      const int count = Assemble(input, output, location.input, length, &configurations);
-      if (circuit.label >= 0 && circuit.label < count) {
-        error = PoseError(configurations[circuit.label], poses[j], length);
-      }
-      error = std::min(error,
-                       NearestOnCircuit(input, output, closure, circuit, lo, hi, poses[j], length));
-    }
-    worst = std::max(worst, error);
-  }
-  analysis.max_pose_error = worst;
+  analysis.max_pose_error = MaxPoseError(analysis.locations, circuit_index, [&](size_t j) {
+    const double at_label = circuit.label >= 0 ? label_errors[j][circuit.label]
+                                               : std::numeric_limits<double>::infinity();
+    return std::min(at_label,
+                    NearestOnCircuit(input, output, closure, circuit, lo, hi, poses[j], length));
+  });
 
   // Transmission angle over the motion from the first to the last pose, along the branch.
-  if (input.type == DyadType::kRP || output.type == DyadType::kRP) {
-    analysis.transmission_note = "defined for dyads that both pin the coupler (no RP dyad)";
-  } else if (!analysis.defects.empty() && analysis.defects.front() != "order") {
-    analysis.transmission_note = "the poses are not on one branch";
-  } else {
+  analysis.transmission_note = TransmissionNote(input, output, analysis.defects);
+  if (analysis.transmission_note.empty()) {
     const double start = analysis.locations.front().input;
     const double end = analysis.locations.back().input;
     double extent = end - start;
     if (closure.angle_input && circuit.rotates_fully) {
-      extent = !increasing && decreasing ? -PositiveAngle(start - end) : PositiveAngle(end - start);
+      extent = !visit.increasing && visit.decreasing ? -PositiveAngle(start - end)
+                                                     : PositiveAngle(end - start);
     } else if (closure.angle_input) {
       // Within the interval (the short way round may cross where it does not assemble).
-      const double origin = interval.start - 1e-9;
-      extent = PositiveAngle(end - origin) - PositiveAngle(start - origin);
+      extent = position(end) - position(start);
     }
     ClosedTransmission(input, output, start, extent, &analysis.transmission_min_deg,
                        &analysis.transmission_max_deg);

@@ -7,6 +7,7 @@
 #include <complex>
 #include <limits>
 
+#include "lib/four_bar_closure.h"
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
 
@@ -15,101 +16,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
-
-// Where the output closes, as a condition on the crank angle alone: a sinusoid
-// f(alpha) = c0 + c1 cos(alpha) + c2 sin(alpha) that must stay in [low, high]. With the crank
-// pin P(alpha) = B + r (cos, sin) and the coupler link from the pin to the output pin of length
-// l = |m2 - m1|:
-//   RR output (F, r2):    f = |P - F|,  within [|l - r2|, l + r2]  (f squared is the sinusoid)
-//   PR output (line n.X = h): f = n.P - h, within [-l, l]
-//   RP output (F on a line of E at distance d from the pin): f = |P - F| >= |d|
-struct ClosureCondition {
-  double c0 = 0.0, c1 = 0.0, c2 = 0.0;
-  bool squared = false;  // the sinusoid is f^2 (a distance), not f
-  double low = -kInfinity, high = kInfinity;
-
-  double amplitude = 0.0;  // hypot(c1, c2)
-  double peak = 0.0;       // atan2(c2, c1): where the sinusoid is largest
-
-  // Sets amplitude and peak from the coefficients.
-  void Finish() {
-    amplitude = std::hypot(c1, c2);
-    peak = std::atan2(c2, c1);
-  }
-  // Smallest and largest f over the crank angles from `start` over `sweep` (either sign).
-  void Range(double start, double sweep, double* smallest, double* largest) const {
-    double low_s, high_s;
-    if (std::abs(sweep) >= 2.0 * kPi) {
-      low_s = c0 - amplitude;
-      high_s = c0 + amplitude;
-    } else {
-      const double a = std::min(start, start + sweep), b = std::max(start, start + sweep);
-      const double at_a = c0 + c1 * std::cos(a) + c2 * std::sin(a);
-      const double at_b = c0 + c1 * std::cos(b) + c2 * std::sin(b);
-      low_s = std::min(at_a, at_b);
-      high_s = std::max(at_a, at_b);
-      // The extremes of the sinusoid: the peak (maximum) and the peak + pi.
-      for (int k = 0; k < 2; ++k) {
-        const double extreme = peak + k * kPi;
-        // The first angle >= a congruent to the extreme.
-        const double turns = std::ceil((a - extreme) / (2.0 * kPi));
-        const double candidate = extreme + turns * 2.0 * kPi;
-        if (candidate <= b) {
-          if (k == 0) high_s = c0 + amplitude;
-          if (k == 1) low_s = c0 - amplitude;
-        }
-      }
-    }
-    if (squared) {
-      *smallest = std::sqrt(std::max(low_s, 0.0));
-      *largest = std::sqrt(std::max(high_s, 0.0));
-    } else {
-      *smallest = low_s;
-      *largest = high_s;
-    }
-  }
-  // Whether f stays within [low - slack, high + slack] over the sweep.
-  bool Holds(double start, double sweep, double slack) const {
-    double smallest, largest;
-    Range(start, sweep, &smallest, &largest);
-    return smallest >= low - slack && largest <= high + slack;
-  }
-};
-
-ClosureCondition Closure(const PathFourBar& four_bar) {
-  const PlanarDyad& input = four_bar.input;
-  const PlanarDyad& output = four_bar.output;
-  ClosureCondition condition;
-  const double r = input.radius;
-  if (output.type == DyadType::kPR) {
-    const Eigen::Vector2d n = Perp(output.line_direction);
-    const double link = (output.moving_pivot - input.moving_pivot).norm();
-    condition.c0 = n.dot(input.fixed_pivot - output.line_point);
-    condition.c1 = r * n.x();
-    condition.c2 = r * n.y();
-    condition.low = -link;
-    condition.high = link;
-    condition.Finish();
-    return condition;
-  }
-  const Eigen::Vector2d offset = input.fixed_pivot - output.fixed_pivot;
-  condition.squared = true;
-  condition.c0 = offset.squaredNorm() + r * r;
-  condition.c1 = 2.0 * r * offset.x();
-  condition.c2 = 2.0 * r * offset.y();
-  if (output.type == DyadType::kRR) {
-    const double link = (output.moving_pivot - input.moving_pivot).norm();
-    condition.low = std::abs(link - output.radius);
-    condition.high = link + output.radius;
-  } else {
-    condition.low =
-        std::abs(Perp(output.line_direction).dot(input.moving_pivot - output.line_point));
-  }
-  condition.Finish();
-  return condition;
-}
 
 // The coupler's turns (cos(theta), sin(theta)) that close the output with the crank pin at `pin`
 // (Sigma): AssembleFourBar's equation a cos + b sin = c (OutputTurnEquation) and its label order
@@ -168,7 +74,8 @@ PathFourBarAnalysis AnalyzePathFourBar(const PathFourBar& four_bar,
   }
   const double tolerance = options.assembly_tolerance * length;
   const double alpha0 = FirstCrankAngle(four_bar);
-  const ClosureCondition closure = Closure(four_bar);
+  // Where the output closes, as a condition on the crank angle alone (four_bar_closure.h).
+  const ClosureScalar closure = InputClosureScalar(four_bar.input, four_bar.output);
   analysis.input_rotates_fully = closure.Holds(alpha0, 2.0 * kPi, tolerance);
 
   // The crank pin at each point: the arm B -> A turned by psi_j - psi_0.

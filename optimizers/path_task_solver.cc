@@ -12,6 +12,7 @@
 #include "fitting/nine_point_path.h"
 #include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
+#include "lib/golden_section.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/precision.h"
@@ -563,33 +564,12 @@ std::vector<double> ProjectTiming(const CouplerTurn& turn, const PathData& data,
       }
     }
     if (nearest < 0) return {};
-    // Golden section over [nearest - 1, nearest + 1] steps, each interior point's distance
-    // kept for the next bracket.
+    // Golden section over [nearest - 1, nearest + 1] steps.
+    constexpr int kShrinks = 30;
     const double step = CouplerTurn::Step();
-    double a = (nearest - 1) * step, b = (nearest + 1) * step;
-    const double ratio = 0.5 * (std::sqrt(5.0) - 1.0);
-    double c = b - ratio * (b - a), d = a + ratio * (b - a);
-    double at_c = distance(c), at_d = distance(d);
-    constexpr int kIterations = 30;
-    for (int iteration = 0; iteration < kIterations; ++iteration) {
-      const bool last = iteration + 1 == kIterations;
-      if (at_c < at_d) {
-        b = d;
-        if (last) break;
-        d = c;
-        at_d = at_c;
-        c = b - ratio * (b - a);
-        at_c = distance(c);
-      } else {
-        a = c;
-        if (last) break;
-        c = d;
-        at_c = at_d;
-        d = a + ratio * (b - a);
-        at_d = distance(d);
-      }
-    }
-    angles.push_back(direction * 0.5 * (a + b));
+    const GoldenSection search =
+        GoldenSectionSearch(distance, (nearest - 1) * step, (nearest + 1) * step, kShrinks);
+    angles.push_back(direction * 0.5 * (search.low + search.high));
   }
   return angles;
 }

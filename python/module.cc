@@ -7,14 +7,13 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
-#include <atomic>
 #include <exception>
 #include <optional>
 #include <string>
-#include <thread>
 #include <utility>
 #include <vector>
 
+#include "apps/parallel.h"
 #include "apps/picture.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
@@ -67,23 +66,13 @@ std::vector<std::string> SolveMany(const std::vector<std::string>& texts,
   const size_t count = texts.size();
   std::vector<std::string> results(count);
   std::vector<std::exception_ptr> errors(count);
-  unsigned workers = threads > 0 ? static_cast<unsigned>(threads)
-                                 : std::max(1u, std::thread::hardware_concurrency());
-  workers = static_cast<unsigned>(std::min<size_t>(workers, std::max<size_t>(count, 1)));
-  std::atomic<size_t> next(0);
-  const auto work = [&]() {
-    for (size_t i = next++; i < count; i = next++) {
-      try {
-        results[i] = SolveText(texts[i], sources[i]);
-      } catch (...) {
-        errors[i] = std::current_exception();
-      }
+  ParallelFor(count, ThreadCount(threads), [&](size_t i) {
+    try {
+      results[i] = SolveText(texts[i], sources[i]);
+    } catch (...) {
+      errors[i] = std::current_exception();
     }
-  };
-  std::vector<std::thread> pool;
-  for (unsigned w = 1; w < workers; ++w) pool.emplace_back(work);
-  work();
-  for (std::thread& thread : pool) thread.join();
+  });
   for (const std::exception_ptr& error : errors) {
     if (error) std::rethrow_exception(error);
   }
@@ -109,14 +98,6 @@ PYBIND11_MODULE(_linkfit, m) {
   // the same way (apps/cli.cc RunCli).
   FLAGS_minloglevel = google::GLOG_FATAL;
   py::register_exception<linkfit::InputError>(m, "InputError", PyExc_ValueError);
-  m.def(
-      "solve_json",
-      [](const std::string& text, const std::string& source) {
-        py::gil_scoped_release release;
-        return linkfit::SolveText(text, source);
-      },
-      py::arg("text"), py::arg("source") = "task",
-      "Solves one task given as JSON text; returns the result as the CLI's JSON text.");
   py::class_<linkfit::Drawn>(m, "Drawn")
       .def_readonly("result", &linkfit::Drawn::result)
       .def(

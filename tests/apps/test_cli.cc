@@ -378,8 +378,8 @@ TEST_F(CliTest, BatchKeepsTheInputOrderOnEveryJobCount) {
   for (const std::string& target : {std::string(" -o '") + output + "'", std::string()}) {
     const RunResult run = Run("solve '" + bad + "'" + target);
     EXPECT_EQ(run.status, 2);
-    EXPECT_EQ(run.err, "linkfit: error: " + bad +
-                           ":4401: poses: expected an array, got a number\n");
+    EXPECT_EQ(run.err,
+              "linkfit: error: " + bad + ":4401: poses: expected an array, got a number\n");
     EXPECT_TRUE(run.out.empty());
     EXPECT_FALSE(std::filesystem::exists(output));
   }

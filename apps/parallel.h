@@ -1,0 +1,36 @@
+// Runs independent work items on a pool of threads: the batch mode of `linkfit solve` and the
+// Python module's solve_many.
+#ifndef LINKFIT_APPS_PARALLEL_H_
+#define LINKFIT_APPS_PARALLEL_H_
+
+#include <algorithm>
+#include <atomic>
+#include <cstddef>
+#include <thread>
+#include <vector>
+
+namespace linkfit {
+
+// The threads `requested` asks for: itself when positive, else the machine's (at least one).
+inline unsigned ThreadCount(int requested) {
+  return requested > 0 ? static_cast<unsigned>(requested)
+                       : std::max(1u, std::thread::hardware_concurrency());
+}
+
+// Runs work(i) for every i in [0, count) on `jobs` threads, the calling one among them, each
+// taking the next index in turn; returns when all are done. `work` must not throw.
+template <typename Work>
+void ParallelFor(size_t count, unsigned jobs, const Work& work) {
+  std::atomic<size_t> next(0);
+  const auto run = [&]() {
+    for (size_t i = next++; i < count; i = next++) work(i);
+  };
+  std::vector<std::thread> pool;
+  for (unsigned w = 1; w < std::min<size_t>(jobs, count); ++w) pool.emplace_back(run);
+  run();
+  for (std::thread& thread : pool) thread.join();
+}
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_APPS_PARALLEL_H_

@@ -8,6 +8,8 @@
 // 99th-percentile time of one solve (SolvePlanarBurmester; and of the whole SolvePlanarMotion,
 // which adds the mechanism assembly checks) on one core.
 //
+// Then four poses (RunFourPoses): the Burmester curves and the dyads of the generating pivots.
+//
 // Then the seven-pose spatial solver (seed 000) on random tasks: the share of tasks whose 20
 // roots are all found and verified (20 distinct roots, each with a polished residual below
 // 1e-11 on the bilinear equations), the worst residual of a returned dyad over L, real roots and
@@ -35,7 +37,7 @@
 // share whose bound says the data do not determine it, and the time of the refinement.
 //
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
-//                 [--seed S] [--only planar|spatial|path|refine]
+//                 [--four-tasks F] [--seed S] [--only planar|spatial|path|refine]
 #include <glog/logging.h>
 
 #include <algorithm>
@@ -53,6 +55,7 @@
 
 #include "apps/percentile.h"
 #include "fitting/planar_burmester.h"
+#include "fitting/planar_burmester_curves.h"
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_burmester.h"
 #include "fitting/timed_path.h"
@@ -154,6 +157,73 @@ void RunFamily(const Family& family, int tasks, uint64_t seed) {
               100.0 * data_limited / tasks, 100.0 * (tasks - recovered - data_limited) / tasks,
               worst_residual, static_cast<double>(real_roots) / tasks, Percentile(solve_us, 0.5),
               Percentile(solve_us, 0.99), Percentile(motion_us, 0.5));
+}
+
+// Four poses: random tasks made by random four-bars, solved with the generating dyads' pivots
+// given (the moving pivot of an RR or PR dyad, the fixed pivot of an RP dyad), as a designer
+// picks them off the curves: the share whose generating dyads come back (relative error
+// <= 1e-9), the share of generating dyads within the refine radius that lie within 0.02 L of a
+// sample of the curves (the sampling density), the samples per task, the worst residual of a
+// sample over L, and the median time of SampleBurmesterCurves and the median and 99th
+// percentile of the whole SolvePlanarMotion (curves, pivot dyads, four-bar analysis).
+void RunFourPoses(const Family& family, int tasks, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::vector<double> curves_ms, motion_ms;
+  int recovered = 0, near = 0, checked = 0;
+  long samples = 0;
+  double worst_residual = 0.0;
+  const linkfit::BurmesterCurveOptions curve_options;
+  for (int t = 0; t < tasks; ++t) {
+    const linkfit::testing::GeneratedTask task =
+        linkfit::testing::RandomTask(rng, family.input, family.output, 4);
+    const double length = linkfit::CharacteristicLength(task.poses);
+    linkfit::BurmesterCurves curves;
+    auto start = std::chrono::steady_clock::now();
+    samples += linkfit::SampleBurmesterCurves(task.poses, curve_options, &curves);
+    curves_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count());
+    std::vector<linkfit::PlanarDyad> all;
+    for (const auto& branch : curves.branches) all.insert(all.end(), branch.begin(), branch.end());
+    for (const linkfit::PlanarDyad& dyad : all) {
+      worst_residual = std::max(worst_residual, dyad.MaxResidual(task.poses) / length);
+    }
+    linkfit::Task full;
+    full.planar_poses = task.poses;
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (const linkfit::PlanarPose& pose : task.poses) centroid += 0.25 * pose.origin_in_fixed;
+    for (const linkfit::PlanarDyad& dyad : {task.input, task.output}) {
+      if (dyad.type == DyadType::kRP) {
+        full.fixed_pivots.push_back(dyad.fixed_pivot);
+      } else {
+        full.moving_pivots.push_back(dyad.moving_pivot);
+      }
+      if (dyad.type == DyadType::kRR &&
+          std::max((dyad.fixed_pivot - centroid).norm(),
+                   (task.poses[0].ToFixed(dyad.moving_pivot) - centroid).norm()) <=
+              curve_options.refine_radius * length) {
+        ++checked;
+        near += linkfit::testing::NearestDyadDistance(all, dyad, length) <= 0.02;
+      }
+    }
+    start = std::chrono::steady_clock::now();
+    const linkfit::PlanarMotionResult result = linkfit::SolvePlanarMotion(full);
+    motion_ms.push_back(
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+            .count());
+    std::vector<linkfit::PlanarDyad> dyads;
+    for (const auto& found : result.dyads) dyads.push_back(found.dyad);
+    const double error =
+        std::max(linkfit::testing::NearestDyadDistance(
+                     dyads, task.input, linkfit::testing::DyadScale(task.input, task.poses)),
+                 linkfit::testing::NearestDyadDistance(
+                     dyads, task.output, linkfit::testing::DyadScale(task.output, task.poses)));
+    recovered += error <= kRecoveryTolerance;
+  }
+  std::printf("%-24s %8d %10.2f%% %10.2f%% %8d %9.0f %12.2e %12.3f %10.3f %9.3f\n", family.name,
+              tasks, 100.0 * recovered / tasks, 100.0 * near / std::max(checked, 1), checked,
+              static_cast<double>(samples) / tasks, worst_residual, Percentile(curves_ms, 0.5),
+              Percentile(motion_ms, 0.5), Percentile(motion_ms, 0.99));
 }
 
 using linkfit::DualQuaternion;
@@ -555,6 +625,7 @@ int main(int argc, char** argv) {
   std::string only;
   int path_tasks = 10000;
   int refine_tasks = 100;
+  int four_tasks = 1000;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
@@ -568,10 +639,13 @@ int main(int argc, char** argv) {
       path_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--refine-tasks") && i + 1 < argc) {
       refine_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--four-tasks") && i + 1 < argc) {
+      four_tasks = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
-                   "[--refine-tasks R] [--seed S] [--only planar|spatial|path|refine]\n"
+                   "[--refine-tasks R] [--four-tasks F] [--seed S] "
+                   "[--only planar|spatial|path|refine]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -600,6 +674,14 @@ int main(int argc, char** argv) {
       {"RPRP (PR+RP)", DyadType::kPR, DyadType::kRP},
   };
   for (const Family& family : families) RunFamily(family, tasks, seed++);
+  std::printf(
+      "\nfour poses: Burmester curves and the dyads of the generating pivots (SolvePlanarMotion), "
+      "%d random exact tasks per family\n",
+      four_tasks);
+  std::printf("%-24s %8s %11s %11s %8s %9s %12s %12s %10s %9s\n", "family", "tasks", "recovered",
+              "on_curve", "checked", "samples", "worst_res/L", "curves_med_ms", "e2e_med_ms",
+              "e2e_p99_ms");
+  for (int i = 0; i < 3; ++i) RunFourPoses(families[i], four_tasks, seed++);
   if (only != "planar") {
     RunSpatial(spatial_tasks, seed);
     RunPath(path_tasks, seed);

@@ -1,15 +1,22 @@
 // Burmester curves of four poses and the dyad of a chosen pivot (planar_burmester_curves.h).
 //
 // What each part implements:
-// - SampleBurmesterCurves: the dyads of four poses as the curve Q1 = Q2 = 0 in the projective
-//   3-space of the null space of the four constraint rows (planar_burmester.h, after seed 001
-//   eqs 6 and 9 and seed 000's constraint space). A pencil of planes through a line of the
-//   slider plane z0 = K0 = 0 (so that one plane of the pencil holds exactly the PR and RP
-//   dyads) is swept, each plane cut by IntersectConstraintConics; its real points seed a
-//   predictor-corrector continuation along the curve (tangent orthogonal to w, A1 w, A2 w;
-//   Newton's method on the two quadrics), which orders the samples into branches and keeps
-//   consecutive dyads within a set distance however fast they move with the plane. Each
-//   component is traced once: sweep points that a trace passes are not traced again.
+// - SampleBurmesterCurves: the center-point curve of four poses as the plane cubic D(F) = 0,
+//   D(F) = det[|q_j|^2, q_jx, q_jy, 1] with q_j = R_j^T (F - d_j) the positions in E of the
+//   fixed pivot F at the four poses (the inverted motion; F is a center point exactly when its
+//   four positions are concyclic, and the circle's centre is the dyad's circle point m). Its
+//   coefficients come from the multilinear expansion of the determinant about a base point B of
+//   the curve; every line through B at angle theta meets the curve in two more points, the roots
+//   of the quadratic f3(u) s^2 + f2(u) s + f1(u) = 0 (f_k the cubic's homogeneous parts about B,
+//   u = (cos theta, sin theta)). The two roots, as functions of theta in [0, pi), cover the
+//   whole curve, each continuous where the quadratic's discriminant is positive; the
+//   discriminant is a quartic form in u whose roots (a companion matrix) bound the intervals,
+//   and at their ends the two roots meet. So each component of the curve is one root walked
+//   over an interval of theta and the other walked back, sampled in order, densely where the
+//   dyads move fast, and no component is missed however small. The PR and RP dyads are the curve's
+//   point at infinity and the point whose circle point is at infinity: the four points of the
+//   slider plane z0 = K0 = 0 of the constraint space (planar_burmester.h, after seed 001 eqs 6, 9
+//   and 13), cut by IntersectConstraintConics.
 // - DyadFromMovingPivot: the centre of the circle through (three poses) or best fitting
 //   (more: algebraic fit, then Gauss-Newton on the geometric distance) the pivot's positions
 //   R_j m + d_j; for four poses the pivot is first projected onto the circle-point curve, the
@@ -29,11 +36,12 @@
 #include <complex>
 #include <cstdio>
 #include <limits>
-#include <random>
+#include <unsupported/Eigen/Polynomials>
 #include <utility>
 
 #include "fitting/planar_burmester.h"
 #include "fitting/planar_constraint_space.h"
+#include "fitting/polynomial.h"
 
 namespace linkfit {
 namespace {
@@ -54,7 +62,6 @@ using internal::RestrictedConics;
 using Complex = std::complex<double>;
 using Vector3c = Eigen::Matrix<Complex, 3, 1>;
 using PlaneBasis = Eigen::Matrix<double, 8, 3>;
-using NullBasis4 = Eigen::Matrix<double, 8, 4>;
 
 // A root whose imaginary part is below this (relative to its largest component) is tried as
 // a real root (it is accepted only if Newton's method then converges).
@@ -67,34 +74,35 @@ constexpr double kSliderTolerance = 1e-9;
 constexpr double kSampleResidual = 1e-10;
 // Residual (normalized units) above which a sample is polished on its geometric equations.
 constexpr double kPolishResidual = 1e-11;
-// Pivots farther than this (normalized units) from the centroid: the sample is dropped.
-constexpr double kFarPivot = 1e3;
-// Two real points of one plane closer than this (projective distance) are one.
-constexpr double kDuplicateDistance = 1e-7;
+// Pivots farther than this (normalized units) from the centroid: the sample is not kept (the
+// curve's sketch ends there; a slider dyad is listed on its own, exactly).
+constexpr double kFarPivot = 100.0;
 constexpr int kPolishIterations = 4;
-// Curve tracing in the projective 3-space (unit null-space coordinates): the largest and the
-// smallest step, the steps per component at most, the least cosine between consecutive
-// tangents, and the distance within which a sweep point counts as reached by a trace.
-constexpr double kMaxStep = 0.005;
-constexpr double kMinStep = 1e-13;
-constexpr int kMaxTraceSteps = 200000;
-constexpr int kMaxTotalSteps = 400000;  // over all traces of one call (a guard, not a limit)
-constexpr double kMinTangentCosine = 0.99;
-constexpr double kCoverDistance = 0.01;
-// Steps are at most this fraction of the Jacobian's smallest singular value (Separation), but
-// need not be shorter than kMinSafeStep.
-constexpr double kSeparationStep = 0.1;
-constexpr double kMinSafeStep = 1e-7;
-// Candidate lines tried for the pencil's axis (seeded, deterministic).
-constexpr int kAxisCandidates = 64;
-constexpr uint64_t kAxisSeed = 20240613;
+// Outside the refine radius consecutive samples are at most this fraction of their distance
+// from the centroid apart (and at most half the break distance, so that the sketch stays one
+// polyline).
+constexpr double kSketchStep = 0.04;
+// Steps of theta (radians): the largest (also across samples that are not kept), the first
+// from an interval's end (where the curve's speed in theta is infinite), the smallest.
+constexpr double kMaxAngleStep = 0.02;
+constexpr double kFirstAngleStep = 1e-6;
+constexpr double kMinAngleStep = 1e-13;
+// Directions of the lines through the centroid on which a base point is sought.
+constexpr int kBaseDirections = 16;
+// A discriminant root whose imaginary part is below this (relative to 1 + |t|) is tried as a
+// real root; it is taken when, after Newton's method, the discriminant there is below
+// kRootValue times its largest coefficient.
+constexpr double kRootImaginary = 1e-3;
+constexpr double kRootValue = 1e-10;
 // Positions of a pivot closer than this (relative to their spread or L) coincide; positions
 // whose triangle is flatter than this (|cross| / longest side^2) are collinear.
 constexpr double kCoincident = 1e-12;
 constexpr double kCollinear = 1e-10;
 // A fitted circle larger than this (relative to the spread of the points) is a line.
 constexpr double kLineRadius = 1e9;
-// A pivot this close (relative to L, first order) to the circle-point curve is on it.
+// A pivot this close (relative to L, first order) to the circle-point curve, times 1 plus its
+// distance from E's origin (over L), is on it: the determinant's rounding floor grows with the
+// distance (a pivot 140 L away gets within 2e-11 L at best).
 constexpr double kOnCurve = 1e-11;
 // A pivot moved by less than this (relative to L) onto the curve is reported as not moved.
 constexpr double kMoveNoteThreshold = 1e-9;
@@ -102,315 +110,386 @@ constexpr double kMoveNoteThreshold = 1e-9;
 // ---------------------------------------------------------------------------------------------
 // Curve sampling.
 
-// One real point of the curve, in the normalized frames. `point` is its projective point (unit
-// null-space coordinates w, z = N w; the sign is carried continuously along a trace); `key`
-// places its dyad for drawing and density: RR (F, m), PR (foot of the slider line in Sigma, m),
-// RP (F, foot of the line in E).
+// One point of the curve, in the normalized frames: an RR dyad (fixed pivot F in Sigma, moving
+// pivot m in E, radius r), `kept` when it fits the poses to kSampleResidual with both pivots
+// within kFarPivot of the centroid, `inside` when both are within the refine radius.
 struct Sample {
-  PlanarDyad dyad;
-  Eigen::Vector4d point = Eigen::Vector4d::Zero();
-  Eigen::Vector4d key = Eigen::Vector4d::Zero();
-  double radius = 0.0;     // RR: the dyad's radius (with `key`, what KeyDistance compares)
-  bool kept = false;       // a dyad of the poses to the sample tolerance, pivots not far
-  bool refinable = false;  // kept and RR
-  bool inside = false;     // refinable with both pivots within refine_radius of the centroid
+  Eigen::Vector2d fixed_pivot = Eigen::Vector2d::Zero();
+  Eigen::Vector2d moving_pivot = Eigen::Vector2d::Zero();
+  double radius = 0.0;
+  double reach = 0.0;  // the farther pivot's distance from the centroid (moving: at pose 0)
+  bool kept = false;
+  bool inside = false;
 };
 
 // How far apart two samples' dyads are, as DyadDistance measures it: the larger pivot
-// displacement (RR: and the radius change).
+// displacement and the radius change.
 double KeyDistance(const Sample& a, const Sample& b) {
-  const Eigen::Vector4d d = a.key - b.key;
-  return std::max({d.head<2>().norm(), d.tail<2>().norm(), std::abs(a.radius - b.radius)});
+  const double dr = a.radius - b.radius;
+  return std::sqrt(std::max({(a.fixed_pivot - b.fixed_pivot).squaredNorm(),
+                             (a.moving_pivot - b.moving_pivot).squaredNorm(), dr * dr}));
 }
 
-// Distance of two projective points (unit vectors up to sign): |a -+ b| for the nearer sign.
-double ProjectiveDistance(const Eigen::Vector4d& a, const Eigen::Vector4d& b) {
-  return std::sqrt(std::max(0.0, 2.0 - 2.0 * std::abs(a.dot(b))));
-}
-
-class CurveSampler {
+// The center-point cubic D(F) of four frames, expanded about a base point B:
+// D(B + x) = sum_{a + b <= 3} c(a, b) x^a y^b. Subtracting |F|^2 times the column of ones from
+// the first column makes every row of the determinant affine in F, M(F) = M(B) + x Mx + y My,
+// so the coefficients are sums of the determinants with each of the first three columns taken
+// from M(B), Mx or My (multilinearity).
+class CenterPointCubic {
  public:
-  CurveSampler(const std::vector<PlanarPose>& poses, const BurmesterCurveOptions& options)
-      : frames_(MakeFrames(poses)), options_(options) {}
+  explicit CenterPointCubic(const std::vector<PoseFrame>& frames) {
+    for (int j = 0; j < 4; ++j) {
+      const Eigen::Matrix2d rt = frames[j].rotation.transpose();
+      const Eigen::Vector2d d = frames[j].origin;
+      m0_.row(j) << d.squaredNorm(), -(rt * d).transpose(), 1.0;
+      mx_.row(j) << -2.0 * d.x(), rt.col(0).transpose(), 0.0;
+      my_.row(j) << -2.0 * d.y(), rt.col(1).transpose(), 0.0;
+    }
+  }
 
-  // Sets up the null space N of the four rows, the two quadrics restricted to it
-  // (w^T A_i w = Q_i(N w)) and the pencil. False for a degenerate task.
-  bool Init(const std::vector<PlanarPose>& poses) {
-    Eigen::Matrix<double, 4, 8> rows;
-    for (int j = 0; j < 4; ++j) rows.row(j) = ConstraintRow(poses[j]).transpose();
-    const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, 8, 4>> qr(rows.transpose());
-    const double r_first = std::abs(qr.matrixR()(0, 0));
-    const double r_last = std::abs(qr.matrixR()(3, 3));
-    if (!(r_last > 1e-10 * r_first)) return false;
-    const Eigen::Matrix<double, 8, 8> q = qr.householderQ();
-    null_ = q.rightCols<4>();
-    RestrictedConics(null_, ConicFill::kMirrorUpper, &a1_, &a2_);
-    if (!(a1_.norm() > 0.0) || !(a2_.norm() > 0.0)) return false;
-    a1_ /= a1_.norm();
-    a2_ /= a2_.norm();
-    // The slider hyperplane z0 = 0 of the 3-space: w orthogonal to c = row 0 of the basis.
-    Eigen::Vector4d c = null_.row(0).transpose();
-    if (!(c.norm() > 1e-12)) c = Eigen::Vector4d::UnitX();  // every dyad a slider: any pencil
-    c.normalize();
-    const Eigen::HouseholderQR<Eigen::Vector4d> house(c);
-    const Eigen::Matrix4d h = house.householderQ();
-    const Eigen::Matrix<double, 4, 3> w = h.rightCols<3>();  // orthonormal basis of c^perp
-    // The curve meets the slider plane in 4 points (complex included); the axis of the pencil
-    // is a line of that plane as far from them as possible, so that it misses the curve (any
-    // point of the curve on a line of the slider plane is one of these four).
-    std::vector<ComplexConstraintVector> roots;
-    const PlaneBasis slider_plane = null_ * w;
-    std::vector<Vector3c> points;
-    if (IntersectConstraintConics(slider_plane, &roots) > 0) {
-      for (const ComplexConstraintVector& z : roots) {
-        Vector3c s = slider_plane.transpose().cast<Complex>() * z;
-        const double norm = s.norm();
-        if (norm > 0.0) points.push_back(s / norm);
+  void Expand(const Eigen::Vector2d& base) {
+    base_ = base;
+    const Eigen::Matrix4d at_base = m0_ + base.x() * mx_ + base.y() * my_;
+    const Eigen::Matrix4d* parts[3] = {&at_base, &mx_, &my_};
+    c_.setZero();
+    for (int k = 0; k < 27; ++k) {
+      const int pick[3] = {k % 3, (k / 3) % 3, k / 9};
+      Eigen::Matrix4d m;
+      for (int i = 0; i < 3; ++i) m.col(i) = parts[pick[i]]->col(i);
+      m.col(3).setOnes();
+      const int a = (pick[0] == 1) + (pick[1] == 1) + (pick[2] == 1);
+      const int b = (pick[0] == 2) + (pick[1] == 2) + (pick[2] == 2);
+      c_(a, b) += m.determinant();
+    }
+  }
+
+  const Eigen::Vector2d& base() const { return base_; }
+  double Coefficient(int a, int b) const { return c_(a, b); }
+
+  // The homogeneous parts f1, f2, f3 about the base along u.
+  void Parts(const Eigen::Vector2d& u, double* f1, double* f2, double* f3) const {
+    const double x = u.x(), y = u.y();
+    *f1 = c_(1, 0) * x + c_(0, 1) * y;
+    *f2 = (c_(2, 0) * x + c_(1, 1) * y) * x + c_(0, 2) * y * y;
+    *f3 = ((c_(3, 0) * x + c_(2, 1) * y) * x + c_(1, 2) * y * y) * x + c_(0, 3) * y * y * y;
+  }
+
+  // The gradient of D at base + x.
+  Eigen::Vector2d Gradient(const Eigen::Vector2d& x) const {
+    Eigen::Vector2d g = Eigen::Vector2d::Zero();
+    for (int a = 0; a <= 3; ++a) {
+      for (int b = 0; a + b <= 3; ++b) {
+        if (a > 0) g.x() += a * c_(a, b) * std::pow(x.x(), a - 1) * std::pow(x.y(), b);
+        if (b > 0) g.y() += b * c_(a, b) * std::pow(x.x(), a) * std::pow(x.y(), b - 1);
       }
     }
-    std::mt19937_64 rng(kAxisSeed);
-    std::normal_distribution<double> gauss;
-    Eigen::Vector3d best = Eigen::Vector3d::UnitZ();
-    double best_score = -1.0;
-    for (int candidate = 0; candidate < kAxisCandidates; ++candidate) {
-      Eigen::Vector3d v(gauss(rng), gauss(rng), gauss(rng));
-      v.normalize();
-      double score = 1.0;  // min over the points of |v . s|: sine of their distance to the axis
-      for (const Vector3c& s : points) {
-        score = std::min(score, std::abs(v.cast<Complex>().dot(s)));
-      }
-      if (score > best_score) {
-        best_score = score;
-        best = v;
+    return g;
+  }
+
+  double Scale() const { return c_.cwiseAbs().maxCoeff(); }
+
+ private:
+  Eigen::Matrix4d m0_, mx_, my_;
+  Eigen::Vector2d base_ = Eigen::Vector2d::Zero();
+  Eigen::Matrix4d c_ = Eigen::Matrix4d::Zero();  // c_(a, b), a + b <= 3
+};
+
+// The center-point curve of four normalized frames as a function of the angle of the line
+// through the base point (file comment), and its sampling.
+class CurveTracer {
+ public:
+  CurveTracer(const std::vector<PoseFrame>& frames, const BurmesterCurveOptions& options)
+      : frames_(frames), options_(options), cubic_(frames) {}
+
+  // Finds a base point of the curve near the centroid, where the curve is regular: a real
+  // intersection with one of kBaseDirections lines through the centroid, the one of largest
+  // gradient over (1 + distance)^4 (the gradient grows as the distance squared). Seen from a
+  // far base point the rest of the curve lies within a narrow angle, where the discriminant's
+  // roots cluster. False when the cubic vanishes (a degenerate task).
+  bool Init() {
+    cubic_.Expand(Eigen::Vector2d::Zero());
+    const double scale = cubic_.Scale();
+    if (!(scale > 0.0) || !std::isfinite(scale)) return false;
+    double best = -1.0;
+    Eigen::Vector2d base = Eigen::Vector2d::Zero();
+    for (int k = 0; k < kBaseDirections; ++k) {
+      const double angle = M_PI * (k + 0.5) / kBaseDirections;
+      const Eigen::Vector2d u(std::cos(angle), std::sin(angle));
+      double f1, f2, f3;
+      cubic_.Parts(u, &f1, &f2, &f3);
+      if (!(std::abs(f3) > 1e-12 * scale)) continue;
+      double roots[3];
+      const int count = SolveCubicReal(f3, f2, f1, cubic_.Coefficient(0, 0), roots);
+      for (int i = 0; i < count; ++i) {
+        const Eigen::Vector2d point = roots[i] * u;
+        const double score = cubic_.Gradient(point).norm() / std::pow(1.0 + point.norm(), 4);
+        if (std::isfinite(score) && score > best) {
+          best = score;
+          base = point;
+        }
       }
     }
-    // Axis spanned by u1, u2 (orthogonal to `best` within c^perp); planes through it contain
-    // v(phi) = cos(phi) v1 + sin(phi) c with v1 = w * best: phi = 0 is the slider plane.
-    const Eigen::HouseholderQR<Eigen::Vector3d> house3(best);
-    const Eigen::Matrix3d h3 = house3.householderQ();
-    axis4_.col(0) = w * h3.col(1);
-    axis4_.col(1) = w * h3.col(2);
-    v1_4_ = w * best;
-    v2_4_ = c;
-    axis_ = null_ * axis4_;
-    v1_ = null_ * v1_4_;
-    v2_ = null_ * v2_4_;
+    if (!(best > 0.0)) return false;
+    cubic_.Expand(base);
     return true;
   }
 
-  // The real curve points in the plane of angle phi of the pencil (IntersectConstraintConics,
-  // each root polished on the two conics and read as a dyad).
-  std::vector<Sample> SamplePlane(double phi) const {
-    std::vector<Sample> out;
-    PlaneBasis basis;
-    basis.leftCols<2>() = axis_;
-    basis.col(2) = std::cos(phi) * v1_ + std::sin(phi) * v2_;
-    std::vector<ComplexConstraintVector> roots;
-    if (IntersectConstraintConics(basis, &roots) <= 0) return out;
-    Eigen::Matrix3d m1, m2;
-    RestrictedConics(basis, ConicFill::kMirrorUpper, &m1, &m2);
-    for (const ComplexConstraintVector& z : roots) {
-      Vector3c a = basis.transpose().cast<Complex>() * z;
-      int k = 0;
-      a.cwiseAbs().maxCoeff(&k);
-      if (!(std::abs(a[k]) > 0.0)) continue;
-      a /= a[k];
-      if (!(a.imag().norm() <= kRealTolerance * a.real().norm())) continue;
-      Eigen::Vector3d a_real = a.real();
-      if (!(PolishRealRoot(m1, m2, kPolishIterations, &a_real) <= kConicTolerance)) continue;
-      const Sample sample = ReadPoint((null_.transpose() * (basis * a_real)).normalized());
-      bool duplicate = false;
-      for (const Sample& previous : out) {
-        duplicate =
-            duplicate || ProjectiveDistance(previous.point, sample.point) < kDuplicateDistance;
-      }
-      if (!duplicate) out.push_back(sample);
-    }
-    return out;
-  }
-
-  // The pencil angle in [0, pi) of the plane through the axis and w.
-  double PlaneAngle(const Eigen::Vector4d& w) const {
-    double phi = std::atan2(v2_4_.dot(w), v1_4_.dot(w));
-    if (phi < 0.0) phi += M_PI;
-    if (phi >= M_PI) phi -= M_PI;
-    return phi;
-  }
-
-  // Traces the component of the curve through `seed` by predictor-corrector continuation in
-  // the projective 3-space: a step along the tangent (orthogonal to w, A1 w and A2 w), then
-  // Newton's method on Q1 = Q2 = 0 orthogonally to the tangent. Steps are at most kMaxStep and,
-  // where the dyads lie inside the refine radius, as long as keeps consecutive dyads within
-  // the refine step. Returns true when the trace came back to the seed (a closed component);
-  // `path` holds the samples from the seed on.
-  bool Trace(const Sample& seed, int* budget, std::vector<Sample>* path) const {
-    path->assign(1, seed);
-    const Eigen::Vector4d start = seed.point;
-    const Eigen::Vector4d start_tangent = Tangent(start);
-    Eigen::Vector4d tangent = start_tangent;
-    double step =
-        std::min(0.25 * kMaxStep, std::max(kSeparationStep * Separation(start), kMinSafeStep));
-    const double key_step = options_.refine_step;
-    auto controlled = [](const Sample& a, const Sample& b) {
-      return a.refinable && b.refinable && (a.inside || b.inside);
-    };
-    for (int n = 0; n < kMaxTraceSteps; ++n) {
-      const Sample& current = path->back();
-      Sample next;
-      Eigen::Vector4d next_tangent;
-      double taken = 0.0;
-      while (true) {
-        if (!(step >= kMinStep) || --*budget < 0) return false;
-        const Eigen::Vector4d predicted = (current.point + step * tangent).normalized();
-        Eigen::Vector4d w = predicted;
-        bool ok = Correct(tangent, &w) && ProjectiveDistance(w, predicted) <= 0.1 * step;
-        if (ok) {
-          next_tangent = Tangent(w);
-          if (next_tangent.dot(tangent) < 0.0) next_tangent = -next_tangent;
-          ok = next_tangent.dot(tangent) >= kMinTangentCosine;
-        }
-        if (ok) {
-          next = ReadPoint(w);
-          ok = !controlled(current, next) || KeyDistance(current, next) <= key_step;
-        }
-        if (ok) {
-          taken = step;
-          break;
-        }
-        step *= 0.5;
-      }
-      // Back at the seed: it lies on the arc just taken, and the trace passes it in the
-      // direction it left (another strand of the curve may pass close by).
-      if (n >= 2 &&
-          ProjectiveDistance(current.point, start) + ProjectiveDistance(start, next.point) <=
-              1.1 * taken &&
-          (current.point.dot(start) < 0.0 ? -1.0 : 1.0) * tangent.dot(start_tangent) >
-              kMinTangentCosine) {
-        return true;
-      }
-      if (controlled(current, next)) {
-        const double jump = std::max(KeyDistance(current, next), 1e-300);
-        step *= std::clamp(0.7 * key_step / jump, 0.5, 2.0);
-      } else {
-        step *= 2.0;
-      }
-      step = std::min(step, std::max(kSeparationStep * Separation(next.point), kMinSafeStep));
-      step = std::min(step, kMaxStep);
-      tangent = next_tangent;
-      path->push_back(next);
-    }
-    return false;
-  }
-
- private:
-  // The smallest singular value of the Jacobian of (Q1, Q2) on the unit sphere at w: small
-  // where two strands of the curve come close (near a node), which the step must not jump.
-  double Separation(const Eigen::Vector4d& w) const {
-    Eigen::Matrix<double, 2, 4> jacobian;
-    jacobian.row(0) = 2.0 * (a1_ * w).transpose();
-    jacobian.row(1) = 2.0 * (a2_ * w).transpose();
-    const Eigen::Matrix2d gram = jacobian * jacobian.transpose();
-    const double half_trace = 0.5 * gram.trace();
-    const double root = std::sqrt(std::max(0.0, half_trace * half_trace - gram.determinant()));
-    return std::sqrt(std::max(0.0, half_trace - root));
-  }
-
-  // The unit vector orthogonal to w, A1 w and A2 w (the curve's tangent at w): the
-  // generalized cross product of the three, by cofactors.
-  Eigen::Vector4d Tangent(const Eigen::Vector4d& w) const {
-    Eigen::Matrix<double, 3, 4> rows;
-    rows.row(0) = w.transpose();
-    rows.row(1) = (a1_ * w).transpose();
-    rows.row(2) = (a2_ * w).transpose();
-    Eigen::Vector4d tangent;
-    for (int i = 0; i < 4; ++i) {
-      Eigen::Matrix3d minor;
-      for (int c = 0, cc = 0; c < 4; ++c) {
-        if (c != i) minor.col(cc++) = rows.col(c);
-      }
-      tangent[i] = (i % 2 ? -1.0 : 1.0) * minor.determinant();
-    }
-    return tangent.normalized();
-  }
-
-  // Newton's method on w^T A1 w = w^T A2 w = 0 with the step orthogonal to `tangent` and to
-  // w (then renormalized). True when it converged.
-  bool Correct(const Eigen::Vector4d& tangent, Eigen::Vector4d* w) const {
-    for (int iteration = 0; iteration < 8; ++iteration) {
-      const Eigen::Vector4d g1 = a1_ * *w, g2 = a2_ * *w;
-      const double f1 = w->dot(g1), f2 = w->dot(g2);
-      if (std::hypot(f1, f2) <= 1e-15) return true;
-      Eigen::Matrix4d jacobian;
-      jacobian.row(0) = 2.0 * g1.transpose();
-      jacobian.row(1) = 2.0 * g2.transpose();
-      jacobian.row(2) = tangent.transpose();
-      jacobian.row(3) = w->transpose();
-      const Eigen::Vector4d delta = jacobian.partialPivLu().solve(Eigen::Vector4d(-f1, -f2, 0, 0));
-      if (!delta.allFinite()) return false;
-      *w = (*w + delta).normalized();
-      if (delta.norm() <= 1e-15) break;
-    }
-    const double f1 = w->dot(a1_ * *w), f2 = w->dot(a2_ * *w);
-    return std::hypot(f1, f2) <= 1e-12;
-  }
-
-  // The sample of the projective point w (ReadingsOf, ChooseReading), its dyad polished on its
-  // geometric equations when needed; `kept` when it fits the poses and its pivots are not far.
-  Sample ReadPoint(const Eigen::Vector4d& w) const {
+  // The sample on the line of direction u (theta): the root s+ (`plus`) or s- of the line's
+  // quadratic (stable forms, no cancellation), F = B + s u, m the centre of the circle through
+  // F's four positions q_j in E. (F does not depend on the length of u: the quadratic's
+  // coefficients are forms of degree 1, 2 and 3 in u.)
+  Sample At(const Eigen::Vector2d& u, bool plus) const {
     Sample sample;
-    sample.point = w;
-    const ConstraintVector z = null_ * w;
-    // A slider reading fits only where K0 vanishes: with |K0| > 1e-3 |z| its residual is of
-    // the order of K0 |P|^2 / |K| >> kSliderTolerance, and the RR reading is not far.
-    const bool sliders = std::abs(z[0]) <= 1e-3 * z.norm();
-    DyadReading readings[3];
-    const int count = ReadingsOf(z, frames_, sliders, readings);
-    if (count == 0) return sample;
-    PlanarDyad dyad = readings[ChooseReading(readings, count, kSliderTolerance)].dyad;
-    if (dyad.type == DyadType::kRR && Far(dyad)) return sample;
-    if (MaxResidual(dyad, frames_) > kPolishResidual) {
+    double f1, f2, f3;
+    cubic_.Parts(u, &f1, &f2, &f3);
+    const double root = std::sqrt(std::max(0.0, f2 * f2 - 4.0 * f1 * f3));
+    const double s = f2 >= 0.0 ? (plus ? -2.0 * f1 / (f2 + root) : -(f2 + root) / (2.0 * f3))
+                               : (plus ? (root - f2) / (2.0 * f3) : 2.0 * f1 / (root - f2));
+    if (!std::isfinite(s)) return sample;
+    const Eigen::Vector2d fixed = cubic_.base() + s * u;
+    if (!(fixed.squaredNorm() <= kFarPivot * kFarPivot)) return sample;
+    // The circle point: least squares on 2 (q_j - q_0) . m = |q_j|^2 - |q_0|^2 about the
+    // positions' centroid (normal equations of the 3 x 2 system).
+    Eigen::Vector2d q[4];
+    Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+    for (int j = 0; j < 4; ++j) {
+      q[j] = frames_[j].rotation.transpose() * (fixed - frames_[j].origin);
+      centroid += 0.25 * q[j];
+    }
+    for (Eigen::Vector2d& p : q) p -= centroid;
+    Eigen::Matrix2d normal = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d rhs = Eigen::Vector2d::Zero();
+    for (int j = 1; j < 4; ++j) {
+      const Eigen::Vector2d row = 2.0 * (q[j] - q[0]);
+      normal += row * row.transpose();
+      rhs += row * (q[j].squaredNorm() - q[0].squaredNorm());
+    }
+    const double det = normal.determinant();
+    if (!(std::abs(det) > 0.0)) return sample;
+    const Eigen::Vector2d center =
+        Eigen::Vector2d(normal(1, 1) * rhs.x() - normal(0, 1) * rhs.y(),
+                        normal(0, 0) * rhs.y() - normal(1, 0) * rhs.x()) /
+        det;
+    // The radius from the mean squared distance; |d_j - r| = |d_j^2 - r^2| / (d_j + r) is at
+    // most `spread` / r, which bounds the dyad's residual without a square root per pose.
+    double squared[4], mean = 0.0;
+    for (int j = 0; j < 4; ++j) {
+      squared[j] = (q[j] - center).squaredNorm();
+      mean += 0.25 * squared[j];
+    }
+    double spread = 0.0;
+    for (int j = 0; j < 4; ++j) spread = std::max(spread, std::abs(squared[j] - mean));
+    PlanarDyad dyad = PlanarDyad::RR(fixed, center + centroid, std::sqrt(mean));
+    if (!(spread <= kPolishResidual * dyad.radius)) {
       dyad = PolishDyad<4>(dyad, frames_, kPolishIterations);
+      if (!(MaxResidual(dyad, frames_) <= kSampleResidual)) return sample;
     }
-    if (!(MaxResidual(dyad, frames_) <= kSampleResidual)) return sample;
-    if (dyad.type == DyadType::kRR && Far(dyad)) return sample;
-    sample.dyad = dyad;
-    sample.kept = true;
-    switch (dyad.type) {
-      case DyadType::kRR:
-        sample.key << dyad.fixed_pivot, dyad.moving_pivot;
-        sample.radius = dyad.radius;
-        sample.refinable = true;
-        sample.inside = PivotDistance(dyad) <= options_.refine_radius;
-        break;
-      case DyadType::kPR:
-        sample.key << dyad.LineFoot(), dyad.moving_pivot;
-        break;
-      case DyadType::kRP:
-        sample.key << dyad.fixed_pivot, dyad.LineFoot();
-        break;
-    }
+    sample.fixed_pivot = dyad.fixed_pivot;
+    sample.moving_pivot = dyad.moving_pivot;
+    sample.radius = dyad.radius;
+    sample.reach = Reach(dyad);
+    sample.kept = sample.reach <= kFarPivot;
+    sample.inside = sample.reach <= options_.refine_radius;
     return sample;
   }
 
-  // Distance of the farther pivot of an RR dyad from the centroid (the moving pivot at the
-  // first pose).
-  double PivotDistance(const PlanarDyad& dyad) const {
+  // The intervals (a, b) of theta, 0 <= a < pi, a < b < a + pi, where the discriminant is
+  // positive, between consecutive roots (theta and theta + pi are one line). Returns false when
+  // there is none. `whole` is set when the discriminant has no real root and is positive: then
+  // each root of the quadratic is a loop over theta in [0, pi).
+  bool Intervals(std::vector<std::pair<double, double>>* intervals, bool* whole) const {
+    intervals->clear();
+    *whole = false;
+    // Quartic form disc(u) = f2^2 - 4 f1 f3 = sum_k e_k ux^(4-k) uy^k.
+    const double p1[2] = {cubic_.Coefficient(1, 0), cubic_.Coefficient(0, 1)};
+    const double p2[3] = {cubic_.Coefficient(2, 0), cubic_.Coefficient(1, 1),
+                          cubic_.Coefficient(0, 2)};
+    const double p3[4] = {cubic_.Coefficient(3, 0), cubic_.Coefficient(2, 1),
+                          cubic_.Coefficient(1, 2), cubic_.Coefficient(0, 3)};
+    std::array<double, 5> e{};
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) e[i + j] += p2[i] * p2[j];
+    }
+    for (int i = 0; i < 2; ++i) {
+      for (int j = 0; j < 4; ++j) e[i + j] -= 4.0 * p1[i] * p3[j];
+    }
+    const double size =
+        std::max({std::abs(e[0]), std::abs(e[1]), std::abs(e[2]), std::abs(e[3]), std::abs(e[4])});
+    if (!(size > 0.0)) return false;
+    auto disc = [&](double theta, double* derivative) {
+      const double x = std::cos(theta), y = std::sin(theta);
+      double value = 0.0, dx = 0.0, dy = 0.0;
+      for (int k = 0; k <= 4; ++k) {
+        value += e[k] * std::pow(x, 4 - k) * std::pow(y, k);
+        if (k < 4) dx += (4 - k) * e[k] * std::pow(x, 3 - k) * std::pow(y, k);
+        if (k > 0) dy += k * e[k] * std::pow(x, 4 - k) * std::pow(y, k - 1);
+      }
+      if (derivative) *derivative = -y * dx + x * dy;
+      return value;
+    };
+    // Roots in t = uy / ux (a companion matrix), and theta = pi / 2 when the degree drops.
+    std::vector<double> roots;
+    int degree = 4;
+    while (degree > 0 && !(std::abs(e[degree]) > 1e-13 * size)) --degree;
+    if (degree < 4) roots.push_back(0.5 * M_PI);
+    if (degree > 0) {
+      Eigen::VectorXd coefficients(degree + 1);
+      for (int k = 0; k <= degree; ++k) coefficients[k] = e[k];
+      Eigen::PolynomialSolver<double, Eigen::Dynamic> solver(coefficients);
+      for (int i = 0; i < solver.roots().size(); ++i) {
+        const Complex t = solver.roots()[i];
+        if (std::abs(t.imag()) <= kRootImaginary * (1.0 + std::abs(t))) {
+          roots.push_back(std::atan(t.real()));
+        }
+      }
+    }
+    // Newton's method on the trigonometric form, then into [0, pi), ascending, distinct.
+    for (double& theta : roots) {
+      for (int iteration = 0; iteration < 8; ++iteration) {
+        double derivative;
+        const double value = disc(theta, &derivative);
+        if (!(std::abs(derivative) > 0.0)) break;
+        const double step = value / derivative;
+        if (!(std::abs(step) < 1e-2)) break;
+        theta -= step;
+        if (std::abs(step) < 1e-15) break;
+      }
+      if (!(std::abs(disc(theta, nullptr)) <= kRootValue * size)) theta = NAN;
+      theta = std::fmod(theta, M_PI);
+      if (theta < 0.0) theta += M_PI;
+    }
+    roots.erase(std::remove_if(roots.begin(), roots.end(), [](double t) { return std::isnan(t); }),
+                roots.end());
+    std::sort(roots.begin(), roots.end());
+    roots.erase(
+        std::unique(roots.begin(), roots.end(), [](double a, double b) { return b - a < 1e-12; }),
+        roots.end());
+    if (roots.size() > 1 && roots.back() - roots.front() > M_PI - 1e-12) roots.pop_back();
+    if (roots.empty()) {
+      *whole = disc(0.0, nullptr) > 0.0;
+      return *whole;
+    }
+    for (size_t i = 0; i < roots.size(); ++i) {
+      const double a = roots[i];
+      const double b = i + 1 < roots.size() ? roots[i + 1] : roots[0] + M_PI;
+      if (disc(0.5 * (a + b), nullptr) > 0.0) intervals->push_back({a, b});
+    }
+    return !intervals->empty();
+  }
+
+  // Samples theta from `from` to `to` (either way) in order and hands each sample to `emit`,
+  // the ends included unless `skip_first` / `skip_last`: consecutive dyads within the refine
+  // step where either is inside the refine radius, within the sketch step where both are kept,
+  // and theta steps of at most kMaxAngleStep.
+  template <typename Emit>
+  void Sweep(double from, double to, bool plus, bool skip_first, bool skip_last,
+             Emit&& emit) const {
+    const double direction = to >= from ? 1.0 : -1.0;
+    Eigen::Vector2d u(std::cos(from), std::sin(from));
+    Sample current = At(u, plus);
+    if (!skip_first) emit(current);
+    double left = std::abs(to - from);  // of the sweep, in radians
+    double step = kFirstAngleStep;
+    while (left > 0.0) {
+      step = std::min({step, left, kMaxAngleStep});
+      const bool last = step >= left;
+      // u turned by the step (Taylor series: step <= kMaxAngleStep, error below 1e-18).
+      const double h2 = step * step;
+      const double c = 1.0 - h2 / 2.0 * (1.0 - h2 / 12.0 * (1.0 - h2 / 30.0));
+      const double s = direction * step * (1.0 - h2 / 6.0 * (1.0 - h2 / 20.0 * (1.0 - h2 / 42.0)));
+      const Eigen::Vector2d next_u =
+          last ? Eigen::Vector2d(std::cos(to), std::sin(to))
+               : Eigen::Vector2d(c * u.x() - s * u.y(), s * u.x() + c * u.y());
+      Sample next = At(next_u, plus);
+      double limit = std::numeric_limits<double>::infinity();
+      if (current.kept && next.kept) {
+        limit = current.inside || next.inside
+                    ? options_.refine_step
+                    : std::min(0.5 * options_.break_distance,
+                               std::max(options_.refine_step,
+                                        kSketchStep * std::min(current.reach, next.reach)));
+      }
+      const double jump = current.kept && next.kept ? KeyDistance(current, next) : 0.0;
+      if (jump > limit && step > kMinAngleStep) {
+        step *= std::clamp(0.7 * limit / jump, 0.1, 0.5);
+        continue;
+      }
+      left = last ? 0.0 : left - step;
+      u = next_u;
+      current = next;
+      if (!(last && skip_last)) emit(current);
+      step *= jump > 0.0 ? std::clamp(0.7 * limit / jump, 0.5, 2.0) : 2.0;
+    }
+  }
+
+ private:
+  double Reach(const PlanarDyad& dyad) const {
     const Eigen::Vector2d moving = frames_[0].rotation * dyad.moving_pivot + frames_[0].origin;
     return std::max(dyad.fixed_pivot.norm(), moving.norm());
   }
-  bool Far(const PlanarDyad& dyad) const { return !(PivotDistance(dyad) <= kFarPivot); }
 
-  std::vector<PoseFrame> frames_;
+  const std::vector<PoseFrame>& frames_;
   BurmesterCurveOptions options_;
-  NullBasis4 null_;
-  Eigen::Matrix4d a1_, a2_;
-  // The pencil: planes spanned by the axis and cos(phi) v1 + sin(phi) v2, in the null-space
-  // coordinates (4) and in constraint space (8).
-  Eigen::Matrix<double, 4, 2> axis4_;
-  Eigen::Vector4d v1_4_, v2_4_;
-  Eigen::Matrix<double, 8, 2> axis_;
-  ConstraintVector v1_, v2_;
+  CenterPointCubic cubic_;
 };
+
+// The slider dyads of four normalized poses (file comment): the real points of the plane
+// z0 = 0 of the null space N of the four constraint rows, read as PR or RP dyads and polished on
+// their geometric equations. False for a degenerate task (rank-deficient rows).
+bool SliderDyads(const std::vector<PlanarPose>& poses, const std::vector<PoseFrame>& frames,
+                 std::vector<PlanarDyad>* sliders) {
+  sliders->clear();
+  Eigen::Matrix<double, 4, 8> rows;
+  for (int j = 0; j < 4; ++j) rows.row(j) = ConstraintRow(poses[j]).transpose();
+  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, 8, 4>> qr(rows.transpose());
+  const double r_first = std::abs(qr.matrixR()(0, 0));
+  const double r_last = std::abs(qr.matrixR()(3, 3));
+  if (!(r_last > 1e-10 * r_first)) return false;
+  const Eigen::Matrix<double, 8, 8> q = qr.householderQ();
+  const Eigen::Matrix<double, 8, 4> null = q.rightCols<4>();
+  // w orthogonal to c = row 0 of the basis: z0 = 0 (every dyad a slider when c vanishes; then
+  // any plane).
+  Eigen::Vector4d c = null.row(0).transpose();
+  if (!(c.norm() > 1e-12)) c = Eigen::Vector4d::UnitX();
+  c.normalize();
+  const Eigen::HouseholderQR<Eigen::Vector4d> house(c);
+  const Eigen::Matrix4d h = house.householderQ();
+  const PlaneBasis plane = null * h.rightCols<3>();
+  std::vector<ComplexConstraintVector> roots;
+  if (IntersectConstraintConics(plane, &roots) <= 0) return true;
+  Eigen::Matrix3d m1, m2;
+  RestrictedConics(plane, ConicFill::kMirrorUpper, &m1, &m2);
+  for (const ComplexConstraintVector& z : roots) {
+    Vector3c a = plane.transpose().cast<Complex>() * z;
+    int k = 0;
+    a.cwiseAbs().maxCoeff(&k);
+    if (!(std::abs(a[k]) > 0.0)) continue;
+    a /= a[k];
+    if (!(a.imag().norm() <= kRealTolerance * a.real().norm())) continue;
+    Eigen::Vector3d a_real = a.real();
+    if (!(PolishRealRoot(m1, m2, kPolishIterations, &a_real) <= kConicTolerance)) continue;
+    const ConstraintVector point = (plane * a_real).normalized();
+    DyadReading readings[3];
+    const int count = ReadingsOf(point, frames, true, readings);
+    if (count == 0) continue;
+    PlanarDyad dyad = readings[ChooseReading(readings, count, kSliderTolerance)].dyad;
+    if (dyad.type == DyadType::kRR) continue;
+    if (MaxResidual(dyad, frames) > kPolishResidual) {
+      dyad = PolishDyad<4>(dyad, frames, kPolishIterations);
+    }
+    if (!(MaxResidual(dyad, frames) <= kSampleResidual)) continue;
+    bool repeat = false;
+    for (const PlanarDyad& other : *sliders) {
+      repeat = repeat ||
+               (other.type == dyad.type && (other.moving_pivot - dyad.moving_pivot).norm() +
+                                                   (other.fixed_pivot - dyad.fixed_pivot).norm() +
+                                                   (other.line_point - dyad.line_point).norm() <
+                                               1e-9);
+    }
+    if (!repeat) sliders->push_back(dyad);
+  }
+  return true;
+}
 
 // ---------------------------------------------------------------------------------------------
 // Pivot dyads.
@@ -556,7 +635,9 @@ bool ProjectOntoCirclePointCurve(const std::vector<PoseFrame>& frames, const Eig
     const double g = ConcyclicCondition(frames, x, &gradient);
     return std::abs(g) / gradient.norm();
   };
-  auto on_curve = [&](const Eigen::Vector2d& x) { return distance(x) <= kOnCurve; };
+  auto on_curve = [&](const Eigen::Vector2d& x) {
+    return distance(x) <= kOnCurve * (1.0 + x.norm());
+  };
   // Newton along the gradient until the distance stops decreasing (rounding level).
   Eigen::Vector2d x = m0;
   double current = distance(x);
@@ -677,112 +758,92 @@ int SampleBurmesterCurves(const std::vector<PlanarPose>& poses,
     if (!pose.origin_in_fixed.allFinite() || !std::isfinite(pose.theta)) return 0;
   }
   const NormalizedMotion motion = Normalize(poses);
-  CurveSampler sampler(motion.poses, options);
-  if (!sampler.Init(motion.poses)) return 0;
-  const int planes = std::max(options.planes, 1);
-  const double h = M_PI / planes;
+  const std::vector<PoseFrame> frames = MakeFrames(motion.poses);
+  std::vector<PlanarDyad> sliders;
+  if (!SliderDyads(motion.poses, frames, &sliders)) return 0;
 
-  // The sweep: the real points of every plane of the pencil, seeds of the traces.
-  std::vector<std::vector<Sample>> seeds(planes);
-  for (int k = 0; k < planes; ++k) seeds[k] = sampler.SamplePlane(k * h);
-  std::vector<std::vector<char>> covered(planes);
-  for (int k = 0; k < planes; ++k) covered[k].assign(seeds[k].size(), 0);
-
-  // Marks the seeds that the step from a to b passes: those of the planes it crosses that lie
-  // within kCoverDistance of the chord. (A step that turns the plane by much passes close to
-  // the axis; then every plane is checked.)
-  auto cover = [&](const Eigen::Vector4d& a, Eigen::Vector4d b) {
-    if (a.dot(b) < 0.0) b = -b;
-    const Eigen::Vector4d chord = b - a;
-    auto mark = [&](int plane) {
-      for (size_t i = 0; i < seeds[plane].size(); ++i) {
-        if (covered[plane][i]) continue;
-        Eigen::Vector4d seed = seeds[plane][i].point;
-        if (seed.dot(a) < 0.0) seed = -seed;
-        const double t = std::clamp((seed - a).dot(chord) / chord.squaredNorm(), 0.0, 1.0);
-        if ((seed - a - t * chord).norm() < kCoverDistance) covered[plane][i] = 1;
-      }
-    };
-    const double phi_a = sampler.PlaneAngle(a);
-    double delta = sampler.PlaneAngle(b) - phi_a;
-    if (delta > 0.5 * M_PI) delta -= M_PI;
-    if (delta <= -0.5 * M_PI) delta += M_PI;
-    if (!(chord.squaredNorm() > 0.0)) return;
-    if (std::abs(delta) > 0.1) {
-      for (int plane = 0; plane < planes; ++plane) mark(plane);
-      return;
-    }
-    const double lo = std::min(phi_a, phi_a + delta), hi = std::max(phi_a, phi_a + delta);
-    for (long k = static_cast<long>(std::ceil(lo / h)); k * h <= hi; ++k) {
-      mark(static_cast<int>(((k % planes) + planes) % planes));
-    }
-  };
-
-  // Trace one component per uncovered seed (the slider plane k = 0 last: its points are the
-  // sliders, listed on their own below).
-  struct Trace {
-    std::vector<Sample> path;
-    bool closed = false;
-  };
-  std::vector<Trace> traces;
-  int budget = kMaxTotalSteps;
-  for (int pass = 0; pass < planes && budget > 0; ++pass) {
-    const int k = (pass + 1) % planes;
-    for (size_t i = 0; i < seeds[k].size(); ++i) {
-      if (covered[k][i]) continue;
-      covered[k][i] = 1;
-      Trace trace;
-      trace.closed = sampler.Trace(seeds[k][i], &budget, &trace.path);
-      for (size_t j = 0; j + 1 < trace.path.size(); ++j) {
-        cover(trace.path[j].point, trace.path[j + 1].point);
-      }
-      if (trace.closed) cover(trace.path.back().point, trace.path.front().point);
-      traces.push_back(std::move(trace));
-    }
-  }
-
-  // Polylines: kept RR dyads, cut where a dyad is dropped or consecutive dyads jump farther
-  // than the break distance. A closed trace is started at such a cut, or closed by repeating
-  // its first dyad when it has none.
+  // Polylines of kept dyads, cut where a dyad is dropped or consecutive dyads jump farther
+  // than the break distance, built as the samples come. A loop's last polyline is joined to its
+  // first when the loop closes there; a loop without a cut is closed by repeating its first dyad.
   int count = 0;
+  // The similarities back to the user's frames, as matrices (TransformDyad evaluates the
+  // rotation per point).
+  const Similarity2& sigma = motion.to_original_fixed;
+  const Similarity2& epsilon = motion.to_original_moving;
+  const Eigen::Matrix2d to_fixed = sigma.scale * Rotation2(sigma.angle);
+  const Eigen::Matrix2d to_moving = epsilon.scale * Rotation2(epsilon.angle);
+  const Eigen::Vector2d fixed_shift = sigma.translation, moving_shift = epsilon.translation;
   auto joined = [&](const Sample& a, const Sample& b) {
-    return a.refinable && b.refinable && KeyDistance(a, b) <= options.break_distance;
+    return a.kept && b.kept && KeyDistance(a, b) <= options.break_distance;
   };
-  for (Trace& trace : traces) {
-    std::vector<Sample>& path = trace.path;
-    const size_t n = path.size();
-    size_t first = 0;
-    bool cut = !trace.closed;
-    if (trace.closed) {
-      for (size_t j = 0; j < n && !cut; ++j) {
-        if (!joined(path[j], path[(j + 1) % n])) {
-          first = (j + 1) % n;
-          cut = true;
-        }
+  Sample first, previous;
+  bool started = false, cut = false;
+  std::vector<PlanarDyad> first_run, run;
+  auto flush = [&](std::vector<PlanarDyad>* polyline) {
+    if (!polyline->empty()) curves->branches.push_back(std::move(*polyline));
+    polyline->clear();
+  };
+  auto emit = [&](const Sample& sample) {
+    if (!started) {
+      first = sample;
+      started = true;
+    } else if (!joined(previous, sample)) {
+      if (cut) {
+        flush(&run);
+      } else {
+        first_run = std::move(run);
+        run.clear();
       }
+      cut = true;
     }
-    std::vector<PlanarDyad> branch;
-    auto flush = [&]() {
-      if (!branch.empty()) curves->branches.push_back(std::move(branch));
-      branch.clear();
-    };
-    for (size_t j = 0; j < n; ++j) {
-      const Sample& sample = path[(first + j) % n];
-      if (j > 0 && !joined(path[(first + j - 1) % n], sample)) flush();
-      if (!sample.refinable) continue;
-      branch.push_back(
-          TransformDyad(sample.dyad, motion.to_original_fixed, motion.to_original_moving));
+    if (sample.kept) {
+      run.push_back(PlanarDyad::RR(to_fixed * sample.fixed_pivot + fixed_shift,
+                                   to_moving * sample.moving_pivot + moving_shift,
+                                   sigma.scale * sample.radius));
       ++count;
     }
-    if (!cut && !branch.empty()) branch.push_back(branch.front());
-    flush();
+    previous = sample;
+  };
+  auto close_loop = [&]() {
+    if (!started) return;
+    if (joined(previous, first)) {
+      if (cut) {
+        run.insert(run.end(), first_run.begin(), first_run.end());
+      } else if (!run.empty()) {
+        run.push_back(run.front());
+      }
+      first_run.clear();
+    }
+    flush(&run);
+    flush(&first_run);
+    started = cut = false;
+  };
+
+  // The loops of the curve, in order (file comment): over an interval (a, b) of theta, the root
+  // s+ from a to b and then s- back from b to a (the two roots meet at a and b); or, when the
+  // discriminant has no root, each root over [0, pi) (theta + pi is the same line: s+ at pi is
+  // s+ at 0 with the direction reversed).
+  CurveTracer tracer(frames, options);
+  std::vector<std::pair<double, double>> intervals;
+  bool whole = false;
+  if (tracer.Init() && tracer.Intervals(&intervals, &whole)) {
+    if (whole) {
+      for (const bool plus : {true, false}) {
+        tracer.Sweep(0.0, M_PI, plus, false, true, emit);
+        close_loop();
+      }
+    }
+    for (const auto& [a, b] : intervals) {
+      tracer.Sweep(a, b, true, false, false, emit);
+      tracer.Sweep(b, a, false, true, true, emit);
+      close_loop();
+    }
   }
-  // The sliders: the kept PR and RP points of the slider plane, each on its own (their
-  // neighbours on the curve are RR dyads with a pivot far away).
-  for (const Sample& sample : seeds[0]) {
-    if (!sample.kept || sample.dyad.type == DyadType::kRR) continue;
+  // The sliders, each on its own (their neighbours on the curve are RR dyads with a pivot at
+  // infinity).
+  for (const PlanarDyad& slider : sliders) {
     curves->branches.push_back(
-        {TransformDyad(sample.dyad, motion.to_original_fixed, motion.to_original_moving)});
+        {TransformDyad(slider, motion.to_original_fixed, motion.to_original_moving)});
     ++count;
   }
   return count;

@@ -1,14 +1,15 @@
 // Fewer than five planar poses: the one-parameter dyad families of four poses (Burmester's
 // center-point and circle-point curves) and the dyad of a chosen pivot for three or four poses.
 //
-// Four poses leave a 4-dimensional null space of the constraint rows (planar_burmester.h),
-// a projective 3-space in which the two quadric relations Q1 = Q2 = 0 cut a curve: the
-// Burmester curve. Every point of it is a dyad (RR, or PR/RP where the curve passes through
-// the slider points); its fixed pivots trace the center-point curve (in Sigma) and its moving
-// pivots the circle-point curve (in E). The curve is found by sweeping a pencil of planes
-// through the 3-space; each plane meets it in the 4 points of a two-conic problem, solved by
-// IntersectConstraintConics. From these points each component is traced by continuation, so
-// that the samples come ordered along the curve and densely where the dyads move fast.
+// The dyads of four poses form a curve: their fixed pivots trace the center-point curve (in
+// Sigma), a circular cubic, and their moving pivots the circle-point curve (in E). The curve is
+// traced parametrically: lines through a point of the cubic meet it in two more points, the
+// roots of a quadratic in the distance along the line, so the line's angle parametrizes the
+// whole curve in closed form (each root over the angles where the quadratic's discriminant, a
+// quartic form, is positive; the two roots meet at its zeros). Every component is found, in
+// order, with the samples dense where the dyads move fast. The PR and RP dyads (the cubic's
+// point at infinity and the point whose circle point is at infinity) come from the slider plane
+// of the constraint space (planar_burmester.h).
 #ifndef LINKFIT_FITTING_PLANAR_BURMESTER_CURVES_H_
 #define LINKFIT_FITTING_PLANAR_BURMESTER_CURVES_H_
 
@@ -22,10 +23,6 @@
 namespace linkfit {
 
 struct BurmesterCurveOptions {
-  // Planes of the sweeping pencil that finds the curve's components: each meets the curve in
-  // up to 4 real points, from which the components are traced (a component that lies wholly
-  // between two planes is missed).
-  int planes = 720;
   // Consecutive samples farther apart than this (relative to L) start a new polyline, so that
   // branches through infinity are not joined across the picture.
   double break_distance = 2.0;
@@ -35,14 +32,16 @@ struct BurmesterCurveOptions {
   double refine_step = 0.03;
   // The radius (relative to L) about the pose-origin centroid within which the sampling is
   // this dense: a dyad is inside when both pivots (the moving one at the first pose) are.
-  // Farther out the curve runs off to infinity; the cost of the sampling grows with it.
+  // Farther out the curve runs off to infinity; it is sketched (consecutive samples at most 4 %
+  // of their distance from the centroid apart, and at most half the break distance) out to
+  // 100 L, where it is left.
   double refine_radius = 25.0;
 };
 
 // The sampled Burmester curve of exactly four poses: polylines of dyads, each continuous.
 // Center points are the dyads' fixed pivots (RR) and circle points their moving pivots. A closed
 // branch repeats its first dyad at its end; the PR and RP dyads of the curve (at most one each
-// for a general task) are branches of one dyad. Dyads with a pivot beyond 1000 L are left out.
+// for a general task) are branches of one dyad. RR dyads with a pivot beyond 100 L are left out.
 struct BurmesterCurves {
   std::vector<std::vector<PlanarDyad>> branches;
 };

@@ -21,6 +21,12 @@ using Vector4d = Eigen::Vector4d;
 // Two crank roots closer than this (relative, scaled frame) after Newton's method are one
 // double root.
 constexpr double kDoubleRoot = 1e-4;
+// A complex-conjugate pair whose imaginary part is below this (relative, scaled frame) is tried
+// as one real double root: the eigenvalues of a double root are accurate only to about
+// sqrt(epsilon * condition), and a last-digit change of the data splits an inverted
+// slider-crank's double crank into a real pair or a complex one 4e-4 apart (seen in a test
+// task). The deflated polish then accepts it only if it is a real double root.
+constexpr double kConjugateDoubleRoot = 1e-3;
 // Newton iterations before the roots are compared (the full polish comes after).
 constexpr int kClusterIterations = 2;
 // Newton iterations on a complex (non-real) crank after the comparison.
@@ -261,13 +267,17 @@ int SolveTimedCranks(const std::vector<Eigen::Vector2d>& points,
     if (root.allFinite()) roots.push_back(root);
   }
   // A double root (data made by a crank with an RP output dyad have one) converges only to
-  // about sqrt(epsilon) under Newton's method: pairs closer than kDoubleRoot are merged and
-  // polished on the deflated system.
+  // about sqrt(epsilon) under Newton's method: pairs closer than kDoubleRoot, and conjugate
+  // pairs within kConjugateDoubleRoot of the real axis, are merged and polished on the deflated
+  // system.
   std::vector<int> multiplicity(roots.size(), 1);
   for (size_t r = 0; r < roots.size(); ++r) {
     for (size_t s = r + 1; s < roots.size() && multiplicity[r] > 0; ++s) {
       const double size = std::max(1.0, roots[r].norm());
-      if (multiplicity[s] == 0 || (roots[r] - roots[s]).norm() > kDoubleRoot * size) continue;
+      if (multiplicity[s] == 0) continue;
+      const bool conjugate = (roots[r] - roots[s].conjugate()).norm() <= kDoubleRoot * size &&
+                             roots[r].imag().norm() <= kConjugateDoubleRoot * size;
+      if (!conjugate && (roots[r] - roots[s]).norm() > kDoubleRoot * size) continue;
       roots[r] = 0.5 * (roots[r] + roots[s]);
       multiplicity[r] += multiplicity[s];
       multiplicity[s] = 0;

@@ -33,7 +33,7 @@ double PositiveAngle(double angle) {
 // rho = hypot(q, r) and phi = atan2(r, q), cos(u - phi) in [m, M], so u - phi in [x0, x1] or
 // [-x1, -x0] with x0 = acos(M), x1 = acos(m); the two arcs join across 0 or pi when they touch.
 void SinusoidSet(double p, double q, double r, double lo, double hi, FourBarClosure* closure) {
-  const double rho = std::hypot(q, r);
+  const double rho = std::sqrt(q * q + r * r);  // hypot is slow, and no length overflows
   if (!(rho > 0.0)) {
     if (lo <= p && p <= hi) {
       closure->full_turn = true;
@@ -161,7 +161,7 @@ ClosureScalar ScalarOf(const PlanarDyad& input, const PlanarDyad& output) {
 
 ClosureScalar InputClosureScalar(const PlanarDyad& input, const PlanarDyad& output) {
   ClosureScalar scalar = ScalarOf(input, output);
-  scalar.amplitude = std::hypot(scalar.c1, scalar.c2);
+  scalar.amplitude = std::sqrt(scalar.c1 * scalar.c1 + scalar.c2 * scalar.c2);
   scalar.peak = std::atan2(scalar.c2, scalar.c1);
   return scalar;
 }

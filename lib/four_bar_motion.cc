@@ -220,9 +220,9 @@ FourBarMotion TraceFourBar(const PlanarDyad& input, const PlanarDyad& output,
 FourBarLocation LocatePose(const FourBarMotion& motion, const PlanarDyad& input,
                            const PlanarDyad& output, const PlanarPose& pose, double length) {
   FourBarLocation location;
-  location.input = InputValue(input, pose);
   std::vector<PlanarPose> configurations;
-  const int count = Assemble(input, output, location.input, length, &configurations);
+  const int count =
+      AssembleFourBarAtPose(input, output, pose, 1e-9 * length, &configurations, &location.input);
   if (count == 0) return location;
   int label = 0;
   for (int l = 1; l < count; ++l) {
@@ -571,8 +571,8 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
   std::vector<std::array<double, 2>> label_errors;
   for (const PlanarPose& pose : poses) {
     FourBarLocation location;
-    location.input = InputValue(input, pose);
-    const int count = Assemble(input, output, location.input, length, &configurations);
+    const int count =
+        AssembleFourBarAtPose(input, output, pose, 1e-9 * length, &configurations, &location.input);
     std::array<double, 2> errors = {std::numeric_limits<double>::infinity(),
                                     std::numeric_limits<double>::infinity()};
     for (int l = 0; l < count; ++l) errors[l] = PoseError(configurations[l], pose, length);

@@ -9,19 +9,24 @@ namespace {
 
 Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
 
-// Solutions theta of a cos(theta) + b sin(theta) = c; a near-tangent case within `slack`
-// (relative to hypot(a, b)) is taken as the double root.
-int SolveTrigLinear(double a, double b, double c, double slack, double thetas[2]) {
-  const double rho = std::hypot(a, b);
+// Solutions theta of a cos(theta) + b sin(theta) = c, theta = base +- spread with
+// (cos base, sin base) = (a, b) / rho and cos spread = c / rho, rho = |(a, b)|; a near-tangent
+// case within `slack` (relative to rho) is taken as the double root. Each root's cosine and
+// sine come from the angle-sum formulas (no trigonometric call), its angle from one atan2.
+int SolveTrigLinear(double a, double b, double c, double slack, double thetas[2],
+                    Eigen::Vector2d unit[2]) {
+  const double rho = std::sqrt(a * a + b * b);  // hypot is slow, and no length overflows
   if (!(rho > 0.0)) return 0;
   double ratio = c / rho;
   if (std::abs(ratio) > 1.0) {
     if (std::abs(ratio) - 1.0 > slack) return 0;
     ratio = std::copysign(1.0, ratio);
   }
-  const double base = std::atan2(b, a), spread = std::acos(ratio);
-  thetas[0] = WrapAngle(base + spread);
-  thetas[1] = WrapAngle(base - spread);
+  const double ca = a / rho, sa = b / rho;                                      // base
+  const double cs = ratio, ss = std::sqrt(std::max(0.0, 1.0 - ratio * ratio));  // spread
+  unit[0] = Eigen::Vector2d(ca * cs - sa * ss, sa * cs + ca * ss);
+  unit[1] = Eigen::Vector2d(ca * cs + sa * ss, sa * cs - ca * ss);
+  for (int i = 0; i < 2; ++i) thetas[i] = std::atan2(unit[i].y(), unit[i].x());
   return 2;
 }
 
@@ -124,26 +129,38 @@ void OutputTurnEquation(const PlanarDyad& output, const Eigen::Vector2d& m1,
   }
 }
 
+namespace {
+
+// The configurations of an RR or PR input whose moving pivot is at `pivot` in Sigma: the coupler
+// turns about it by theta, P(p_E) = R(theta) (p_E - m1) + M1, and the output constraint becomes
+// a cos(theta) + b sin(theta) = c.
+int AssembleAtInputPin(const PlanarDyad& input, const PlanarDyad& output,
+                       const Eigen::Vector2d& pivot, double tolerance,
+                       std::vector<PlanarPose>* coupler_poses) {
+  const Eigen::Vector2d& m1 = input.moving_pivot;
+  double a = 0.0, b = 0.0, c = 0.0, scale = 1.0;
+  OutputTurnEquation(output, m1, pivot, &a, &b, &c, &scale);
+  double thetas[2];
+  Eigen::Vector2d unit[2];
+  const int count = SolveTrigLinear(a, b, c, tolerance / scale, thetas, unit);
+  for (int i = 0; i < count; ++i) {
+    PlanarPose pose;
+    pose.theta = thetas[i];
+    pose.origin_in_fixed = pivot - Eigen::Vector2d(unit[i].x() * m1.x() - unit[i].y() * m1.y(),
+                                                   unit[i].y() * m1.x() + unit[i].x() * m1.y());
+    coupler_poses->push_back(pose);
+  }
+  return count;
+}
+
+}  // namespace
+
 int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double input_value,
                     double tolerance, std::vector<PlanarPose>* coupler_poses) {
   coupler_poses->clear();
   if (input.type != DyadType::kRP) {
-    // The input fixes its moving pivot in Sigma; the coupler turns about it by theta:
-    //   P(p_E) = R(theta) (p_E - m1) + M1.
-    // The output constraint becomes a cos(theta) + b sin(theta) = c.
-    const Eigen::Vector2d pivot = InputPivotInFixed(input, input_value);
-    const Eigen::Vector2d& m1 = input.moving_pivot;
-    double a = 0.0, b = 0.0, c = 0.0, scale = 1.0;
-    OutputTurnEquation(output, m1, pivot, &a, &b, &c, &scale);
-    double thetas[2];
-    const int count = SolveTrigLinear(a, b, c, tolerance / scale, thetas);
-    for (int i = 0; i < count; ++i) {
-      PlanarPose pose;
-      pose.theta = thetas[i];
-      pose.origin_in_fixed = pivot - Rotation2(thetas[i]) * m1;
-      coupler_poses->push_back(pose);
-    }
-    return count;
+    return AssembleAtInputPin(input, output, InputPivotInFixed(input, input_value), tolerance,
+                              coupler_poses);
   }
   // RP input: the coupler angle is the input; the RP constraint puts the origin d on a line,
   // (R n_E) . d = (R n_E) . F1 - n_E . q_E, i.e. d = d0 + t e.
@@ -190,13 +207,32 @@ int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double in
   return static_cast<int>(coupler_poses->size());
 }
 
+int AssembleFourBarAtPose(const PlanarDyad& input, const PlanarDyad& output, const PlanarPose& pose,
+                          double tolerance, std::vector<PlanarPose>* coupler_poses,
+                          double* input_value) {
+  if (input.type == DyadType::kRR) {
+    const Eigen::Vector2d arm = pose.ToFixed(input.moving_pivot) - input.fixed_pivot;
+    *input_value = std::atan2(arm.y(), arm.x());
+    const double norm = arm.norm();
+    if (norm > 0.0) {
+      coupler_poses->clear();
+      return AssembleAtInputPin(input, output, input.fixed_pivot + (input.radius / norm) * arm,
+                                tolerance, coupler_poses);
+    }
+  } else {
+    *input_value = InputValue(input, pose);
+  }
+  return AssembleFourBar(input, output, *input_value, tolerance, coupler_poses);
+}
+
 std::optional<double> MaxAssembledPoseError(const PlanarDyad& input, const PlanarDyad& output,
                                             const std::vector<PlanarPose>& poses, double length) {
   double worst = 0.0;
   std::vector<PlanarPose> assembled;
   const double tolerance = 1e-9 * length;
   for (const PlanarPose& pose : poses) {
-    if (AssembleFourBar(input, output, InputValue(input, pose), tolerance, &assembled) == 0) {
+    double value = 0.0;
+    if (AssembleFourBarAtPose(input, output, pose, tolerance, &assembled, &value) == 0) {
       return std::nullopt;
     }
     double best = std::numeric_limits<double>::infinity();

@@ -45,6 +45,13 @@ double InputValue(const PlanarDyad& dyad, const PlanarPose& pose);
 int AssembleFourBar(const PlanarDyad& input, const PlanarDyad& output, double input_value,
                     double tolerance, std::vector<PlanarPose>* coupler_poses);
 
+// AssembleFourBar at the input value `pose` gives (InputValue, returned in *input_value); for an
+// RR input the crank pin is taken on the pose's own crank direction, without the round trip
+// through the angle (the analyses assemble every task pose of every dyad pair).
+int AssembleFourBarAtPose(const PlanarDyad& input, const PlanarDyad& output, const PlanarPose& pose,
+                          double tolerance, std::vector<PlanarPose>* coupler_poses,
+                          double* input_value);
+
 // The output dyad's condition on the coupler's turn theta about the input pin: with the input
 // pin at `pivot` (Sigma) and m1 its point of E, the coupler at R(theta) (p_E - m1) + pivot closes
 // the output when a cos(theta) + b sin(theta) = c. `scale` converts a slack in length into one

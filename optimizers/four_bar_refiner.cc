@@ -636,7 +636,8 @@ Judgement Judge(const PlanarDyad& input, const PlanarDyad& output,
   judgement.max = 0.0;
   for (size_t j = 0; j < poses.size(); ++j) {
     const FourBarLocation& location = locations[j];
-    const int count = AssembleFourBar(input, output, location.input, tolerance, &assembled);
+    double value = 0.0;  // location.input again
+    const int count = AssembleFourBarAtPose(input, output, poses[j], tolerance, &assembled, &value);
     double error = kInfinity;
     PlanarPose configuration = circuit.samples.front().coupler;
     if (location.circuit == circuit_index) {
@@ -833,8 +834,8 @@ std::vector<int> LabelsNear(const ScaledTask& task, const Unknowns& unknowns) {
   for (size_t j = 0; j < task.poses.size(); ++j) {
     const Eigen::Vector3d& q = unknowns.configurations[j];
     const PlanarPose configuration(q.x(), q.y(), q.z());
-    const int count =
-        AssembleFourBar(input, output, InputValue(input, task.poses[j]), 1e-9, &assembled);
+    double value = 0.0;
+    const int count = AssembleFourBarAtPose(input, output, task.poses[j], 1e-9, &assembled, &value);
     if (count == 2 &&
         PoseError(assembled[1], configuration, 1.0) < PoseError(assembled[0], configuration, 1.0)) {
       labels[j] = 1;

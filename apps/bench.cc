@@ -36,8 +36,11 @@
 // 1e-6 of its size at full precision, within twice the stated error bound when rounded), the
 // share whose bound says the data do not determine it, and the time of the refinement.
 //
+// Then end to end by stage (RunStages): parse, solve, analysis and write per task kind.
+//
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
-//                 [--four-tasks F] [--seed S] [--only planar|spatial|path|refine]
+//                 [--four-tasks F] [--stage-tasks T] [--seed S]
+//                 [--only planar|spatial|path|refine|stages]
 #include <glog/logging.h>
 
 #include <algorithm>
@@ -60,6 +63,8 @@
 #include "fitting/spatial_burmester.h"
 #include "fitting/timed_path.h"
 #include "lib/path_motion.h"
+#include "lib/result_io.h"
+#include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/moved_design.h"
 #include "tests/support/random_mechanism.h"
@@ -233,6 +238,105 @@ using linkfit::SpatialDyadType;
 double MicrosecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
       .count();
+}
+
+// End to end by stage (--only stages): random tasks of each kind written as a user's file
+// (every number to 17 significant digits), then per task the median time of each stage on one
+// core: parse (ParseTask of the JSON text), solve (SolveTask less its analysis), analysis (the
+// result's analysis_seconds: the dyad pairs' assembly, defects, transmission and ranking; the
+// path four-bars driven through the points; the platform traced), write (ResultToJson), and
+// the sum of the four measured together.
+struct StageTimes {
+  std::vector<double> parse, solve, analysis, write, total;
+};
+
+void PrintStages(const char* kind, int tasks, const StageTimes& times) {
+  std::printf("%-40s %6d %9.1f %9.1f %9.1f %9.1f %9.1f %9.1f\n", kind, tasks,
+              Percentile(times.parse, 0.5), Percentile(times.solve, 0.5),
+              Percentile(times.analysis, 0.5), Percentile(times.write, 0.5),
+              Percentile(times.total, 0.5), Percentile(times.total, 0.99));
+}
+
+// One task's stages; `adjust` may add to the parsed task what its text lacks (pivots).
+template <typename Adjust>
+void TimeStages(const std::string& text, const Adjust& adjust, StageTimes* times) {
+  const auto start = std::chrono::steady_clock::now();
+  linkfit::Task task = linkfit::ParseTask(text, "bench");
+  const double parse_us = MicrosecondsSince(start);
+  adjust(&task);
+  const auto solve_start = std::chrono::steady_clock::now();
+  const linkfit::TaskResult result = linkfit::SolveTask(task);
+  const double solve_us = MicrosecondsSince(solve_start);
+  const auto write_start = std::chrono::steady_clock::now();
+  const std::string json = linkfit::ResultToJson(result, 2);
+  const double write_us = MicrosecondsSince(write_start);
+  const double total_us = MicrosecondsSince(start);
+  const double analysis_us =
+      1e6 * std::visit([](const auto& r) { return r.analysis_seconds; }, result);
+  times->parse.push_back(parse_us);
+  times->solve.push_back(solve_us - analysis_us);
+  times->analysis.push_back(analysis_us);
+  times->write.push_back(write_us);
+  times->total.push_back(total_us);
+  (void)json;
+}
+
+void RunStages(int tasks, uint64_t seed) {
+  namespace t = linkfit::testing;
+  std::printf(
+      "\nend to end by stage, one core, median microseconds per task (tasks written to 17 "
+      "digits)\n");
+  std::printf("%-40s %6s %9s %9s %9s %9s %9s %9s\n", "kind", "tasks", "parse", "solve", "analysis",
+              "write", "total", "total_p99");
+  std::mt19937_64 rng(seed);
+  const auto none = [](linkfit::Task*) {};
+  {
+    StageTimes times;
+    for (int i = 0; i < tasks; ++i) {
+      const t::GeneratedTask task = t::RandomTask(rng, DyadType::kRR, DyadType::kRR, 5);
+      TimeStages(t::PlanarMotionText(task.poses, 17), none, &times);
+    }
+    PrintStages("five poses, 4R", tasks, times);
+  }
+  {
+    StageTimes times;
+    for (int i = 0; i < tasks; ++i) {
+      const t::GeneratedTask task = t::RandomTask(rng, DyadType::kRR, DyadType::kRR, 4);
+      TimeStages(
+          t::PlanarMotionText(task.poses, 17),
+          [&](linkfit::Task* parsed) {
+            parsed->moving_pivots = {task.input.moving_pivot, task.output.moving_pivot};
+          },
+          &times);
+    }
+    PrintStages("four poses, 4R, the generator's pivots", tasks, times);
+  }
+  {
+    StageTimes times;
+    for (int i = 0; i < tasks; ++i) {
+      const t::GeneratedPathTask task = t::RandomPathTask(rng, DyadType::kRR);
+      TimeStages(t::PathText(task.points, task.input_angles, 17), none, &times);
+    }
+    PrintStages("five timed points, 4R", tasks, times);
+  }
+  {
+    StageTimes times;
+    for (int i = 0; i < tasks; ++i) {
+      const t::PlantedSpatialTask task = t::RandomPlatformTask(rng, 7);
+      TimeStages(t::SpatialMotionText(task.poses, 17, t::SpatialForm::kDualQuaternion), none,
+                 &times);
+    }
+    PrintStages("seven spatial poses, 5-SS", tasks, times);
+  }
+  {
+    StageTimes times;
+    const int count = std::max(1, tasks / 5);
+    for (int i = 0; i < count; ++i) {
+      const t::GeneratedTask task = t::RandomTask(rng, DyadType::kRR, DyadType::kRR, 12);
+      TimeStages(t::PlanarMotionText(task.poses, 17), none, &times);
+    }
+    PrintStages("12 poses, 4R, least squares (balanced)", count, times);
+  }
 }
 
 // Random seven-pose tasks: every root found and verified?
@@ -626,6 +730,7 @@ int main(int argc, char** argv) {
   int path_tasks = 10000;
   int refine_tasks = 100;
   int four_tasks = 1000;
+  int stage_tasks = 1000;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
@@ -641,11 +746,13 @@ int main(int argc, char** argv) {
       refine_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--four-tasks") && i + 1 < argc) {
       four_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--stage-tasks") && i + 1 < argc) {
+      stage_tasks = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
-                   "[--refine-tasks R] [--four-tasks F] [--seed S] "
-                   "[--only planar|spatial|path|refine]\n"
+                   "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] [--seed S] "
+                   "[--only planar|spatial|path|refine|stages]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -660,6 +767,10 @@ int main(int argc, char** argv) {
   }
   if (only == "refine") {
     RunRefine(refine_tasks, seed);
+    return 0;
+  }
+  if (only == "stages") {
+    RunStages(stage_tasks, seed);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
@@ -686,6 +797,7 @@ int main(int argc, char** argv) {
     RunSpatial(spatial_tasks, seed);
     RunPath(path_tasks, seed);
     RunRefine(refine_tasks, seed);
+    RunStages(stage_tasks, seed);
   }
   return 0;
 }

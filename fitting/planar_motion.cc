@@ -321,6 +321,7 @@ int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>
 
 void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result,
                      const std::function<bool(int, int)>& paired) {
+  const auto start = std::chrono::steady_clock::now();
   const std::vector<PlanarPose>& poses = task.planar_poses;
   result->mechanisms.clear();
   for (size_t i = 0; i < result->dyads.size(); ++i) {
@@ -333,6 +334,8 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
     }
   }
   RankMechanisms(PoseFitTolerance(task.precision, length), -1, &result->mechanisms);
+  result->analysis_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::vector<std::vector<int>> SpreadSubsets(int count, int subsets) {

@@ -440,8 +440,11 @@ void AddPlatform(const Task& task, const PlatformMotionOptions& options,
   }
   std::vector<SpatialDyad> dyads;
   for (int index : chosen) dyads.push_back(result->dyads[index].dyad);
+  const auto start = std::chrono::steady_clock::now();
   const PlatformMotionReport motion =
       TracePlatform(dyads, task.spatial_poses, result->scale, options);
+  result->analysis_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   PlatformReport report;
   report.dyads = chosen;
   report.assembles = motion.assembles;

@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -466,8 +467,11 @@ int TimedPathFourBars(const std::vector<Eigen::Vector2d>& points,
         continue;
       }
       // Assembled and driven through the points (lib/path_motion.h).
+      auto analysis_start = std::chrono::steady_clock::now();
       PathFourBarAnalysis analysis =
           AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
+      report.analysis_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start).count();
       // A circle typed as its slider at the data's precision misses by what that allows.
       double allowed = passes;
       if (coarse && dyads[d].type != DyadType::kRR) {
@@ -503,7 +507,11 @@ int TimedPathFourBars(const std::vector<Eigen::Vector2d>& points,
           }
         }
         if (std::isfinite(nearest_circle)) {
+          analysis_start = std::chrono::steady_clock::now();
           analysis = AnalyzePathFourBar(four_bar, points, input_angles, scaled.length);
+          report.analysis_seconds +=
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - analysis_start)
+                  .count();
           allowed = passes;
         }
         if (!(analysis.nearest_max_error <= allowed * scaled.length)) {

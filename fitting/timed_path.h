@@ -94,6 +94,7 @@ struct TimedPathSummary {
   int four_bars_total = 0;         // 3 per crank root, complex ones included (12 when generic)
   int four_bars_real = 0;          // real four-bars returned
   int four_bars_dropped = 0;       // real four-bars that failed the assembly check
+  double analysis_seconds = 0.0;   // of the solve, the assembly check (AnalyzePathFourBar)
   double condition = 0.0;          // sigma_1 / sigma_12 of the Macaulay matrix
   bool degenerate = false;         // the crank equations have a family of solutions
   std::vector<std::string> notes;  // cranks skipped and why

@@ -83,6 +83,9 @@ struct PlanarMotionResult {
   int roots_real = 0;   // of which real
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
+  // Of solve_seconds, the analysis of the dyad pairs (assembly, circuits, defects,
+  // transmission, ranking: BuildMechanisms).
+  double analysis_seconds = 0.0;
   std::string effort;               // least squares: the effort level used
   std::vector<StageReport> stages;  // least squares: what each stage took and gave
   DataPrecision precision;          // the data precision assumed (the task's)
@@ -152,9 +155,10 @@ struct SpatialMotionResult {
   std::optional<SphericalCenter> spherical;
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
-  double refine_seconds = 0.0;  // Ceres refinement (more than seven poses)
-  DataPrecision precision;      // the data precision assumed (the task's)
-  bool closed = false;          // the task's last pose repeated the first (dropped)
+  double refine_seconds = 0.0;    // Ceres refinement (more than seven poses)
+  double analysis_seconds = 0.0;  // of solve_seconds, the platform's tracing
+  DataPrecision precision;        // the data precision assumed (the task's)
+  bool closed = false;            // the task's last pose repeated the first (dropped)
 };
 
 // A four-bar for a path task (timed points), in the first point's configuration
@@ -192,6 +196,9 @@ struct PathResult {
   int four_bars_total = 0;
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
+  // Of solve_seconds, five timed points: the four-bars driven through the points (the
+  // solver's assembly check and the reports' simulation and transmission angle).
+  double analysis_seconds = 0.0;
   std::string effort;               // least squares: the effort level used
   std::vector<StageReport> stages;  // least squares: what each stage took and gave
   DataPrecision precision;          // the data precision assumed (the task's)

@@ -934,8 +934,11 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
     // (the slider-crank fitted to the five points in least squares: the exact solver keeps the
     // circle where its slider reading alone misses them).
     int simplified = 0;
+    result.analysis_seconds = summary.analysis_seconds;
     for (const PathFourBar& four_bar : four_bars) {
+      const auto analysis_start = std::chrono::steady_clock::now();
       PathMechanismReport report = Report(four_bar, data, data.angles), slider;
+      result.analysis_seconds += Seconds(analysis_start);
       // Kept within the data's precision (a complex pair's real part, a root computed only to
       // the crank equations' condition): polished onto the points.
       if (report.max_point_error && report.defects.empty() &&

@@ -259,15 +259,17 @@ std::vector<PlanarDyad> AllSamples(const BurmesterCurves& curves) {
   return all;
 }
 
+// The second dyad of trial `trial`'s four-bar: RR, PR and RP in turn.
+DyadType SecondDyadType(int trial) {
+  return trial % 3 == 0 ? DyadType::kRR : trial % 3 == 1 ? DyadType::kPR : DyadType::kRP;
+}
+
 TEST(BurmesterCurves, EverySampleSatisfiesAllFourPoses) {
   const uint64_t seed = 201;
   std::mt19937_64 rng(seed);
   for (int trial = 0; trial < kCurveTrials; ++trial) {
     SCOPED_TRACE(Trace(seed, trial));
-    const DyadType second = trial % 3 == 0   ? DyadType::kRR
-                            : trial % 3 == 1 ? DyadType::kPR
-                                             : DyadType::kRP;
-    const GeneratedTask task = RandomTask(rng, DyadType::kRR, second, 4);
+    const GeneratedTask task = RandomTask(rng, DyadType::kRR, SecondDyadType(trial), 4);
     const double length = CharacteristicLength(task.poses);
     BurmesterCurves curves;
     const int count = SampleBurmesterCurves(task.poses, BurmesterCurveOptions(), &curves);
@@ -370,10 +372,7 @@ TEST(BurmesterCurves, EveryCurvePointOfALineIsSampled) {
   int crossings = 0;
   for (int trial = 0; trial < kCurveTrials; ++trial) {
     SCOPED_TRACE(Trace(seed, trial));
-    const DyadType second = trial % 3 == 0   ? DyadType::kRR
-                            : trial % 3 == 1 ? DyadType::kPR
-                                             : DyadType::kRP;
-    const GeneratedTask task = RandomTask(rng, DyadType::kRR, second, 4);
+    const GeneratedTask task = RandomTask(rng, DyadType::kRR, SecondDyadType(trial), 4);
     const double length = CharacteristicLength(task.poses);
     Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
     for (const PlanarPose& pose : task.poses) centroid += 0.25 * pose.origin_in_fixed;

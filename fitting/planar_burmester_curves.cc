@@ -280,6 +280,8 @@ class CurveTracer {
     double spread = 0.0;
     for (int j = 0; j < 4; ++j) spread = std::max(spread, std::abs(squared[j] - mean));
     PlanarDyad dyad = PlanarDyad::RR(fixed, center + centroid, std::sqrt(mean));
+    // Far samples are dropped before any polish (the curve's arms beyond the sketch).
+    if (!(Reach(dyad) <= kFarPivot)) return sample;
     if (!(spread <= kPolishResidual * dyad.radius)) {
       dyad = PolishDyad<4>(dyad, frames_, kPolishIterations);
       if (!(MaxResidual(dyad, frames_) <= kSampleResidual)) return sample;

@@ -397,34 +397,49 @@ class TaskParser {
     return root;
   }
 
+  // Calls visit(item, entry, type, name) for each entry of the design list root[key] (an
+  // object with a "type"): `item` names the entry in messages, `name` is the type's text ("" when
+  // it is not a string).
+  template <typename Visit>
+  void ForEachTypedEntry(const Json& root, const char* key, const Visit& visit) const {
+    const Json& entries = root.at(key);
+    for (size_t i = 0; i < entries.size(); ++i) {
+      const std::string item = IndexItem(key, i);
+      const Json& entry = Object(entries[i], item);
+      const Json& type = Field(entry, item, "type");
+      visit(item, entry, type, type.is_string() ? type.get<std::string>() : std::string());
+    }
+  }
+
+  // The unit direction of a line given by its angle in degrees, object[key].
+  Eigen::Vector2d DirectionDeg(const Json& object, const std::string& item, const char* key) const {
+    const double angle = Number(Field(object, item, key), KeyItem(item, key)) * kDegree;
+    return Eigen::Vector2d(std::cos(angle), std::sin(angle));
+  }
+
   PlanarDesign ParseDesignText(const std::string& text) const {
     const Json root = DesignRoot(text, "dyads", "dyads");
-    const Json& dyads = root.at("dyads");
     PlanarDesign design;
-    for (size_t i = 0; i < dyads.size(); ++i) {
-      const std::string item = IndexItem("dyads", i);
-      const Json& dyad = Object(dyads[i], item);
-      const Json& type = Field(dyad, item, "type");
-      const std::string name = type.is_string() ? type.get<std::string>() : "";
-      const auto point = [&](const char* key) {
-        return Vector<2>(Field(dyad, item, key), KeyItem(item, key));
-      };
-      const auto direction = [&]() {
-        const double angle =
-            Number(Field(dyad, item, "line_angle_deg"), KeyItem(item, "line_angle_deg")) * kDegree;
-        return Eigen::Vector2d(std::cos(angle), std::sin(angle));
-      };
-      if (name == "RR") {
-        const double radius = Positive(Field(dyad, item, "radius"), KeyItem(item, "radius"));
-        design.dyads.push_back(PlanarDyad::RR(point("fixed"), point("moving"), radius));
-      } else if (name == "PR") {
-        design.dyads.push_back(PlanarDyad::PR(point("moving"), point("line_point"), direction()));
-      } else if (name == "RP") {
-        design.dyads.push_back(PlanarDyad::RP(point("fixed"), point("line_point"), direction()));
-      } else {
-        Fail(KeyItem(item, "type"), "expected \"RR\", \"PR\" or \"RP\", got " + Describe(type));
-      }
-    }
+    ForEachTypedEntry(
+        root, "dyads",
+        [&](const std::string& item, const Json& dyad, const Json& type, const std::string& name) {
+          const auto point = [&](const char* key) {
+            return Vector<2>(Field(dyad, item, key), KeyItem(item, key));
+          };
+          const auto direction = [&]() { return DirectionDeg(dyad, item, "line_angle_deg"); };
+          if (name == "RR") {
+            const double radius = Positive(Field(dyad, item, "radius"), KeyItem(item, "radius"));
+            design.dyads.push_back(PlanarDyad::RR(point("fixed"), point("moving"), radius));
+          } else if (name == "PR") {
+            design.dyads.push_back(
+                PlanarDyad::PR(point("moving"), point("line_point"), direction()));
+          } else if (name == "RP") {
+            design.dyads.push_back(
+                PlanarDyad::RP(point("fixed"), point("line_point"), direction()));
+          } else {
+            Fail(KeyItem(item, "type"), "expected \"RR\", \"PR\" or \"RP\", got " + Describe(type));
+          }
+        });
     for (const std::vector<int>& pair :
          MechanismDyads(root, 2, design.dyads.size(), "[input, output] dyad indices")) {
       design.mechanisms.emplace_back(pair[0], pair[1]);
@@ -434,98 +449,93 @@ class TaskParser {
 
   PathDesign ParsePathDesignText(const std::string& text) const {
     const Json root = DesignRoot(text, "mechanisms", "path four-bars");
-    const Json& mechanisms = root.at("mechanisms");
     PathDesign design;
-    for (size_t m = 0; m < mechanisms.size(); ++m) {
-      const std::string item = IndexItem("mechanisms", m);
-      const Json& mechanism = Object(mechanisms[m], item);
-      const auto point = [&](const char* key) {
-        return Vector<2>(Field(mechanism, item, key), KeyItem(item, key));
-      };
-      const Json& type = Field(mechanism, item, "type");
-      const std::string name = type.is_string() ? type.get<std::string>() : "";
-      if (name != "4R" && name != "slider-crank" && name != "inverted slider-crank") {
-        Fail(KeyItem(item, "type"),
-             "expected \"4R\", \"slider-crank\" or \"inverted slider-crank\" (a crank-driven "
-             "path four-bar), got " +
-                 Describe(type));
-      }
-      PathFourBar four_bar;
-      const Eigen::Vector2d input_pivot = point("input_pivot");
-      const Eigen::Vector2d input_moving = point("input_moving");
-      const double crank = (input_moving - input_pivot).norm();
-      if (!(crank > 0.0)) Fail(KeyItem(item, "input_moving"), "the crank has no length");
-      four_bar.input = PlanarDyad::RR(input_pivot, input_moving, crank);
-      const auto line_direction = [&]() {
-        const char* key = "output_line_angle_deg";
-        const double angle = Number(Field(mechanism, item, key), KeyItem(item, key)) * kDegree;
-        return Eigen::Vector2d(std::cos(angle), std::sin(angle));
-      };
-      if (name == "4R") {
-        const Eigen::Vector2d pivot = point("output_pivot"), moving = point("output_moving");
-        const double rocker = (moving - pivot).norm();
-        if (!(rocker > 0.0)) Fail(KeyItem(item, "output_moving"), "the rocker has no length");
-        four_bar.output = PlanarDyad::RR(pivot, moving, rocker);
-      } else if (name == "slider-crank") {
-        four_bar.output =
-            PlanarDyad::PR(point("output_moving"), point("output_line_point"), line_direction());
-      } else {
-        four_bar.output =
-            PlanarDyad::RP(point("output_pivot"), point("output_line_point"), line_direction());
-      }
-      four_bar.coupler_point = point("coupler_point");
-      std::vector<double> angles;
-      if (mechanism.contains("input_deg")) {
-        const Json& values = mechanism.at("input_deg");
-        const std::string key = KeyItem(item, "input_deg");
-        if (!values.is_array()) Fail(key, "expected an array of numbers, got " + Describe(values));
-        for (size_t j = 0; j < values.size(); ++j) {
-          angles.push_back(Number(values[j], IndexItem(key, j)) * kDegree);
-        }
-      }
-      design.four_bars.push_back(four_bar);
-      design.input_angles.push_back(angles);
-    }
+    ForEachTypedEntry(
+        root, "mechanisms",
+        [&](const std::string& item, const Json& mechanism, const Json& type,
+            const std::string& name) {
+          const auto point = [&](const char* key) {
+            return Vector<2>(Field(mechanism, item, key), KeyItem(item, key));
+          };
+          if (name != "4R" && name != "slider-crank" && name != "inverted slider-crank") {
+            Fail(KeyItem(item, "type"),
+                 "expected \"4R\", \"slider-crank\" or \"inverted slider-crank\" (a crank-driven "
+                 "path four-bar), got " +
+                     Describe(type));
+          }
+          PathFourBar four_bar;
+          const Eigen::Vector2d input_pivot = point("input_pivot");
+          const Eigen::Vector2d input_moving = point("input_moving");
+          const double crank = (input_moving - input_pivot).norm();
+          if (!(crank > 0.0)) Fail(KeyItem(item, "input_moving"), "the crank has no length");
+          four_bar.input = PlanarDyad::RR(input_pivot, input_moving, crank);
+          const auto line_direction = [&]() {
+            return DirectionDeg(mechanism, item, "output_line_angle_deg");
+          };
+          if (name == "4R") {
+            const Eigen::Vector2d pivot = point("output_pivot"), moving = point("output_moving");
+            const double rocker = (moving - pivot).norm();
+            if (!(rocker > 0.0)) Fail(KeyItem(item, "output_moving"), "the rocker has no length");
+            four_bar.output = PlanarDyad::RR(pivot, moving, rocker);
+          } else if (name == "slider-crank") {
+            four_bar.output = PlanarDyad::PR(point("output_moving"), point("output_line_point"),
+                                             line_direction());
+          } else {
+            four_bar.output =
+                PlanarDyad::RP(point("output_pivot"), point("output_line_point"), line_direction());
+          }
+          four_bar.coupler_point = point("coupler_point");
+          std::vector<double> angles;
+          if (mechanism.contains("input_deg")) {
+            const Json& values = mechanism.at("input_deg");
+            const std::string key = KeyItem(item, "input_deg");
+            if (!values.is_array())
+              Fail(key, "expected an array of numbers, got " + Describe(values));
+            for (size_t j = 0; j < values.size(); ++j) {
+              angles.push_back(Number(values[j], IndexItem(key, j)) * kDegree);
+            }
+          }
+          design.four_bars.push_back(four_bar);
+          design.input_angles.push_back(angles);
+        });
     return design;
   }
 
   SpatialDesign ParseSpatialDesignText(const std::string& text) const {
     const Json root = DesignRoot(text, "dyads", "spatial dyads");
-    const Json& dyads = root.at("dyads");
     SpatialDesign design;
-    for (size_t i = 0; i < dyads.size(); ++i) {
-      const std::string item = IndexItem("dyads", i);
-      const Json& dyad = Object(dyads[i], item);
-      const Json& type = Field(dyad, item, "type");
-      const std::string name = type.is_string() ? type.get<std::string>() : "";
-      const auto point = [&](const char* key) {
-        return Vector<3>(Field(dyad, item, key), KeyItem(item, key));
-      };
-      const auto normal = [&](const char* key) {
-        const Eigen::Vector3d vector = point(key);
-        if (!(vector.norm() > 0.0)) Fail(KeyItem(item, key), "a plane normal must not be zero");
-        return vector;
-      };
-      const auto number = [&](const char* key) {
-        return Number(Field(dyad, item, key), KeyItem(item, key));
-      };
-      if (name == "SS") {
-        const double radius = Positive(Field(dyad, item, "radius"), KeyItem(item, "radius"));
-        design.dyads.push_back(SpatialDyad::SS(point("fixed"), point("moving"), radius));
-      } else if (name == "PS") {
-        design.dyads.push_back(
-            SpatialDyad::PS(point("moving"), normal("plane_normal"), number("plane_offset")));
-      } else if (name == "SP") {
-        design.dyads.push_back(SpatialDyad::SP(point("fixed"), normal("plane_normal_in_moving"),
-                                               number("plane_offset_in_moving")));
-      } else {
-        const bool planar = name == "RR" || name == "PR" || name == "RP";
-        Fail(KeyItem(item, "type"),
-             "expected \"SS\", \"PS\" or \"SP\", got " +
-                 (planar ? "\"" + name + "\" (a planar dyad: refine planar data as a planar task)"
-                         : Describe(type)));
-      }
-    }
+    ForEachTypedEntry(
+        root, "dyads",
+        [&](const std::string& item, const Json& dyad, const Json& type, const std::string& name) {
+          const auto point = [&](const char* key) {
+            return Vector<3>(Field(dyad, item, key), KeyItem(item, key));
+          };
+          const auto normal = [&](const char* key) {
+            const Eigen::Vector3d vector = point(key);
+            if (!(vector.norm() > 0.0)) Fail(KeyItem(item, key), "a plane normal must not be zero");
+            return vector;
+          };
+          const auto number = [&](const char* key) {
+            return Number(Field(dyad, item, key), KeyItem(item, key));
+          };
+          if (name == "SS") {
+            const double radius = Positive(Field(dyad, item, "radius"), KeyItem(item, "radius"));
+            design.dyads.push_back(SpatialDyad::SS(point("fixed"), point("moving"), radius));
+          } else if (name == "PS") {
+            design.dyads.push_back(
+                SpatialDyad::PS(point("moving"), normal("plane_normal"), number("plane_offset")));
+          } else if (name == "SP") {
+            design.dyads.push_back(SpatialDyad::SP(point("fixed"), normal("plane_normal_in_moving"),
+                                                   number("plane_offset_in_moving")));
+          } else {
+            const bool planar = name == "RR" || name == "PR" || name == "RP";
+            Fail(KeyItem(item, "type"),
+                 "expected \"SS\", \"PS\" or \"SP\", got " +
+                     (planar
+                          ? "\"" + name + "\" (a planar dyad: refine planar data as a planar task)"
+                          : Describe(type)));
+          }
+        });
     design.platforms =
         MechanismDyads(root, 5, design.dyads.size(), "the platform's five dyad indices");
     return design;

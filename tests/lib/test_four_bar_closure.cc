@@ -41,6 +41,16 @@ double DistanceToEnd(const FourBarClosure& closure, double value) {
   return nearest;
 }
 
+// Calls visit(a, b, trial) for `trials` trials of each of the nine dyad-type pairs (a, b).
+template <typename Visit>
+void ForEachTypePair(int trials, const Visit& visit) {
+  for (DyadType a : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
+    for (DyadType b : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
+      for (int trial = 0; trial < trials; ++trial) visit(a, b, trial);
+    }
+  }
+}
+
 TEST(FourBarClosure, AgreesWithTheAssemblyAtEveryInputValue) {
   std::mt19937_64 rng(1616);
   const DyadType types[] = {DyadType::kRR, DyadType::kPR, DyadType::kRP};
@@ -101,28 +111,24 @@ TEST(FourBarClosure, AgreesWithTheAssemblyAtEveryInputValue) {
 TEST(FourBarClosure, IntervalEndsAreStationaryConfigurations) {
   std::mt19937_64 rng(1617);
   int ends = 0;
-  for (DyadType a : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
-    for (DyadType b : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
-      for (int trial = 0; trial < 20; ++trial) {
-        const testing::GeneratedTask task = testing::RandomTask(rng, a, b);
-        const double length = CharacteristicLength(task.poses);
-        const FourBarClosure closure = SolveFourBarClosure(task.input, task.output);
-        if (closure.full_turn || closure.labels != 2) continue;
-        std::vector<PlanarPose> configurations;
-        for (const ClosureInterval& interval : closure.intervals) {
-          for (int side = 0; side < 2; ++side) {
-            if (side == 0 ? interval.open_start : interval.open_end) continue;
-            const double end = side == 0 ? interval.start : interval.end;
-            const int count =
-                AssembleFourBar(task.input, task.output, end, 1e-9 * length, &configurations);
-            ASSERT_EQ(count, 2) << DyadTypeName(a) << DyadTypeName(b) << " end " << end;
-            EXPECT_LT(PoseError(configurations[0], configurations[1], length), 1e-5);
-            ++ends;
-          }
-        }
+  ForEachTypePair(20, [&](DyadType a, DyadType b, int) {
+    const testing::GeneratedTask task = testing::RandomTask(rng, a, b);
+    const double length = CharacteristicLength(task.poses);
+    const FourBarClosure closure = SolveFourBarClosure(task.input, task.output);
+    if (closure.full_turn || closure.labels != 2) return;
+    std::vector<PlanarPose> configurations;
+    for (const ClosureInterval& interval : closure.intervals) {
+      for (int side = 0; side < 2; ++side) {
+        if (side == 0 ? interval.open_start : interval.open_end) continue;
+        const double end = side == 0 ? interval.start : interval.end;
+        const int count =
+            AssembleFourBar(task.input, task.output, end, 1e-9 * length, &configurations);
+        ASSERT_EQ(count, 2) << DyadTypeName(a) << DyadTypeName(b) << " end " << end;
+        EXPECT_LT(PoseError(configurations[0], configurations[1], length), 1e-5);
+        ++ends;
       }
     }
-  }
+  });
   EXPECT_GT(ends, 100);
 }
 
@@ -132,43 +138,39 @@ TEST(FourBarClosure, IntervalEndsAreStationaryConfigurations) {
 TEST(FourBarClosure, AgreesWithTheSampledTrace) {
   std::mt19937_64 rng(1618);
   int compared = 0;
-  for (DyadType a : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
-    for (DyadType b : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
-      for (int trial = 0; trial < 20; ++trial) {
-        const testing::GeneratedTask task = testing::RandomTask(rng, a, b);
-        const double length = CharacteristicLength(task.poses);
-        const FourBarClosure closure = SolveFourBarClosure(task.input, task.output);
-        if (!closure.angle_input || closure.labels != 2) continue;
-        // Intervals wider than a few sampling steps (0.5 degrees) are what the sampler sees.
-        bool wide = true;
-        for (const ClosureInterval& interval : closure.intervals) {
-          wide = wide && interval.Extent() > 4.0 * kPi / 360.0;
-        }
-        if (!wide) continue;
-        const FourBarMotion motion = TraceFourBar(task.input, task.output, task.poses, length);
-        SCOPED_TRACE(std::string(DyadTypeName(a)) + DyadTypeName(b) + " trial " +
-                     std::to_string(trial));
-        if (closure.full_turn) {
-          ASSERT_EQ(motion.circuits.size(), 2u);
-          for (const FourBarCircuit& circuit : motion.circuits) {
-            EXPECT_TRUE(circuit.input_rotates_fully);
-          }
-        } else {
-          ASSERT_EQ(motion.circuits.size(), closure.intervals.size());
-          for (const FourBarCircuit& circuit : motion.circuits) {
-            EXPECT_EQ(circuit.branches, 2);
-            // The sampled extent falls short of the true one by less than two steps.
-            const int interval = ClosureIntervalOf(closure, circuit.input_start);
-            ASSERT_GE(interval, 0);
-            const double extent = closure.intervals[interval].Extent();
-            EXPECT_LE(circuit.input_extent, extent + 1e-12);
-            EXPECT_GT(circuit.input_extent, extent - 2.0 * circuit.input_step);
-          }
-        }
-        ++compared;
+  ForEachTypePair(20, [&](DyadType a, DyadType b, int trial) {
+    const testing::GeneratedTask task = testing::RandomTask(rng, a, b);
+    const double length = CharacteristicLength(task.poses);
+    const FourBarClosure closure = SolveFourBarClosure(task.input, task.output);
+    if (!closure.angle_input || closure.labels != 2) return;
+    // Intervals wider than a few sampling steps (0.5 degrees) are what the sampler sees.
+    bool wide = true;
+    for (const ClosureInterval& interval : closure.intervals) {
+      wide = wide && interval.Extent() > 4.0 * kPi / 360.0;
+    }
+    if (!wide) return;
+    const FourBarMotion motion = TraceFourBar(task.input, task.output, task.poses, length);
+    SCOPED_TRACE(std::string(DyadTypeName(a)) + DyadTypeName(b) + " trial " +
+                 std::to_string(trial));
+    if (closure.full_turn) {
+      ASSERT_EQ(motion.circuits.size(), 2u);
+      for (const FourBarCircuit& circuit : motion.circuits) {
+        EXPECT_TRUE(circuit.input_rotates_fully);
+      }
+    } else {
+      ASSERT_EQ(motion.circuits.size(), closure.intervals.size());
+      for (const FourBarCircuit& circuit : motion.circuits) {
+        EXPECT_EQ(circuit.branches, 2);
+        // The sampled extent falls short of the true one by less than two steps.
+        const int interval = ClosureIntervalOf(closure, circuit.input_start);
+        ASSERT_GE(interval, 0);
+        const double extent = closure.intervals[interval].Extent();
+        EXPECT_LE(circuit.input_extent, extent + 1e-12);
+        EXPECT_GT(circuit.input_extent, extent - 2.0 * circuit.input_step);
       }
     }
-  }
+    ++compared;
+  });
   EXPECT_GT(compared, 60);
 }
 

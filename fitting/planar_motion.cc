@@ -29,14 +29,6 @@ bool DyadBefore(const DyadReport& a, const DyadReport& b) {
   return a.max_residual < b.max_residual;
 }
 
-// The better of two analyses of one dyad pair (input i or input j): fewer defects, then a
-// crank input, then a better worst transmission angle.
-bool BetterAnalysis(const FourBarAnalysis& a, const FourBarAnalysis& b) {
-  if (a.defects.size() != b.defects.size()) return a.defects.size() < b.defects.size();
-  if (a.input_rotates_fully != b.input_rotates_fully) return a.input_rotates_fully;
-  return a.transmission_min_deg.value_or(-1.0) > b.transmission_min_deg.value_or(-1.0);
-}
-
 }  // namespace
 
 double ConditionErrorBound(double condition, double relative_precision,

@@ -159,7 +159,9 @@ double SpatialTaskLength(const Task& task) {
     sum += (pose.Translation() - centroid).squaredNorm();
   }
   const double length = std::sqrt(sum / std::max(n, 1));
-  return length > 0.0 && std::isfinite(length) ? length : 1.0;
+  // Origins that coincide to rounding (a spherical motion given in frames at its centre) have
+  // no spread to measure: the unit length, as for origins that coincide exactly.
+  return length > 1e-12 * centroid.norm() && std::isfinite(length) ? length : 1.0;
 }
 
 std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaternion>& poses,
@@ -209,9 +211,8 @@ std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaterni
 // line of points: 0).
 constexpr double kCenterDetermined = 1e-3;
 
-std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuaternion>& poses,
-                                                     double length, const DataPrecision& precision,
-                                                     double tolerance) {
+std::optional<SphericalCenter> FitSphericalCenter(const std::vector<DualQuaternion>& poses,
+                                                  double length) {
   const int n = static_cast<int>(poses.size());
   if (n < 3) return std::nullopt;
   // R_j p + d_j = P for every pose: 3n linear equations [R_j  -I] (p, P) = -d_j, in units of L.
@@ -235,8 +236,21 @@ std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuate
         center.sphericity,
         (pose.Rotation() * center.in_moving + pose.Translation() - center.in_fixed).norm());
   }
-  if (!(center.sphericity <=
-        std::max(tolerance * length, FitWithinPrecision(precision, center.in_moving.norm())))) {
+  if (!center.in_moving.allFinite() || !center.in_fixed.allFinite()) return std::nullopt;
+  return center;
+}
+
+double SphericityTolerance(const SphericalCenter& center, double length,
+                           const DataPrecision& precision, double tolerance) {
+  return std::max(tolerance * length, FitWithinPrecision(precision, center.in_moving.norm()));
+}
+
+std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuaternion>& poses,
+                                                     double length, const DataPrecision& precision,
+                                                     double tolerance) {
+  std::optional<SphericalCenter> center = FitSphericalCenter(poses, length);
+  if (!center ||
+      !(center->sphericity <= SphericityTolerance(*center, length, precision, tolerance))) {
     return std::nullopt;
   }
   return center;
@@ -266,22 +280,32 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   }
   std::vector<double> weights = task.pose_weights;
   if (weights.size() != poses.size()) weights.assign(poses.size(), 1.0);
-  if (!have_pivots && n >= 7) {
+  if (!have_pivots && n >= 3) {
     if (std::optional<SphericalCenter> center =
             DetectSphericalMotion(poses, length, task.precision, options.sphericity_tolerance)) {
-      result.spherical = *center;
-      result.model = "spherical";
-      result.method = n == 7 ? "exact" : "least-squares";
-      const Eigen::Vector3d& c = center->in_fixed;
-      result.notes.push_back(
-          "the poses are a spherical motion: every displacement fixes the point [" +
-          Format("%.6g", c.x()) + ", " + Format("%.6g", c.y()) + ", " + Format("%.6g", c.z()) +
-          "] of the fixed frame (largest deviation " + Format("%.3g", center->sphericity) +
-          ", within the data's precision), so every body point keeps its distance from it and "
-          "every SS dyad with its fixed pivot there passes the poses: the poses admit a family "
-          "of dyads, not finitely many");
+      SolveSphericalMotion(task, *center, options.spherical, &result);
       return finish();
     }
+  }
+  if (!have_pivots && n >= 3) {
+    // Nearly spherical beyond the data's precision: solved as spatial, and said so.
+    if (std::optional<SphericalCenter> center = FitSphericalCenter(poses, length);
+        center && center->sphericity <= options.nearly_spherical * length) {
+      const Eigen::Vector3d& c = center->in_fixed;
+      result.notes.push_back(
+          "the poses are nearly a spherical motion about [" + Format("%.6g", c.x()) + ", " +
+          Format("%.6g", c.y()) + ", " + Format("%.6g", c.z()) + "] (largest deviation " +
+          Format("%.3g", center->sphericity) + ", beyond the data's precision " +
+          Format("%.3g", SphericityTolerance(*center, length, task.precision,
+                                             options.sphericity_tolerance)) +
+          "): solved as spatial; give the data's precision (\"precision\") if it is coarser");
+    }
+  }
+  if (!task.moving_axes.empty() || !task.fixed_axes.empty()) {
+    result.notes.push_back(
+        "moving_axes / fixed_axes choose dyads of a spherical motion, but these poses do not fix "
+        "one point within the data's precision: no dyad chosen");
+    return finish();
   }
 
   if (n < 7) {

@@ -5,9 +5,9 @@
 //     spatial coordinates, as seed 000 section 6 does; both pivots of such an RR dyad may slide
 //     along the plane normal. Seven or more planar poses also get the note that every body
 //     point moves in a plane parallel to the plane of motion (the PS family of section 5).
-//   - Seven or more poses that all fix one point within the data's precision (a spherical
-//     motion): a family of dyads (every SS dyad with its fixed pivot at that point), reported
-//     with its centre and no dyads, as exact data's rank-deficient equations are.
+//   - Three or more poses that all fix one point within the data's precision (a spherical
+//     motion): solved as spherical (fitting/spherical_motion.h), spherical RR dyads and
+//     four-bars about the centre.
 //   - Seven or more poses: spatial_burmester.h (exact for seven, algebraic least squares
 //     beyond; the refinement is in optimizers/).
 //   - Four to six poses with given pivots: one SS dyad per pivot (a sphere through the pivot's
@@ -20,6 +20,7 @@
 
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_burmester.h"
+#include "fitting/spherical_motion.h"
 #include "lib/platform_motion.h"
 #include "lib/result.h"
 #include "lib/task.h"
@@ -35,7 +36,11 @@ struct SpatialMotionOptions {
   // Poses whose displacements all fix one point within this times L (or within what the data's
   // precision allows) are a spherical motion.
   double sphericity_tolerance = 1e-8;
-  PlatformMotionOptions platform;  // the platform's forward kinematics
+  // Poses whose fitted centre is fixed within this times L, but not within the data's precision,
+  // are solved as spatial with a note that they are nearly spherical.
+  double nearly_spherical = 1e-2;
+  PlatformMotionOptions platform;    // the platform's forward kinematics
+  SphericalMotionOptions spherical;  // spherical motions (fitting/spherical_motion.h)
 };
 
 // The characteristic length of a spatial task: its "scale", else the RMS distance of the pose
@@ -50,6 +55,17 @@ double PlanarityTolerance(const Task& task, double length, const SpatialMotionOp
 // The plane of motion when the poses are planar within tolerance * length; nullopt otherwise.
 std::optional<PlanarEmbedding> DetectPlanarMotion(const std::vector<DualQuaternion>& poses,
                                                   double length, double tolerance);
+
+// The point of the body that the poses move least (least squares of R_j p + d_j = P), with its
+// largest deviation; nullopt for fewer than three poses and when the rotations do not determine it
+// (all about one axis direction).
+std::optional<SphericalCenter> FitSphericalCenter(const std::vector<DualQuaternion>& poses,
+                                                  double length);
+
+// What a fitted centre may deviate and still be fixed: tolerance * L, or what the data's
+// precision allows (DetectSphericalMotion).
+double SphericityTolerance(const SphericalCenter& center, double length,
+                           const DataPrecision& precision, double tolerance);
 
 // The centre (lib/result.h SphericalCenter) when the poses' displacements all fix one point
 // within what the data's precision allows, kModelUnits * hypot(2 sqrt(3) delta, 2 |p| alpha)

@@ -18,6 +18,21 @@ bool InBox(const PlanarBox& box, const Eigen::Vector2d& point, double slack) {
 bool HasFixedPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kPR; }
 bool HasMovingPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kRP; }
 
+}  // namespace
+
+void ClassViolations(const DesignConstraints& constraints, const FourBarClass& kind,
+                     std::vector<std::string>* violates) {
+  if (constraints.input_rotates_fully && !kind.input_rotates_fully) {
+    violates->push_back("input_rotates_fully");
+  }
+  if (!constraints.grashof.empty() &&
+      !(kind.type == FourBarType::k4R && GrashofClassKeeps(constraints.grashof, kind.grashof))) {
+    violates->push_back("grashof");
+  }
+}
+
+namespace {
+
 // The violations both problem kinds share: link lengths, the fixed pivots' box, the input's
 // turn and the Grashof class, appended in that order.
 void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& links,
@@ -42,13 +57,7 @@ void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& 
       }
     }
   }
-  if (constraints.input_rotates_fully && !kind.input_rotates_fully) {
-    violates->push_back("input_rotates_fully");
-  }
-  if (!constraints.grashof.empty() &&
-      !(kind.type == FourBarType::k4R && GrashofClassKeeps(constraints.grashof, kind.grashof))) {
-    violates->push_back("grashof");
-  }
+  ClassViolations(constraints, kind, violates);
 }
 
 // A key's fit for ordering: infinity when absent or not finite.

@@ -82,6 +82,11 @@ struct FourBarClass {
   bool input_rotates_fully = false;
 };
 
+// The constraints on a four-bar's class it violates (input_rotates_fully, grashof), appended to
+// *violates: the constraints of a spherical four-bar, whose links are angles.
+void ClassViolations(const DesignConstraints& constraints, const FourBarClass& kind,
+                     std::vector<std::string>* violates);
+
 // The constraints a motion four-bar (input and output dyads, moving pivots in E) violates, by
 // their task names, in a fixed order; empty when it keeps them all. The transmission angle is a
 // defect, not listed here.

@@ -23,46 +23,6 @@ double StartAngle(double angle) {
   return wrapped - kPi;
 }
 
-double PositiveAngle(double angle) {
-  double wrapped = std::fmod(angle, kTwoPi);
-  if (wrapped < 0.0) wrapped += kTwoPi;
-  return wrapped;
-}
-
-// {u : lo <= p + q cos u + r sin u <= hi} (lo may be -infinity, hi +infinity): with
-// rho = hypot(q, r) and phi = atan2(r, q), cos(u - phi) in [m, M], so u - phi in [x0, x1] or
-// [-x1, -x0] with x0 = acos(M), x1 = acos(m); the two arcs join across 0 or pi when they touch.
-void SinusoidSet(double p, double q, double r, double lo, double hi, FourBarClosure* closure) {
-  const double rho = std::sqrt(q * q + r * r);  // hypot is slow, and no length overflows
-  if (!(rho > 0.0)) {
-    if (lo <= p && p <= hi) {
-      closure->full_turn = true;
-      closure->intervals.push_back({-kPi, kPi, false, false});
-    }
-    return;
-  }
-  const double phi = std::atan2(r, q);
-  const double m = (lo - p) / rho, big_m = (hi - p) / rho;
-  if (m > 1.0 || big_m < -1.0 || !(m <= big_m)) return;
-  if (m <= -1.0 && big_m >= 1.0) {
-    closure->full_turn = true;
-    closure->intervals.push_back({-kPi, kPi, false, false});
-    return;
-  }
-  const double x0 = std::acos(std::min(big_m, 1.0)), x1 = std::acos(std::max(m, -1.0));
-  if (big_m >= 1.0) {  // one arc about phi
-    const double start = StartAngle(phi - x1);
-    closure->intervals.push_back({start, start + 2.0 * x1, false, false});
-  } else if (m <= -1.0) {  // one arc about phi + pi
-    const double start = StartAngle(phi + x0);
-    closure->intervals.push_back({start, start + kTwoPi - 2.0 * x0, false, false});
-  } else {
-    for (const double start : {StartAngle(phi + x0), StartAngle(phi - x1)}) {
-      closure->intervals.push_back({start, start + x1 - x0, false, false});
-    }
-  }
-}
-
 using Span = std::pair<double, double>;  // [first, second], either may be infinite
 
 // {s : a s^2 + b s + c >= 0}, a, b or both exactly 0 for a linear or constant function.
@@ -175,8 +135,8 @@ FourBarClosure SolveFourBarClosure(const PlanarDyad& input, const PlanarDyad& ou
       // |S + k| <= r2 with S = (R n1) . (F1 - F2), k = n1 . (m2 - q1).
       const Eigen::Vector2d f = input.fixed_pivot - output.fixed_pivot;
       const double k = n1.dot(output.moving_pivot - input.line_point);
-      SinusoidSet(0.0, n1.dot(f), n1.x() * f.y() - n1.y() * f.x(), -output.radius - k,
-                  output.radius - k, &closure);
+      SinusoidClosure(0.0, n1.dot(f), n1.x() * f.y() - n1.y() * f.x(), -output.radius - k,
+                      output.radius - k, &closure);
     } else {
       // One linear solution wherever the lines are not parallel: the input's line runs along
       // -R(u) d1 in Sigma.
@@ -206,13 +166,46 @@ FourBarClosure SolveFourBarClosure(const PlanarDyad& input, const PlanarDyad& ou
     hi = hi * hi;
   }
   if (scalar.crank) {
-    SinusoidSet(scalar.c0, scalar.c1, scalar.c2, lo, hi, &closure);
+    SinusoidClosure(scalar.c0, scalar.c1, scalar.c2, lo, hi, &closure);
   } else {
     QuadraticSet(scalar.c2, scalar.c1, scalar.c0, lo, hi, &closure);
   }
   std::sort(closure.intervals.begin(), closure.intervals.end(),
             [](const ClosureInterval& a, const ClosureInterval& b) { return a.start < b.start; });
   return closure;
+}
+
+// With rho = hypot(q, r) and phi = atan2(r, q): cos(u - phi) in [m, M], so u - phi in [x0, x1]
+// or [-x1, -x0] with x0 = acos(M), x1 = acos(m); the two arcs join across 0 or pi when they touch.
+void SinusoidClosure(double p, double q, double r, double lo, double hi, FourBarClosure* closure) {
+  const double rho = std::sqrt(q * q + r * r);  // hypot is slow, and no length overflows
+  if (!(rho > 0.0)) {
+    if (lo <= p && p <= hi) {
+      closure->full_turn = true;
+      closure->intervals.push_back({-kPi, kPi, false, false});
+    }
+    return;
+  }
+  const double phi = std::atan2(r, q);
+  const double m = (lo - p) / rho, big_m = (hi - p) / rho;
+  if (m > 1.0 || big_m < -1.0 || !(m <= big_m)) return;
+  if (m <= -1.0 && big_m >= 1.0) {
+    closure->full_turn = true;
+    closure->intervals.push_back({-kPi, kPi, false, false});
+    return;
+  }
+  const double x0 = std::acos(std::min(big_m, 1.0)), x1 = std::acos(std::max(m, -1.0));
+  if (big_m >= 1.0) {  // one arc about phi
+    const double start = StartAngle(phi - x1);
+    closure->intervals.push_back({start, start + 2.0 * x1, false, false});
+  } else if (m <= -1.0) {  // one arc about phi + pi
+    const double start = StartAngle(phi + x0);
+    closure->intervals.push_back({start, start + kTwoPi - 2.0 * x0, false, false});
+  } else {
+    for (const double start : {StartAngle(phi + x0), StartAngle(phi - x1)}) {
+      closure->intervals.push_back({start, start + x1 - x0, false, false});
+    }
+  }
 }
 
 int ClosureIntervalOf(const FourBarClosure& closure, double value, double slack) {
@@ -230,6 +223,46 @@ int ClosureIntervalOf(const FourBarClosure& closure, double value, double slack)
     }
   }
   return -1;
+}
+
+std::vector<ClosedCircuit> ClosedCircuits(const FourBarClosure& closure) {
+  std::vector<ClosedCircuit> circuits;
+  for (size_t i = 0; i < closure.intervals.size(); ++i) {
+    const ClosureInterval& interval = closure.intervals[i];
+    const bool joined =
+        closure.labels == 2 && !closure.full_turn && !(interval.open_start && interval.open_end);
+    if (joined) {
+      circuits.push_back({static_cast<int>(i), -1, false});
+      continue;
+    }
+    for (int label = 0; label < closure.labels; ++label) {
+      circuits.push_back({static_cast<int>(i), label, closure.angle_input && closure.full_turn});
+    }
+  }
+  return circuits;
+}
+
+int NearestInterval(const FourBarClosure& closure, double value) {
+  const int inside = ClosureIntervalOf(closure, value);
+  if (inside >= 0 || closure.intervals.empty()) return inside;
+  int nearest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < closure.intervals.size(); ++i) {
+    const ClosureInterval& interval = closure.intervals[i];
+    for (const double end : {interval.start, interval.end}) {
+      if (!std::isfinite(end)) continue;
+      double distance = std::abs(value - end);
+      if (closure.angle_input) {
+        distance = PositiveAngle(distance);
+        distance = std::min(distance, kTwoPi - distance);
+      }
+      if (distance < best) {
+        best = distance;
+        nearest = static_cast<int>(i);
+      }
+    }
+  }
+  return nearest;
 }
 
 }  // namespace linkfit

@@ -131,6 +131,19 @@ inline bool ClosureScalar::Holds(double start, double sweep, double slack) const
   return smallest >= low - slack && largest <= high + slack;
 }
 
+// Angle in [0, 2 pi).
+inline double PositiveAngle(double angle) {
+  double wrapped = std::fmod(angle, kClosureTwoPi);
+  if (wrapped < 0.0) wrapped += kClosureTwoPi;
+  return wrapped;
+}
+
+// Appends to closure->intervals the angles {u : lo <= p + q cos u + r sin u <= hi} (lo may be
+// -infinity, hi +infinity), setting full_turn when that is every angle: one or two arcs, whose
+// ends solve cos(u - atan2(r, q)) = const. Shared by the planar four-bars' sinusoidal closures
+// and the spherical four-bar's (lib/spherical_four_bar.h).
+void SinusoidClosure(double p, double q, double r, double lo, double hi, FourBarClosure* closure);
+
 // The closure scalar of the four-bar driven by `input` (RR or PR; not RP).
 ClosureScalar InputClosureScalar(const PlanarDyad& input, const PlanarDyad& output);
 
@@ -140,6 +153,22 @@ FourBarClosure SolveFourBarClosure(const PlanarDyad& input, const PlanarDyad& ou
 // The interval holding input value `value` (angle inputs: any real value, taken modulo a turn),
 // within `slack` (an input distance) of its ends; -1 when none does.
 int ClosureIntervalOf(const FourBarClosure& closure, double value, double slack = 0.0);
+
+// A circuit of the closed-form motion: an interval of the closure, and the assembly label it
+// keeps (0 or 1), or -1 for both (the two branches of a limited input, joined at a finite end).
+struct ClosedCircuit {
+  int interval = 0;
+  int label = -1;
+  bool rotates_fully = false;
+};
+
+// The circuits as TraceFourBar forms them: a full turn (or a slider range open at both ends)
+// gives a circuit per label; an interval with a finite end joins its two labels there.
+std::vector<ClosedCircuit> ClosedCircuits(const FourBarClosure& closure);
+
+// The interval holding `value`, or (an assembly admitted by the assembly's tolerance just
+// beyond an end) the one with the nearest end; -1 when there is none.
+int NearestInterval(const FourBarClosure& closure, double value);
 
 }  // namespace linkfit
 

@@ -16,13 +16,6 @@ constexpr double kTwoPi = 2.0 * M_PI;
 
 bool IsAngleInput(const PlanarDyad& input) { return input.type != DyadType::kPR; }
 
-// Angle in [0, 2 pi).
-double PositiveAngle(double angle) {
-  double wrapped = std::fmod(angle, kTwoPi);
-  if (wrapped < 0.0) wrapped += kTwoPi;
-  return wrapped;
-}
-
 // The sampled input values: a full turn [-pi, pi) for angle inputs, or the task's slider range
 // widened by the margin.
 std::vector<double> InputSamples(const PlanarDyad& input, const std::vector<PlanarPose>& poses,
@@ -257,63 +250,6 @@ FourBarLocation LocatePose(const FourBarMotion& motion, const PlanarDyad& input,
 
 namespace {
 
-// Which way a monotonic input visits the poses in order.
-struct Visit {
-  bool increasing = true;
-  bool decreasing = true;
-};
-
-// The defects of poses located on a motion (Chase and Mirth's, the file comment): "circuit" when
-// a pose is off the first pose's circuit, "branch" when consecutive poses are on different
-// branches of it, "order" when on one branch the input cannot run monotonically through their
-// values: around a full turn the forward (or backward) steps must add up to less than a turn;
-// on a limited input `position` measures each value along the circuit.
-template <typename Position>
-Visit JudgeDefects(const std::vector<FourBarLocation>& locations, int circuit_index,
-                   bool rotates_fully, const Position& position,
-                   std::vector<std::string>* defects) {
-  bool one_circuit = true, one_branch = true;
-  for (size_t j = 0; j < locations.size(); ++j) {
-    one_circuit = one_circuit && locations[j].circuit == circuit_index;
-    if (j > 0 && locations[j].branch != locations[j - 1].branch) one_branch = false;
-  }
-  if (!one_circuit) defects->push_back("circuit");
-  if (one_circuit && !one_branch) defects->push_back("branch");
-  Visit visit;
-  if (!one_circuit || !one_branch || locations.size() < 2) return visit;
-  if (rotates_fully) {
-    double forward = 0.0, backward = 0.0;
-    for (size_t j = 1; j < locations.size(); ++j) {
-      const double step = PositiveAngle(locations[j].input - locations[j - 1].input);
-      forward += step;
-      backward += step == 0.0 ? 0.0 : kTwoPi - step;
-    }
-    visit.increasing = forward < kTwoPi;
-    visit.decreasing = backward < kTwoPi;
-  } else {
-    for (size_t j = 1; j < locations.size(); ++j) {
-      const double a = position(locations[j - 1].input), b = position(locations[j].input);
-      visit.increasing = visit.increasing && b > a;
-      visit.decreasing = visit.decreasing && b < a;
-    }
-  }
-  if (!visit.increasing && !visit.decreasing) defects->push_back("order");
-  return visit;
-}
-
-// The largest pose error on the first pose's circuit: a pose on it at its own location, one off
-// it `off_circuit(j)`.
-template <typename OffCircuit>
-double MaxPoseError(const std::vector<FourBarLocation>& locations, int circuit_index,
-                    const OffCircuit& off_circuit) {
-  double worst = 0.0;
-  for (size_t j = 0; j < locations.size(); ++j) {
-    worst = std::max(
-        worst, locations[j].circuit == circuit_index ? locations[j].pose_error : off_circuit(j));
-  }
-  return worst;
-}
-
 // Why the transmission angle over the poses is not given (empty when it is).
 std::string TransmissionNote(const PlanarDyad& input, const PlanarDyad& output,
                              const std::vector<std::string>& defects) {
@@ -345,7 +281,7 @@ FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad&
   // between that sample and the input's true limit).
   const bool periodic = IsAngleInput(input);
   const double origin = circuit.input_start - circuit.input_step;
-  const Visit visit = JudgeDefects(
+  const DefectVisit visit = JudgeDefects(
       analysis.locations, circuit_index, circuit.input_rotates_fully,
       [&](double value) {
         return periodic && !circuit.input_rotates_fully ? PositiveAngle(value - origin) : value;
@@ -356,7 +292,7 @@ FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad&
   // Pose error on the one circuit; a pose not reachable on it at its input value: the nearest
   // configuration of the circuit, or at the same input the configuration of the circuit's label.
   std::vector<PlanarPose> configurations;
-  analysis.max_pose_error = MaxPoseError(analysis.locations, circuit_index, [&](size_t j) {
+  analysis.max_pose_error = MaxPoseErrorOnCircuit(analysis.locations, circuit_index, [&](size_t j) {
     double error = std::numeric_limits<double>::infinity();
     const int count = Assemble(input, output, analysis.locations[j].input, length, &configurations);
     if (circuit.label >= 0 && circuit.label < count) {
@@ -400,122 +336,6 @@ FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad&
 }
 
 namespace {
-
-// A circuit of the closed-form motion: an interval of the closure, and the assembly label it
-// keeps (0 or 1), or -1 for both (the two branches of a limited input, joined at a finite end).
-struct ClosedCircuit {
-  int interval = 0;
-  int label = -1;
-  bool rotates_fully = false;
-};
-
-// The circuits as TraceFourBar forms them: a full turn (or a slider range open at both ends)
-// gives a circuit per label; an interval with a finite end joins its two labels there.
-std::vector<ClosedCircuit> ClosedCircuits(const FourBarClosure& closure) {
-  std::vector<ClosedCircuit> circuits;
-  for (size_t i = 0; i < closure.intervals.size(); ++i) {
-    const ClosureInterval& interval = closure.intervals[i];
-    const bool joined =
-        closure.labels == 2 && !closure.full_turn && !(interval.open_start && interval.open_end);
-    if (joined) {
-      circuits.push_back({static_cast<int>(i), -1, false});
-      continue;
-    }
-    for (int label = 0; label < closure.labels; ++label) {
-      circuits.push_back({static_cast<int>(i), label, closure.angle_input && closure.full_turn});
-    }
-  }
-  return circuits;
-}
-
-// The interval holding `value`, or (an assembly admitted by AssembleFourBar's tolerance just
-// beyond an end) the one with the nearest end.
-int NearestInterval(const FourBarClosure& closure, double value) {
-  const int inside = ClosureIntervalOf(closure, value);
-  if (inside >= 0 || closure.intervals.empty()) return inside;
-  int nearest = 0;
-  double best = std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < closure.intervals.size(); ++i) {
-    const ClosureInterval& interval = closure.intervals[i];
-    for (const double end : {interval.start, interval.end}) {
-      if (!std::isfinite(end)) continue;
-      double distance = std::abs(value - end);
-      if (closure.angle_input) {
-        distance = PositiveAngle(distance);
-        distance = std::min(distance, kTwoPi - distance);
-      }
-      if (distance < best) {
-        best = distance;
-        nearest = static_cast<int>(i);
-      }
-    }
-  }
-  return nearest;
-}
-
-// The coupler poses along a circuit, `samples` of them over its interval (label 0 forward and
-// label 1 back for a joined circuit). An open slider side is sampled to `margin` beyond the
-// task's input values.
-std::vector<PlanarPose> CircuitPoses(const PlanarDyad& input, const PlanarDyad& output,
-                                     const FourBarClosure& closure, const ClosedCircuit& circuit,
-                                     double lo, double hi, int samples, double length) {
-  const ClosureInterval& interval = closure.intervals[circuit.interval];
-  const double start = interval.open_start ? lo : interval.start;
-  const double end = interval.open_end ? hi : interval.end;
-  std::vector<PlanarPose> poses, configurations, back;
-  const int steps = std::max(samples - 1, 1);
-  for (int k = 0; k <= steps; ++k) {
-    const double value = start + (end - start) * k / steps;
-    const int count = AssembleFourBar(input, output, value, 1e-9 * length, &configurations);
-    if (count == 0) continue;
-    if (circuit.label >= 0) {
-      poses.push_back(configurations[std::min(circuit.label, count - 1)]);
-    } else {
-      poses.push_back(configurations[0]);
-      back.push_back(configurations[count - 1]);
-    }
-  }
-  poses.insert(poses.end(), back.rbegin(), back.rend());
-  return poses;
-}
-
-// The pose error of `pose` from the circuit's nearest configuration: kNearestSamples over the
-// interval on each of the circuit's labels, then golden-section search about the best one.
-double NearestOnCircuit(const PlanarDyad& input, const PlanarDyad& output,
-                        const FourBarClosure& closure, const ClosedCircuit& circuit, double lo,
-                        double hi, const PlanarPose& pose, double length) {
-  constexpr int kNearestSamples = 16, kIterations = 20;
-  const ClosureInterval& interval = closure.intervals[circuit.interval];
-  const double start = interval.open_start ? lo : interval.start;
-  const double end = interval.open_end ? hi : interval.end;
-  std::vector<PlanarPose> configurations;
-  double best = std::numeric_limits<double>::infinity();
-  for (int label = 0; label < closure.labels; ++label) {
-    if (circuit.label >= 0 && circuit.label != label) continue;
-    const auto error = [&](double t) {
-      const int count =
-          AssembleFourBar(input, output, start + (end - start) * t, 1e-9 * length, &configurations);
-      if (count == 0) return std::numeric_limits<double>::infinity();
-      return PoseError(configurations[std::min(label, count - 1)], pose, length);
-    };
-    int nearest = 0;
-    double least = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < kNearestSamples; ++k) {
-      const double e = error(static_cast<double>(k) / (kNearestSamples - 1));
-      if (e < least) {
-        least = e;
-        nearest = k;
-      }
-    }
-    const double step = 1.0 / (kNearestSamples - 1);
-    // kIterations evaluations after the first two: one shrink more (the last only narrows).
-    const GoldenSection search =
-        GoldenSectionSearch(error, std::max(0.0, (nearest - 1) * step),
-                            std::min(1.0, (nearest + 1) * step), kIterations + 1);
-    best = std::min({best, least, search.least});
-  }
-  return best;
-}
 
 // The transmission angle over the input from `start` over `extent` (RR or PR input, RR or PR
 // output), in closed form: it depends on the input pin only through the closure scalar f
@@ -563,90 +383,45 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
                                const FourBarMotionOptions& options) {
   FourBarAnalysis analysis;
   const FourBarClosure closure = SolveFourBarClosure(input, output);
-  const std::vector<ClosedCircuit> circuits = ClosedCircuits(closure);
   std::vector<PlanarPose> configurations;
-  // Where each pose lies: its input value, the configuration nearest it there, the circuit of
-  // that configuration's interval and label. The pose's error at each label is kept for a pose
-  // off the first pose's circuit.
+  // Each pose's input value and its error at each assembly label there.
+  std::vector<double> inputs;
   std::vector<std::array<double, 2>> label_errors;
   for (const PlanarPose& pose : poses) {
-    FourBarLocation location;
+    double value = 0.0;
     const int count =
-        AssembleFourBarAtPose(input, output, pose, 1e-9 * length, &configurations, &location.input);
+        AssembleFourBarAtPose(input, output, pose, 1e-9 * length, &configurations, &value);
     std::array<double, 2> errors = {std::numeric_limits<double>::infinity(),
                                     std::numeric_limits<double>::infinity()};
     for (int l = 0; l < count; ++l) errors[l] = PoseError(configurations[l], pose, length);
+    inputs.push_back(value);
     label_errors.push_back(errors);
-    if (count > 0) {
-      const int label = count > 1 && errors[1] < errors[0] ? 1 : 0;
-      location.pose_error = errors[label];
-      const int interval = NearestInterval(closure, location.input);
-      for (size_t c = 0; c < circuits.size() && interval >= 0; ++c) {
-        if (circuits[c].interval == interval &&
-            (circuits[c].label < 0 || circuits[c].label == label)) {
-          location.circuit = static_cast<int>(c);
-          location.branch = circuits[c].label >= 0 ? 0 : label;
-          break;
-        }
-      }
-    }
-    analysis.locations.push_back(location);
   }
-  if (poses.empty() || analysis.locations[0].circuit < 0) return analysis;
-  const int circuit_index = analysis.locations[0].circuit;
-  const ClosedCircuit& circuit = circuits[circuit_index];
-  const ClosureInterval& interval = closure.intervals[circuit.interval];
-  analysis.circuit = circuit_index;
-  analysis.input_rotates_fully = circuit.rotates_fully;
-  // A slider's open side is drawn (and searched) to slider_margin times the task's range beyond
-  // its input values, as TraceFourBar samples it.
-  double lo = 0.0, hi = 0.0;
-  for (size_t j = 0; j < poses.size(); ++j) {
-    const double value = analysis.locations[j].input;
-    lo = j == 0 ? value : std::min(lo, value);
-    hi = j == 0 ? value : std::max(hi, value);
-  }
-  const double margin = options.slider_margin * std::max(hi - lo, length);
-  lo -= margin;
-  hi += margin;
+  const ClosureJudgment judgment = JudgeOnClosure(
+      closure, inputs, label_errors, options.slider_margin, length,
+      [&](size_t j, double value, int label) {
+        const int count = AssembleFourBar(input, output, value, 1e-9 * length, &configurations);
+        if (count == 0) return std::numeric_limits<double>::infinity();
+        return PoseError(configurations[std::min(label, count - 1)], poses[j], length);
+      });
+  analysis.locations = judgment.locations;
+  analysis.defects = judgment.defects;
+  if (judgment.circuit < 0) return analysis;
+  analysis.circuit = judgment.circuit;
+  analysis.input_rotates_fully = judgment.input_rotates_fully;
+  analysis.max_pose_error = judgment.max_pose_error;
   if (options.trace_cycle) {
-    analysis.cycle = CircuitPoses(input, output, closure, circuit, lo, hi, options.samples, length);
+    analysis.cycle = CircuitConfigurations<PlanarPose>(
+        closure, judgment.circuits[judgment.circuit], judgment.lo, judgment.hi, options.samples,
+        [&](double value, std::vector<PlanarPose>* configurations) {
+          return AssembleFourBar(input, output, value, 1e-9 * length, configurations);
+        });
   }
-
-  // Defects; positions along the interval measured from just before its start (a pose admitted
-  // by the assembly's tolerance may lie a hair before it).
-  const double origin = interval.start - 1e-9;
-  const auto position = [&](double value) {
-    return closure.angle_input ? PositiveAngle(value - origin) : value;
-  };
-  const Visit visit = JudgeDefects(analysis.locations, circuit_index, circuit.rotates_fully,
-                                   position, &analysis.defects);
-
-  // Pose error on the one circuit; a pose off it is measured to the circuit's nearest
-  // configuration (NearestOnCircuit), or at its own input to the configuration of the circuit's
-  // label.
-  analysis.max_pose_error = MaxPoseError(analysis.locations, circuit_index, [&](size_t j) {
-    const double at_label = circuit.label >= 0 ? label_errors[j][circuit.label]
-                                               : std::numeric_limits<double>::infinity();
-    return std::min(at_label,
-                    NearestOnCircuit(input, output, closure, circuit, lo, hi, poses[j], length));
-  });
-
   // Transmission angle over the motion from the first to the last pose, along the branch.
   analysis.transmission_note = TransmissionNote(input, output, analysis.defects);
   if (analysis.transmission_note.empty()) {
-    const double start = analysis.locations.front().input;
-    const double end = analysis.locations.back().input;
-    double extent = end - start;
-    if (closure.angle_input && circuit.rotates_fully) {
-      extent = !visit.increasing && visit.decreasing ? -PositiveAngle(start - end)
-                                                     : PositiveAngle(end - start);
-    } else if (closure.angle_input) {
-      // Within the interval (the short way round may cross where it does not assemble).
-      extent = position(end) - position(start);
-    }
-    ClosedTransmission(input, output, start, extent, &analysis.transmission_min_deg,
-                       &analysis.transmission_max_deg);
+    ClosedTransmission(input, output, judgment.sweep_start, judgment.sweep_extent,
+                       &analysis.transmission_min_deg, &analysis.transmission_max_deg);
   }
   return analysis;
 }

@@ -16,11 +16,15 @@
 #define LINKFIT_LIB_FOUR_BAR_MOTION_H_
 
 #include <algorithm>
+#include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "lib/dyad.h"
+#include "lib/four_bar_closure.h"
+#include "lib/golden_section.h"
 #include "lib/planar_pose.h"
 
 namespace linkfit {
@@ -141,6 +145,227 @@ void TransmissionRangeDeg(const PlanarDyad& input, const PlanarDyad& output, int
     *min_deg = low;
     *max_deg = high;
   }
+}
+
+// Which way a monotonic input visits the poses in order.
+struct DefectVisit {
+  bool increasing = true;
+  bool decreasing = true;
+};
+
+// The defects of poses located on a motion (Chase and Mirth's, the file comment): "circuit" when
+// a pose is off the first pose's circuit, "branch" when consecutive poses are on different
+// branches of it, "order" when on one branch the input cannot run monotonically through their
+// values: around a full turn the forward (or backward) steps must add up to less than a turn;
+// on a limited input `position` measures each value along the circuit.
+template <typename Position>
+DefectVisit JudgeDefects(const std::vector<FourBarLocation>& locations, int circuit_index,
+                         bool rotates_fully, const Position& position,
+                         std::vector<std::string>* defects) {
+  bool one_circuit = true, one_branch = true;
+  for (size_t j = 0; j < locations.size(); ++j) {
+    one_circuit = one_circuit && locations[j].circuit == circuit_index;
+    if (j > 0 && locations[j].branch != locations[j - 1].branch) one_branch = false;
+  }
+  if (!one_circuit) defects->push_back("circuit");
+  if (one_circuit && !one_branch) defects->push_back("branch");
+  DefectVisit visit;
+  if (!one_circuit || !one_branch || locations.size() < 2) return visit;
+  if (rotates_fully) {
+    double forward = 0.0, backward = 0.0;
+    for (size_t j = 1; j < locations.size(); ++j) {
+      const double step = PositiveAngle(locations[j].input - locations[j - 1].input);
+      forward += step;
+      backward += step == 0.0 ? 0.0 : kClosureTwoPi - step;
+    }
+    visit.increasing = forward < kClosureTwoPi;
+    visit.decreasing = backward < kClosureTwoPi;
+  } else {
+    for (size_t j = 1; j < locations.size(); ++j) {
+      const double a = position(locations[j - 1].input), b = position(locations[j].input);
+      visit.increasing = visit.increasing && b > a;
+      visit.decreasing = visit.decreasing && b < a;
+    }
+  }
+  if (!visit.increasing && !visit.decreasing) defects->push_back("order");
+  return visit;
+}
+
+// The largest pose error on the first pose's circuit: a pose on it at its own location, one off
+// it `off_circuit(j)`.
+template <typename OffCircuit>
+double MaxPoseErrorOnCircuit(const std::vector<FourBarLocation>& locations, int circuit_index,
+                             const OffCircuit& off_circuit) {
+  double worst = 0.0;
+  for (size_t j = 0; j < locations.size(); ++j) {
+    worst = std::max(
+        worst, locations[j].circuit == circuit_index ? locations[j].pose_error : off_circuit(j));
+  }
+  return worst;
+}
+
+// The configurations along a circuit of `closure`, `samples` of them over its interval (label 0
+// forward and label 1 back for a joined circuit); an open slider side is sampled from `lo` or
+// to `hi`. `assemble(value, &configurations)` writes the configurations at an input value and
+// returns their count (AssembleFourBar's order of labels).
+template <typename Configuration, typename Assemble>
+std::vector<Configuration> CircuitConfigurations(const FourBarClosure& closure,
+                                                 const ClosedCircuit& circuit, double lo, double hi,
+                                                 int samples, const Assemble& assemble) {
+  const ClosureInterval& interval = closure.intervals[circuit.interval];
+  const double start = interval.open_start ? lo : interval.start;
+  const double end = interval.open_end ? hi : interval.end;
+  std::vector<Configuration> along, back, configurations;
+  const int steps = std::max(samples - 1, 1);
+  for (int k = 0; k <= steps; ++k) {
+    const int count = assemble(start + (end - start) * k / steps, &configurations);
+    if (count == 0) continue;
+    if (circuit.label >= 0) {
+      along.push_back(configurations[std::min(circuit.label, count - 1)]);
+    } else {
+      along.push_back(configurations[0]);
+      back.push_back(configurations[count - 1]);
+    }
+  }
+  along.insert(along.end(), back.rbegin(), back.rend());
+  return along;
+}
+
+// The error of a pose from the circuit's nearest configuration: kNearestSamples over the
+// interval on each of the circuit's labels, then golden-section search about the best one.
+// `error(value, label)` is the pose's error from the configuration of that label at an input
+// value (infinity where it does not assemble); an open slider side is searched from `lo` or to
+// `hi`.
+template <typename Error>
+double NearestOnCircuit(const FourBarClosure& closure, const ClosedCircuit& circuit, double lo,
+                        double hi, const Error& error) {
+  constexpr int kNearestSamples = 16, kIterations = 20;
+  const ClosureInterval& interval = closure.intervals[circuit.interval];
+  const double start = interval.open_start ? lo : interval.start;
+  const double end = interval.open_end ? hi : interval.end;
+  double best = std::numeric_limits<double>::infinity();
+  for (int label = 0; label < closure.labels; ++label) {
+    if (circuit.label >= 0 && circuit.label != label) continue;
+    const auto at = [&](double t) { return error(start + (end - start) * t, label); };
+    int nearest = 0;
+    double least = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < kNearestSamples; ++k) {
+      const double e = at(static_cast<double>(k) / (kNearestSamples - 1));
+      if (e < least) {
+        least = e;
+        nearest = k;
+      }
+    }
+    const double step = 1.0 / (kNearestSamples - 1);
+    // kIterations evaluations after the first two: one shrink more (the last only narrows).
+    const GoldenSection search =
+        GoldenSectionSearch(at, std::max(0.0, (nearest - 1) * step),
+                            std::min(1.0, (nearest + 1) * step), kIterations + 1);
+    best = std::min({best, least, search.least});
+  }
+  return best;
+}
+
+// The better of two analyses of one dyad pair (input i or input j; planar FourBarAnalysis or
+// spherical): fewer defects, then a crank input, then a better worst transmission angle.
+template <typename Analysis>
+bool BetterAnalysis(const Analysis& a, const Analysis& b) {
+  if (a.defects.size() != b.defects.size()) return a.defects.size() < b.defects.size();
+  if (a.input_rotates_fully != b.input_rotates_fully) return a.input_rotates_fully;
+  return a.transmission_min_deg.value_or(-1.0) > b.transmission_min_deg.value_or(-1.0);
+}
+
+// Where task poses lie on a closed-form motion and what that makes of the four-bar, shared by
+// the planar four-bars (AnalyzeFourBar) and the spherical ones (spherical_four_bar.h).
+struct ClosureJudgment {
+  std::vector<ClosedCircuit> circuits;     // ClosedCircuits of the closure
+  std::vector<FourBarLocation> locations;  // one per pose
+  std::vector<std::string> defects;        // JudgeDefects
+  int circuit = -1;                        // the first pose's; -1 when it does not assemble
+  bool input_rotates_fully = false;        // on that circuit
+  std::optional<double> max_pose_error;    // on that circuit (MaxPoseErrorOnCircuit)
+  double lo = 0.0, hi = 0.0;               // a slider's range: the poses' values and the margin
+  // The input's way from the first pose to the last along the circuit: from sweep_start over
+  // sweep_extent (signed; a crank runs the way its monotonic visit goes, a limited input within
+  // its interval).
+  double sweep_start = 0.0, sweep_extent = 0.0;
+};
+
+// inputs[j] is pose j's input value and label_errors[j] its pose error from the configuration
+// of each assembly label there (infinity where there is none). A pose is located on the circuit
+// of its interval and of its nearer label; a pose off the first pose's circuit is measured to
+// that circuit: at its own input value on the circuit's label, or to the circuit's nearest
+// configuration (NearestOnCircuit with error_at(j, value, label)). A slider's open side reaches
+// slider_margin times the larger of the poses' range and `length` beyond their values.
+template <typename ErrorAt>
+ClosureJudgment JudgeOnClosure(const FourBarClosure& closure, const std::vector<double>& inputs,
+                               const std::vector<std::array<double, 2>>& label_errors,
+                               double slider_margin, double length, const ErrorAt& error_at) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  ClosureJudgment judgment;
+  judgment.circuits = ClosedCircuits(closure);
+  const std::vector<ClosedCircuit>& circuits = judgment.circuits;
+  for (size_t j = 0; j < inputs.size(); ++j) {
+    FourBarLocation location;
+    location.input = inputs[j];
+    const std::array<double, 2>& errors = label_errors[j];
+    if (errors[0] < kInfinity || errors[1] < kInfinity) {
+      const int label = errors[1] < errors[0] ? 1 : 0;
+      location.pose_error = errors[label];
+      const int interval = NearestInterval(closure, location.input);
+      for (size_t c = 0; c < circuits.size() && interval >= 0; ++c) {
+        if (circuits[c].interval == interval &&
+            (circuits[c].label < 0 || circuits[c].label == label)) {
+          location.circuit = static_cast<int>(c);
+          location.branch = circuits[c].label >= 0 ? 0 : label;
+          break;
+        }
+      }
+    }
+    judgment.locations.push_back(location);
+  }
+  if (inputs.empty() || judgment.locations[0].circuit < 0) return judgment;
+  const int circuit_index = judgment.locations[0].circuit;
+  const ClosedCircuit& circuit = circuits[circuit_index];
+  const ClosureInterval& interval = closure.intervals[circuit.interval];
+  judgment.circuit = circuit_index;
+  judgment.input_rotates_fully = circuit.rotates_fully;
+  double lo = inputs[0], hi = inputs[0];
+  for (const double value : inputs) {
+    lo = std::min(lo, value);
+    hi = std::max(hi, value);
+  }
+  const double widen = slider_margin * std::max(hi - lo, length);
+  judgment.lo = lo - widen;
+  judgment.hi = hi + widen;
+
+  // Defects; positions along the interval measured from just before its start (a pose admitted
+  // by the assembly's tolerance may lie a hair before it).
+  const double origin = interval.start - 1e-9;
+  const auto position = [&](double value) {
+    return closure.angle_input ? PositiveAngle(value - origin) : value;
+  };
+  const DefectVisit visit = JudgeDefects(judgment.locations, circuit_index, circuit.rotates_fully,
+                                         position, &judgment.defects);
+  judgment.max_pose_error = MaxPoseErrorOnCircuit(judgment.locations, circuit_index, [&](size_t j) {
+    const double at_label = circuit.label >= 0 ? label_errors[j][circuit.label] : kInfinity;
+    return std::min(at_label, NearestOnCircuit(closure, circuit, judgment.lo, judgment.hi,
+                                               [&](double value, int label) {
+                                                 return error_at(j, value, label);
+                                               }));
+  });
+
+  const double start = inputs.front(), end = inputs.back();
+  judgment.sweep_start = start;
+  judgment.sweep_extent = end - start;
+  if (closure.angle_input && circuit.rotates_fully) {
+    judgment.sweep_extent = !visit.increasing && visit.decreasing ? -PositiveAngle(start - end)
+                                                                  : PositiveAngle(end - start);
+  } else if (closure.angle_input) {
+    // Within the interval (the short way round may cross where it does not assemble).
+    judgment.sweep_extent = position(end) - position(start);
+  }
+  return judgment;
 }
 
 }  // namespace linkfit

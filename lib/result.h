@@ -11,6 +11,7 @@
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/spatial_dyad.h"
+#include "lib/spherical_dyad.h"
 #include "lib/task.h"
 
 namespace linkfit {
@@ -137,11 +138,21 @@ struct SphericalCenter {
   double sphericity = 0.0;  // the largest |R_j p + d_j - P|, length units
 };
 
+// A spherical RR dyad of a spherical motion (lib/spherical_dyad.h), axes through the centre.
+struct SphericalDyadReport {
+  SphericalDyad dyad;
+  // L times the largest angle by which the moving axis misses its cone over the task poses: how
+  // far a point of the moving axis L from the centre misses its circle (length units).
+  double max_residual = 0.0;
+  // Least squares: the weighted RMS of the same, and the seed's before the refinement.
+  std::optional<double> rms_residual;
+  std::optional<double> seed_rms_residual;
+};
+
 struct SpatialMotionResult {
   std::string method = "exact";  // "exact" | "least-squares"
   double scale = 1.0;            // the characteristic length L used
-  // "spatial" | "planar" (the data lie in a plane) | "spherical" (the poses fix one point: a
-  // family, `spherical`, no dyads)
+  // "spatial" | "planar" (the data lie in a plane) | "spherical" (the poses fix one point)
   std::string model = "spatial";
   std::vector<SpatialDyadReport> dyads;
   std::vector<PlatformReport> mechanisms;
@@ -151,8 +162,16 @@ struct SpatialMotionResult {
   // Planar data: the plane and the planar result (dyads in plane coordinates).
   std::optional<PlanarEmbedding> plane;
   std::optional<PlanarMotionResult> planar;
-  // A spherical motion within the data's precision (a family of dyads: none listed).
+  // A spherical motion within the data's precision: its centre, and (model "spherical") its
+  // spherical RR dyads and the spherical four-bars of every pair (dyad indices into
+  // spherical_dyads; pose errors spatial, lib/spherical_dyad.h SphericalMotion::PoseError).
   std::optional<SphericalCenter> spherical;
+  std::vector<SphericalDyadReport> spherical_dyads;
+  std::vector<MechanismReport> spherical_mechanisms;
+  // Four orientations: the spherical Burmester cones (fitting/spherical_burmester.h), polylines
+  // of unit vectors: fixed axes in Sigma, moving axes in E.
+  std::vector<std::vector<Eigen::Vector3d>> center_axis_curves;
+  std::vector<std::vector<Eigen::Vector3d>> circle_axis_curves;
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
   double refine_seconds = 0.0;    // Ceres refinement (more than seven poses)

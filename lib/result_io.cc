@@ -157,6 +157,24 @@ Json DyadToJson(const DyadReport& report) {
   return object;
 }
 
+// A spherical dyad: its axes through the centre (unit; fixed in Sigma, moving in E) and the
+// constant angle between them.
+Json SphericalDyadToJson(const SphericalDyadReport& report) {
+  Json object;
+  object["type"] = "RR";
+  PutPoint3(&object, "fixed_axis", report.dyad.fixed_axis);
+  PutPoint3(&object, "moving_axis", report.dyad.moving_axis);
+  PutNumber(&object, "angle_deg", report.dyad.angle * 180.0 / M_PI);
+  PutNumber(&object, "max_residual", report.max_residual);
+  if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
+  if (report.seed_rms_residual) {
+    Json seed;
+    PutNumber(&seed, "rms_residual", *report.seed_rms_residual);
+    object["before_refinement"] = seed;
+  }
+  return object;
+}
+
 Json MechanismToJson(const MechanismReport& report) {
   Json object;
   object["type"] = FourBarTypeName(report.type);
@@ -365,16 +383,39 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   root["method"] = result.method;
   PutNumber(&root, "scale", result.scale);
   PutPrecision(&root, result.precision, result.closed);
-  root["dyads"] = Json::array();
-  root["mechanisms"] = Json::array();
   if (result.spherical) {
+    PutPoint3(&root, "center", result.spherical->in_fixed);
     Json sphere;
-    PutPoint3(&sphere, "center", result.spherical->in_fixed);
     PutPoint3(&sphere, "center_in_moving", result.spherical->in_moving);
     PutNumber(&sphere, "largest_deviation", result.spherical->sphericity);
     root["spherical"] = sphere;
   }
-  if (result.plane && result.planar) {
+  root["dyads"] = Json::array();
+  root["mechanisms"] = Json::array();
+  if (result.model == "spherical") {
+    for (const SphericalDyadReport& dyad : result.spherical_dyads) {
+      root["dyads"].push_back(SphericalDyadToJson(dyad));
+    }
+    for (const MechanismReport& mechanism : result.spherical_mechanisms) {
+      root["mechanisms"].push_back(MechanismToJson(mechanism));
+    }
+    if (!result.center_axis_curves.empty() || !result.circle_axis_curves.empty()) {
+      Json cones;
+      for (const auto& [name, polylines] : {std::pair{"center_axes", &result.center_axis_curves},
+                                            std::pair{"circle_axes", &result.circle_axis_curves}}) {
+        Json list = Json::array();
+        for (const std::vector<Eigen::Vector3d>& polyline : *polylines) {
+          Json points = Json::array();
+          for (const Eigen::Vector3d& point : polyline) {
+            if (point.allFinite()) points.push_back(Json::array({point.x(), point.y(), point.z()}));
+          }
+          if (!points.empty()) list.push_back(points);
+        }
+        cones[name] = list;
+      }
+      root["burmester_cones"] = cones;
+    }
+  } else if (result.plane && result.planar) {
     const PlanarEmbedding& plane = *result.plane;
     Json frame;
     PutPoint3(&frame, "origin", plane.origin_in_fixed);

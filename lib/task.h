@@ -47,6 +47,10 @@ struct Task {
   // Spatial motion with four to six poses: points chosen by the user, one SS dyad each.
   std::vector<Eigen::Vector3d> spatial_moving_pivots;  // in E
   std::vector<Eigen::Vector3d> spatial_fixed_pivots;   // in Sigma
+  // Spatial poses of a spherical motion with three or four orientations: axes through the
+  // centre chosen by the user (directions), one spherical dyad each.
+  std::vector<Eigen::Vector3d> moving_axes;  // in E
+  std::vector<Eigen::Vector3d> fixed_axes;   // in Sigma
   // Spatial motion: the five dyads (indices into the result's dyads) to build the platform
   // from; empty for the default (the five of smallest radius).
   std::vector<int> platform;

@@ -545,9 +545,10 @@ class TaskParser {
     DigitTallies tallies;
     const Json root = ParseJson(text, &tallies);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
-    CheckKeys(root, "",
-              {"problem", "space", "poses", "points", "scale", "precision", "options",
-               "moving_pivots", "fixed_pivots", "platform", "constraints"});
+    CheckKeys(
+        root, "",
+        {"problem", "space", "poses", "points", "scale", "precision", "options", "moving_pivots",
+         "fixed_pivots", "moving_axes", "fixed_axes", "platform", "constraints"});
 
     Task task;
     task.problem =
@@ -592,6 +593,15 @@ class TaskParser {
                count < 4 ? "need at least four poses (a sphere through the pivot's positions)"
                          : "used with four to six poses only (seven poses determine the dyads)");
         }
+        task.moving_axes = Axes(root, "moving_axes");
+        task.fixed_axes = Axes(root, "fixed_axes");
+        if ((count < 3 || count > 4) && !(task.moving_axes.empty() && task.fixed_axes.empty())) {
+          Fail(task.moving_axes.empty() ? "fixed_axes" : "moving_axes",
+               count < 3 ? "need three or four poses (a circle of the sphere through the axis's "
+                           "positions)"
+                         : "used with three or four poses only (five orientations determine the "
+                           "spherical dyads)");
+        }
         task.platform = Platform(root);
       }
     } else {
@@ -602,6 +612,12 @@ class TaskParser {
     if (task.problem != ProblemKind::kMotion) {
       for (const char* key : {"moving_pivots", "fixed_pivots"}) {
         if (root.contains(key)) Fail(key, "used by motion problems only");
+      }
+    }
+    if (task.space != Space::kSpatial || task.problem != ProblemKind::kMotion) {
+      for (const char* key : {"moving_axes", "fixed_axes"}) {
+        if (root.contains(key))
+          Fail(key, "used by spatial motion problems only (spherical motion)");
       }
     }
     if ((task.space != Space::kSpatial || task.problem != ProblemKind::kMotion) &&
@@ -762,6 +778,15 @@ class TaskParser {
     for (size_t i = 0; i < value.size(); ++i)
       pivots.push_back(Vector<N>(value[i], IndexItem(key, i)));
     return pivots;
+  }
+
+  // Axes through a spherical motion's centre: non-zero directions [x, y, z].
+  std::vector<Eigen::Vector3d> Axes(const Json& root, const char* key) const {
+    std::vector<Eigen::Vector3d> axes = Pivots<3>(root, key);
+    for (size_t i = 0; i < axes.size(); ++i) {
+      if (!(axes[i].norm() > 0.0)) Fail(IndexItem(key, i), "a zero vector is not a direction");
+    }
+    return axes;
   }
 
   // An axis-aligned box [[xmin, ymin], [xmax, ymax]].

@@ -253,6 +253,42 @@ void AddExactPoseNotes(const Task& task, double exact_tolerance, SpatialMotionRe
 
 }  // namespace
 
+void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
+                           SpatialMotionResult* result) {
+  const auto start = std::chrono::steady_clock::now();
+  const SphericalMotion motion = TaskSphericalMotion(task, *result->spherical, result->scale);
+  std::vector<double> weights = task.pose_weights;
+  if (weights.size() != motion.rotations.size()) weights.assign(motion.rotations.size(), 1.0);
+  std::vector<SphericalDyadReport> refined;
+  for (const SphericalDyadReport& seed : result->spherical_dyads) {
+    SphericalDyad dyad = seed.dyad;
+    RefineSphericalDyad(motion.rotations, weights, task.pose_exact, &dyad,
+                        options.spherical_refiner);
+    SphericalDyadReport report = ReportSphericalDyad(dyad, motion, weights);
+    report.seed_rms_residual = seed.rms_residual;
+    bool repeat = false;
+    for (SphericalDyadReport& kept : refined) {
+      if (!SameSphericalDyad(kept.dyad, dyad, 1e-7)) continue;
+      repeat = true;
+      if (report.rms_residual < kept.rms_residual) kept = report;
+    }
+    if (!repeat) refined.push_back(report);
+  }
+  // The best-fitting dyads make the four-bars.
+  std::stable_sort(refined.begin(), refined.end(),
+                   [](const SphericalDyadReport& a, const SphericalDyadReport& b) {
+                     return a.rms_residual.value_or(0.0) < b.rms_residual.value_or(0.0);
+                   });
+  if (static_cast<int>(refined.size()) > options.max_dyads) refined.resize(options.max_dyads);
+  result->spherical_dyads = refined;
+  BuildSphericalMechanisms(task, motion, result);
+  if (static_cast<int>(result->spherical_mechanisms.size()) > options.reported_mechanisms) {
+    result->spherical_mechanisms.resize(options.reported_mechanisms);
+  }
+  result->refine_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options) {
   SpatialMotionResult result = SolveSpatialMotion(task, options.spatial);
   if (result.model == "planar" && result.planar && result.plane && result.plane->poses.size() > 5) {
@@ -284,6 +320,10 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
     AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
     result.refine_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  if (result.model == "spherical" && result.method == "least-squares" &&
+      task.effort != Effort::kFast) {
+    RefineSphericalResult(task, options, &result);
   }
   PlatformMotionOptions platform = options.spatial.platform;
   if (result.method == "least-squares") {

@@ -36,17 +36,19 @@
 #include "optimizers/path_search.h"
 #include "optimizers/planar_dyad_refiner.h"
 #include "optimizers/spatial_dyad_refiner.h"
+#include "optimizers/spherical_dyad_refiner.h"
 
 namespace linkfit {
 
 struct TaskSolverOptions {
-  PlanarMotionOptions planar;               // planar motion
-  SpatialMotionOptions spatial;             // spatial motion (and its platform tracing)
-  SpatialDyadRefinerOptions refiner;        // spatial least squares
-  PlanarDyadRefinerOptions planar_refiner;  // planar least squares, dyad level
-  FourBarRefinerOptions four_bar_refiner;   // planar least squares, mechanism level
-  GlobalSearchOptions search;               // planar least squares, effort thorough
-  int seed_subsets = 6;                     // five-pose subsets solved exactly for seeds
+  PlanarMotionOptions planar;                     // planar motion
+  SpatialMotionOptions spatial;                   // spatial motion (and its platform tracing)
+  SpatialDyadRefinerOptions refiner;              // spatial least squares
+  SphericalDyadRefinerOptions spherical_refiner;  // spherical least squares
+  PlanarDyadRefinerOptions planar_refiner;        // planar least squares, dyad level
+  FourBarRefinerOptions four_bar_refiner;         // planar least squares, mechanism level
+  GlobalSearchOptions search;                     // planar least squares, effort thorough
+  int seed_subsets = 6;                           // five-pose subsets solved exactly for seeds
   int max_dyads = 10;               // dyads kept per effort level (best RMS first) for four-bars
   int refined_mechanisms = 3;       // best-ranked four-bars refined per level (mechanism level)
   int reported_mechanisms = 12;     // four-bars listed at most (least squares)
@@ -73,8 +75,15 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options = {}
 double PathPassTolerance(const DataPrecision& precision, double length);
 
 // Spatial motion only: solve, refine (more than seven poses, unless effort is fast), and add
-// the platform.
+// the platform. A spherical motion of six or more orientations: every seed dyad refined
+// (RefineSphericalResult), unless effort is fast.
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options = {});
+
+// Refines every seed dyad of a spherical least-squares result on its cone residual
+// (spherical_dyad_refiner.h), drops repeats, keeps the max_dyads best-fitting and rebuilds the
+// four-bars.
+void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
+                           SpatialMotionResult* result);
 
 // `linkfit refine` and linkfit.refine: a design (a result file's, or written by hand) refined
 // against a task, the result in the form `linkfit solve` gives, with "method": "refine", the

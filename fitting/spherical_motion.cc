@@ -1,0 +1,255 @@
+#include "fitting/spherical_motion.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "fitting/planar_motion.h"
+#include "lib/design_constraints.h"
+
+namespace linkfit {
+namespace {
+
+std::string Format(const char* format, double value) {
+  char buffer[128];
+  std::snprintf(buffer, sizeof(buffer), format, value);
+  return buffer;
+}
+
+std::string VectorText(const Eigen::Vector3d& x) {
+  return "[" + Format("%.6g", x.x()) + ", " + Format("%.6g", x.y()) + ", " + Format("%.6g", x.z()) +
+         "]";
+}
+
+std::vector<double> TaskWeights(const Task& task) {
+  return task.pose_weights.size() == task.spatial_poses.size()
+             ? task.pose_weights
+             : std::vector<double>(task.spatial_poses.size(), 1.0);
+}
+
+// Dyads chosen by their axes (three or four orientations), one per axis.
+void AxisDyads(const Task& task, const SphericalMotion& motion, const std::vector<double>& weights,
+               SpatialMotionResult* result) {
+  for (int side = 0; side < 2; ++side) {
+    const bool moving = side == 0;
+    const std::vector<Eigen::Vector3d>& axes = moving ? task.moving_axes : task.fixed_axes;
+    for (const Eigen::Vector3d& axis : axes) {
+      SphericalDyad dyad;
+      double moved_deg = 0.0;
+      const bool found =
+          moving ? SphericalDyadFromMovingAxis(motion.rotations, weights, axis, &dyad, &moved_deg)
+                 : SphericalDyadFromFixedAxis(motion.rotations, weights, axis, &dyad, &moved_deg);
+      const char* which = moving ? "moving axis " : "fixed axis ";
+      if (!found) {
+        result->notes.push_back(std::string(which) + VectorText(axis) +
+                                ": its positions do not determine a circle of the sphere (it "
+                                "barely moves, or could not be moved onto its cone)");
+        continue;
+      }
+      if (moved_deg > 1e-6) {
+        result->notes.push_back(std::string(which) + VectorText(axis) + " moved by " +
+                                Format("%.3g", moved_deg) + " deg onto the " +
+                                (moving ? "circle-axis" : "center-axis") +
+                                " cone of the four orientations");
+      }
+      result->spherical_dyads.push_back(ReportSphericalDyad(dyad, motion, weights));
+    }
+  }
+}
+
+}  // namespace
+
+SphericalMotion TaskSphericalMotion(const Task& task, const SphericalCenter& center,
+                                    double length) {
+  return MakeSphericalMotion(task.spatial_poses, center.in_moving, center.in_fixed, length);
+}
+
+bool SameSphericalDyad(const SphericalDyad& a, const SphericalDyad& b, double tolerance) {
+  const double same =
+      std::max((a.fixed_axis - b.fixed_axis).norm(), (a.moving_axis - b.moving_axis).norm());
+  const double flipped =
+      std::max((a.fixed_axis + b.fixed_axis).norm(), (a.moving_axis + b.moving_axis).norm());
+  return std::min(same, flipped) <= tolerance && std::abs(a.angle - b.angle) <= tolerance;
+}
+
+SphericalDyadReport ReportSphericalDyad(const SphericalDyad& dyad, const SphericalMotion& motion,
+                                        const std::vector<double>& weights) {
+  SphericalDyadReport report;
+  report.dyad = dyad;
+  double worst = 0.0, sum = 0.0, total = 0.0;
+  for (size_t j = 0; j < motion.rotations.size(); ++j) {
+    const double residual = dyad.Residual(motion.rotations[j]);
+    const double weight = j < weights.size() ? weights[j] : 1.0;
+    worst = std::max(worst, std::abs(residual));
+    sum += weight * residual * residual;
+    total += weight;
+  }
+  report.max_residual = motion.length * worst;
+  if (motion.rotations.size() > 5 && total > 0.0) {
+    report.rms_residual = motion.length * std::sqrt(sum / total);
+  }
+  return report;
+}
+
+int SphericalSeeds(const std::vector<Eigen::Matrix3d>& rotations,
+                   const std::vector<double>& weights, const SphericalBurmesterOptions& options,
+                   int subsets, std::vector<SphericalDyad>* seeds,
+                   SphericalBurmesterSummary* summary) {
+  seeds->clear();
+  const auto add = [&](const std::vector<SphericalDyad>& found) {
+    for (const SphericalDyad& dyad : found) {
+      bool repeat = false;
+      for (const SphericalDyad& seed : *seeds) repeat |= SameSphericalDyad(seed, dyad, 1e-9);
+      if (!repeat) seeds->push_back(dyad);
+    }
+  };
+  std::vector<SphericalDyad> found;
+  SolveSphericalBurmester(rotations, weights, options, &found, summary);
+  add(found);
+  const int n = static_cast<int>(rotations.size());
+  if (n > 5) {
+    for (const std::vector<int>& subset : SpreadSubsets(n, subsets)) {
+      std::vector<Eigen::Matrix3d> chosen;
+      std::vector<double> chosen_weights;
+      for (int index : subset) {
+        chosen.push_back(rotations[index]);
+        chosen_weights.push_back(index < static_cast<int>(weights.size()) ? weights[index] : 1.0);
+      }
+      SolveSphericalBurmester(chosen, chosen_weights, options, &found);
+      add(found);
+    }
+  }
+  return static_cast<int>(seeds->size());
+}
+
+MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dyads, int i, int j,
+                                     const SphericalMotion& motion,
+                                     const DesignConstraints& constraints) {
+  const SphericalFourBar a_drives = MakeSphericalFourBar(dyads[i].dyad, dyads[j].dyad);
+  const SphericalFourBar b_drives = MakeSphericalFourBar(dyads[j].dyad, dyads[i].dyad);
+  const SphericalFourBarAnalysis a_analysis = AnalyzeSphericalFourBar(a_drives, motion);
+  const SphericalFourBarAnalysis b_analysis = AnalyzeSphericalFourBar(b_drives, motion);
+  const bool swap = BetterAnalysis(b_analysis, a_analysis);
+  const SphericalFourBarAnalysis& chosen = swap ? b_analysis : a_analysis;
+  const SphericalFourBar& four_bar = swap ? b_drives : a_drives;
+  MechanismReport mechanism;
+  mechanism.type = FourBarType::k4R;
+  mechanism.input_dyad = swap ? j : i;
+  mechanism.output_dyad = swap ? i : j;
+  mechanism.max_pose_error = chosen.max_pose_error;
+  if (!mechanism.max_pose_error) {
+    mechanism.pose_error_note = four_bar.valid
+                                    ? "the mechanism does not assemble at the first task pose"
+                                    : four_bar.invalid_note;
+  }
+  if (four_bar.valid) mechanism.grashof = SphericalGrashofType(four_bar);
+  mechanism.defects = chosen.defects;
+  mechanism.input_rotates_fully = chosen.input_rotates_fully;
+  mechanism.output_rotates_fully = (swap ? a_analysis : b_analysis).input_rotates_fully;
+  mechanism.transmission_min_deg = chosen.transmission_min_deg;
+  mechanism.transmission_max_deg = chosen.transmission_max_deg;
+  mechanism.transmission_note = chosen.transmission_note;
+  if (motion.rotations.size() > 5 && mechanism.max_pose_error) {
+    double sum = 0.0;
+    for (const FourBarLocation& location : chosen.locations) {
+      sum += location.pose_error * location.pose_error;
+    }
+    mechanism.rms_pose_error = std::sqrt(sum / static_cast<double>(chosen.locations.size()));
+  }
+  FourBarClass kind;
+  kind.type = mechanism.type;
+  kind.grashof = mechanism.grashof;
+  kind.input_rotates_fully = mechanism.input_rotates_fully;
+  ClassViolations(constraints, kind, &mechanism.violates);
+  JudgeTransmission(constraints, mechanism.transmission_min_deg, &mechanism.defects);
+  return mechanism;
+}
+
+void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
+                              SpatialMotionResult* result) {
+  const auto start = std::chrono::steady_clock::now();
+  result->spherical_mechanisms.clear();
+  const int count = static_cast<int>(result->spherical_dyads.size());
+  for (int i = 0; i < count; ++i) {
+    for (int j = i + 1; j < count; ++j) {
+      result->spherical_mechanisms.push_back(
+          AnalyzeSphericalPair(result->spherical_dyads, i, j, motion, task.constraints));
+    }
+  }
+  RankMechanisms(PoseFitTolerance(task.precision, motion.length), -1,
+                 &result->spherical_mechanisms);
+  result->analysis_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void SolveSphericalMotion(const Task& task, const SphericalCenter& center,
+                          const SphericalMotionOptions& options, SpatialMotionResult* result) {
+  result->model = "spherical";
+  result->spherical = center;
+  const SphericalMotion motion = TaskSphericalMotion(task, center, result->scale);
+  const std::vector<double> weights = TaskWeights(task);
+  const int n = static_cast<int>(motion.rotations.size());
+  result->notes.push_back(
+      "the poses are a spherical motion: every displacement fixes the point " +
+      VectorText(center.in_fixed) + " of the fixed frame (largest deviation " +
+      Format("%.3g", center.sphericity) +
+      ", within the data's precision); solved as spherical, every joint axis through it");
+  if (!task.moving_axes.empty() || !task.fixed_axes.empty()) {
+    result->method = "exact";
+    AxisDyads(task, motion, weights, result);
+  } else if (n < 5) {
+    result->method = "exact";
+    if (n == 4) {
+      SphericalBurmesterCones cones;
+      if (SampleSphericalBurmesterCones(motion.rotations, options.cone_samples, &cones)) {
+        result->center_axis_curves = cones.center_axes;
+        result->circle_axis_curves = cones.circle_axes;
+      }
+      result->notes.push_back(
+          "four orientations leave a one-parameter family of spherical dyads: their fixed axes "
+          "form the center-axis cone and their moving axes the circle-axis cone "
+          "(burmester_cones); give \"moving_axes\" or \"fixed_axes\" to pick dyads from it");
+    } else {
+      result->notes.push_back(
+          std::to_string(n) + " orientations leave a " + std::to_string(5 - n) +
+          "-parameter family of spherical dyads (five determine them); give \"moving_axes\" or "
+          "\"fixed_axes\" (three or four orientations) to pick dyads from it");
+    }
+  } else {
+    std::vector<SphericalDyad> dyads;
+    SphericalBurmesterSummary summary;
+    SphericalSeeds(motion.rotations, weights, options.burmester, n == 5 ? 0 : options.seed_subsets,
+                   &dyads, &summary);
+    result->method = n == 5 ? "exact" : "least-squares";
+    result->roots_total = summary.roots_total;
+    result->roots_real = summary.roots_real;
+    result->condition = summary.condition;
+    if (summary.degenerate) {
+      result->notes.push_back(
+          "the spherical constraint equations are rank-deficient (condition " +
+          Format("%.3g", summary.condition) +
+          "): the orientations admit a family of dyads, not finitely many (rotations about one "
+          "axis, or repeated orientations, do this)");
+    }
+    if (summary.nearly_real > 0) {
+      result->notes.push_back(std::to_string(summary.nearly_real) +
+                              " complex roots are nearly real: ill-conditioned near a double "
+                              "root, where rounding can turn two real dyads into a complex pair");
+    }
+    for (const SphericalDyad& dyad : dyads) {
+      result->spherical_dyads.push_back(ReportSphericalDyad(dyad, motion, weights));
+    }
+    std::stable_sort(result->spherical_dyads.begin(), result->spherical_dyads.end(),
+                     [](const SphericalDyadReport& a, const SphericalDyadReport& b) {
+                       return a.dyad.angle < b.dyad.angle;
+                     });
+    if (result->spherical_dyads.empty() && !summary.degenerate) {
+      result->notes.push_back("no real spherical dyad: all roots are complex");
+    }
+  }
+  BuildSphericalMechanisms(task, motion, result);
+}
+
+}  // namespace linkfit

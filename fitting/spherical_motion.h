@@ -1,0 +1,67 @@
+// Spherical motion generation, end to end: spatial poses whose displacements all fix one point
+// (fitting/spatial_motion.h DetectSphericalMotion) are solved as spherical, the way planar data
+// are solved as planar: spherical RR dyads about the centre (fitting/spherical_burmester.h) and
+// the spherical four-bars of every pair (lib/spherical_four_bar.h), analysed and ranked as the
+// planar four-bars are.
+//   - Five orientations: every dyad (up to six).
+//   - Six or more: the algebraic least-squares seed and the exact dyads of spread five-pose
+//     subsets (refined in optimizers/).
+//   - Four: the center-axis and circle-axis cones; three or four with chosen axes
+//     (moving_axes / fixed_axes): one dyad each.
+#ifndef LINKFIT_FITTING_SPHERICAL_MOTION_H_
+#define LINKFIT_FITTING_SPHERICAL_MOTION_H_
+
+#include <vector>
+
+#include "fitting/spherical_burmester.h"
+#include "lib/result.h"
+#include "lib/spherical_four_bar.h"
+#include "lib/task.h"
+
+namespace linkfit {
+
+struct SphericalMotionOptions {
+  SphericalBurmesterOptions burmester;
+  int cone_samples = 720;  // four orientations: planes of the cones' pencils
+  // Six or more orientations: five-orientation subsets solved for seeds besides the algebraic
+  // least-squares fit.
+  int seed_subsets = 4;
+};
+
+// The task's motion about the centre.
+SphericalMotion TaskSphericalMotion(const Task& task, const SphericalCenter& center, double length);
+
+// Solves a spherical task (the centre found) into result: model "spherical", its dyads and
+// four-bars (not refined).
+void SolveSphericalMotion(const Task& task, const SphericalCenter& center,
+                          const SphericalMotionOptions& options, SpatialMotionResult* result);
+
+// The dyads of five orientations, or for more the seeds: the algebraic least-squares dyads and
+// those of up to `subsets` spread five-orientation subsets; repeats dropped. `summary`: of the
+// solve of all orientations.
+int SphericalSeeds(const std::vector<Eigen::Matrix3d>& rotations,
+                   const std::vector<double>& weights, const SphericalBurmesterOptions& options,
+                   int subsets, std::vector<SphericalDyad>* seeds,
+                   SphericalBurmesterSummary* summary = nullptr);
+
+// Whether two dyads are one: their axes (either sign) and angles within `tolerance` radians.
+bool SameSphericalDyad(const SphericalDyad& a, const SphericalDyad& b, double tolerance);
+
+// The report of a dyad over the motion: max_residual (and for more than five orientations the
+// weighted RMS) in length units (L times the angle).
+SphericalDyadReport ReportSphericalDyad(const SphericalDyad& dyad, const SphericalMotion& motion,
+                                        const std::vector<double>& weights);
+
+// The four-bar of dyads i and j (both inputs tried, the better kept), judged against the task's
+// constraints (input_rotates_fully, grashof, min_transmission_angle_deg).
+MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dyads, int i, int j,
+                                     const SphericalMotion& motion,
+                                     const DesignConstraints& constraints);
+
+// Every four-bar of two of result->spherical_dyads, analysed and ranked.
+void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
+                              SpatialMotionResult* result);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_FITTING_SPHERICAL_MOTION_H_

@@ -1,0 +1,66 @@
+#include "lib/spherical_dyad.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace linkfit {
+
+double DirectionAngle(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+SphericalDyad SphericalDyad::Make(const Eigen::Vector3d& fixed_axis,
+                                  const Eigen::Vector3d& moving_axis, double angle) {
+  SphericalDyad dyad;
+  dyad.fixed_axis = fixed_axis.normalized();
+  dyad.moving_axis = moving_axis.normalized();
+  dyad.angle = angle;
+  if (dyad.angle > 0.5 * M_PI) {
+    dyad.moving_axis = -dyad.moving_axis;
+    dyad.angle = M_PI - dyad.angle;
+  }
+  Eigen::Index largest = 0;
+  dyad.fixed_axis.cwiseAbs().maxCoeff(&largest);
+  if (dyad.fixed_axis(largest) < 0.0) {
+    dyad.fixed_axis = -dyad.fixed_axis;
+    dyad.moving_axis = -dyad.moving_axis;
+  }
+  return dyad;
+}
+
+double SphericalDyad::MaxResidual(const std::vector<Eigen::Matrix3d>& rotations) const {
+  double worst = 0.0;
+  for (const Eigen::Matrix3d& rotation : rotations) {
+    worst = std::max(worst, std::abs(Residual(rotation)));
+  }
+  return worst;
+}
+
+bool SphericalDyad::AllFinite() const {
+  return fixed_axis.allFinite() && moving_axis.allFinite() && std::isfinite(angle);
+}
+
+DualQuaternion SphericalMotion::Pose(const Eigen::Matrix3d& rotation) const {
+  return DualQuaternion::FromRotationTranslation(rotation,
+                                                 center_in_fixed - rotation * center_in_moving);
+}
+
+double SphericalMotion::PoseError(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) const {
+  const Eigen::Vector3d shift = (a - b) * center_in_moving;
+  const double turn = Eigen::AngleAxisd(a * b.transpose()).angle();
+  return std::sqrt(shift.squaredNorm() + length * length * turn * turn);
+}
+
+SphericalMotion MakeSphericalMotion(const std::vector<DualQuaternion>& poses,
+                                    const Eigen::Vector3d& center_in_moving,
+                                    const Eigen::Vector3d& center_in_fixed, double length) {
+  SphericalMotion motion;
+  for (const DualQuaternion& pose : poses) motion.rotations.push_back(pose.Rotation());
+  motion.center_in_moving = center_in_moving;
+  motion.center_in_fixed = center_in_fixed;
+  motion.length = length;
+  return motion;
+}
+
+}  // namespace linkfit

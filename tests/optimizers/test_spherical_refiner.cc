@@ -1,0 +1,122 @@
+// Spherical least squares (optimizers/spherical_dyad_refiner.h, SolveSpatialTask's spherical
+// branch): noisy orientations of a random spherical four-bar, given as spatial poses about a
+// centre, give both generating dyads back within the noise and fit no worse than they do; exact
+// orientations are met; fast keeps the seeds.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "fitting/spherical_motion.h"
+#include "lib/task.h"
+#include "optimizers/spherical_dyad_refiner.h"
+#include "optimizers/task_solver.h"
+#include "tests/support/random_spherical.h"
+
+namespace linkfit {
+namespace {
+
+// A rotation by a random axis and a normal angle of deviation sigma.
+Eigen::Matrix3d Jitter(std::mt19937_64& rng, double sigma) {
+  std::normal_distribution<double> normal(0.0, sigma);
+  return Eigen::AngleAxisd(normal(rng), testing::RandomUnitVector(rng)).toRotationMatrix();
+}
+
+double Rms(const SphericalDyad& dyad, const std::vector<Eigen::Matrix3d>& rotations) {
+  double sum = 0.0;
+  for (const Eigen::Matrix3d& r : rotations) sum += dyad.Residual(r) * dyad.Residual(r);
+  return std::sqrt(sum / static_cast<double>(rotations.size()));
+}
+
+// Noise 1e-3 rad on every orientation. For each generating dyad, the optimum it refines to (the
+// least-squares dyad of the noisy data near the truth) is listed, or a dyad that fits better:
+// the generating design or a better one (as linkfit bench counts success).
+TEST(SphericalRefiner, NoisyOrientationsGiveTheGeneratingDyadsBack) {
+  std::mt19937_64 rng(1721);
+  constexpr double kNoise = 1e-3;  // radians
+  int tasks = 0, listed = 0;
+  for (int trial = 0; trial < 200 && tasks < 25; ++trial) {
+    const SphericalFourBar four_bar = testing::RandomSphericalFourBar(rng);
+    std::vector<Eigen::Matrix3d> rotations = testing::SphericalFourBarRotations(rng, four_bar, 10);
+    if (rotations.empty()) continue;
+    ++tasks;
+    for (Eigen::Matrix3d& r : rotations) r = Jitter(rng, kNoise) * r;
+    const Eigen::Vector3d center_in_moving(-0.5, 0.2, 0.9), center_in_fixed(0.1, -2.0, 1.5);
+    const Task task =
+        SpatialMotionTask(testing::PosesAboutCenter(rotations, center_in_moving, center_in_fixed));
+    const SpatialMotionResult result = SolveSpatialTask(task);
+    ASSERT_EQ(result.model, "spherical") << trial;
+    EXPECT_EQ(result.method, "least-squares");
+    ASSERT_FALSE(result.spherical_dyads.empty()) << trial;
+    ASSERT_FALSE(result.spherical_mechanisms.empty()) << trial;
+    for (const SphericalDyad* generating : {&four_bar.input, &four_bar.output}) {
+      SphericalDyad optimum = *generating;
+      RefineSphericalDyad(rotations, {}, {}, &optimum);
+      ASSERT_LE(Rms(optimum, rotations), Rms(*generating, rotations)) << trial;
+      bool found = false;
+      for (const SphericalDyadReport& report : result.spherical_dyads) {
+        ASSERT_TRUE(report.rms_residual);
+        found = found || SameSphericalDyad(report.dyad, optimum, 1e-6) ||
+                Rms(report.dyad, rotations) <= Rms(optimum, rotations);
+      }
+      EXPECT_TRUE(found) << "trial " << trial << " (seed 1721)";
+      listed += found;
+    }
+  }
+  EXPECT_GE(tasks, 20);
+  EXPECT_EQ(listed, 2 * tasks);
+}
+
+TEST(SphericalRefiner, ExactOrientationsAreMet) {
+  std::mt19937_64 rng(1722);
+  int tasks = 0;
+  for (int trial = 0; trial < 40 && tasks < 10; ++trial) {
+    const SphericalFourBar four_bar = testing::RandomSphericalFourBar(rng);
+    std::vector<Eigen::Matrix3d> rotations = testing::SphericalFourBarRotations(rng, four_bar, 8);
+    if (rotations.empty()) continue;
+    ++tasks;
+    for (Eigen::Matrix3d& r : rotations) r = Jitter(rng, 1e-2) * r;
+    std::vector<bool> exact(rotations.size(), false);
+    exact[3] = true;
+    SphericalDyad dyad = four_bar.input;
+    const RefinerSummary summary = RefineSphericalDyad(rotations, {}, exact, &dyad);
+    EXPECT_LT(std::abs(dyad.Residual(rotations[3])), 1e-9) << trial;
+    EXPECT_TRUE(std::isfinite(summary.final_cost));
+    // Without the exact flag the fit is the least-squares one, no worse than the seed.
+    SphericalDyad free = four_bar.input;
+    const RefinerSummary free_summary = RefineSphericalDyad(rotations, {}, {}, &free);
+    EXPECT_LE(free_summary.final_cost, free_summary.initial_cost);
+    EXPECT_LE(free_summary.final_cost, summary.final_cost * (1.0 + 1e-12));
+  }
+  EXPECT_EQ(tasks, 10);
+}
+
+TEST(SphericalRefiner, FastKeepsTheSeeds) {
+  std::mt19937_64 rng(1723);
+  SphericalFourBar four_bar;
+  std::vector<Eigen::Matrix3d> rotations;
+  while (rotations.empty()) {
+    four_bar = testing::RandomSphericalFourBar(rng);
+    rotations = testing::SphericalFourBarRotations(rng, four_bar, 8);
+  }
+  Task task = SpatialMotionTask(
+      testing::PosesAboutCenter(rotations, Eigen::Vector3d::Zero(), Eigen::Vector3d(1, 2, 3)));
+  task.effort = Effort::kFast;
+  const SpatialMotionResult fast = SolveSpatialTask(task);
+  ASSERT_EQ(fast.model, "spherical");
+  for (const SphericalDyadReport& report : fast.spherical_dyads) {
+    EXPECT_FALSE(report.seed_rms_residual);
+  }
+  task.effort = Effort::kBalanced;
+  const SpatialMotionResult balanced = SolveSpatialTask(task);
+  for (const SphericalDyadReport& report : balanced.spherical_dyads) {
+    EXPECT_TRUE(report.rms_residual);
+  }
+}
+
+}  // namespace
+}  // namespace linkfit

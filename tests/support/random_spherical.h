@@ -1,0 +1,38 @@
+// Random spherical four-bars and the orientations they reach, for the spherical tests and the
+// benchmark.
+#ifndef LINKFIT_TESTS_SUPPORT_RANDOM_SPHERICAL_H_
+#define LINKFIT_TESTS_SUPPORT_RANDOM_SPHERICAL_H_
+
+#include <Eigen/Core>
+#include <random>
+#include <vector>
+
+#include "lib/spatial_pose.h"
+#include "lib/spherical_four_bar.h"
+
+namespace linkfit::testing {
+
+// A uniformly random unit vector.
+Eigen::Vector3d RandomUnitVector(std::mt19937_64& rng);
+
+// A random spherical four-bar assembled at the identity rotation: random fixed axes u1, u2 and
+// moving axes v1, v2 (the cranks' angles those between u_i and v_i), every link (cranks,
+// coupler, ground) between 15 and 165 degrees and its axes not nearly coplanar at the identity.
+SphericalFourBar RandomSphericalFourBar(std::mt19937_64& rng);
+
+// `count` rotations of the four-bar on the branch of the identity (including it, first), at
+// input angles spread over up to `spread` radians of that branch's input, increasing and at least
+// 0.15 rad apart (many orientations: half their even spacing). Empty when the branch is too
+// short for that.
+std::vector<Eigen::Matrix3d> SphericalFourBarRotations(std::mt19937_64& rng,
+                                                       const SphericalFourBar& four_bar, int count,
+                                                       double spread = 3.0);
+
+// The spatial poses (R_j, P - R_j p) of rotations about the centre p (E) = P (Sigma).
+std::vector<DualQuaternion> PosesAboutCenter(const std::vector<Eigen::Matrix3d>& rotations,
+                                             const Eigen::Vector3d& center_in_moving,
+                                             const Eigen::Vector3d& center_in_fixed);
+
+}  // namespace linkfit::testing
+
+#endif  // LINKFIT_TESTS_SUPPORT_RANDOM_SPHERICAL_H_

@@ -12,15 +12,10 @@
 #include "lib/design_constraints.h"
 #include "lib/four_bar_motion.h"
 #include "lib/precision.h"
+#include "lib/text_format.h"
 
 namespace linkfit {
 namespace {
-
-std::string Format(const char* format, double value) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
-}
 
 // Order of the dyad list: RR by crank length, then PR, then RP.
 bool DyadBefore(const DyadReport& a, const DyadReport& b) {

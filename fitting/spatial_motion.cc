@@ -12,15 +12,10 @@
 #include <string>
 
 #include "fitting/model_choice.h"
+#include "lib/text_format.h"
 
 namespace linkfit {
 namespace {
-
-std::string Format(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
-}
 
 // A sphere |x - center| = radius or, when the points are coplanar, a plane n . x = h, fitted
 // to points by weighted linear least squares (4 unknowns: 2 center + k = |x|^2).

@@ -8,15 +8,10 @@
 
 #include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
+#include "lib/text_format.h"
 
 namespace linkfit {
 namespace {
-
-std::string Format(const char* format, double value) {
-  char buffer[128];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
-}
 
 std::string VectorText(const Eigen::Vector3d& x) {
   return "[" + Format("%.6g", x.x()) + ", " + Format("%.6g", x.y()) + ", " + Format("%.6g", x.z()) +

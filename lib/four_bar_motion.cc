@@ -404,12 +404,7 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
         if (count == 0) return std::numeric_limits<double>::infinity();
         return PoseError(configurations[std::min(label, count - 1)], poses[j], length);
       });
-  analysis.locations = judgment.locations;
-  analysis.defects = judgment.defects;
-  if (judgment.circuit < 0) return analysis;
-  analysis.circuit = judgment.circuit;
-  analysis.input_rotates_fully = judgment.input_rotates_fully;
-  analysis.max_pose_error = judgment.max_pose_error;
+  if (!TakeJudgment(judgment, &analysis)) return analysis;
   if (options.trace_cycle) {
     analysis.cycle = CircuitConfigurations<PlanarPose>(
         closure, judgment.circuits[judgment.circuit], judgment.lo, judgment.hi, options.samples,

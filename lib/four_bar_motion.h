@@ -368,6 +368,20 @@ ClosureJudgment JudgeOnClosure(const FourBarClosure& closure, const std::vector<
   return judgment;
 }
 
+// Copies what a judgment says of the four-bar into an analysis (FourBarAnalysis or the
+// spherical one): its locations and defects, and, when the first pose assembles, its circuit,
+// whether the input turns fully there and the largest pose error. Returns whether it assembles.
+template <typename Analysis>
+bool TakeJudgment(const ClosureJudgment& judgment, Analysis* analysis) {
+  analysis->locations = judgment.locations;
+  analysis->defects = judgment.defects;
+  if (judgment.circuit < 0) return false;
+  analysis->circuit = judgment.circuit;
+  analysis->input_rotates_fully = judgment.input_rotates_fully;
+  analysis->max_pose_error = judgment.max_pose_error;
+  return true;
+}
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_LIB_FOUR_BAR_MOTION_H_

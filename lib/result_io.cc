@@ -53,6 +53,17 @@ void PutErrorBound(
   }
 }
 
+// A least-squares dyad's "rms_residual", and the seed's in "before_refinement" (when refined).
+void PutLeastSquares(Json* object, const std::optional<double>& rms_residual,
+                     const std::optional<double>& seed_rms_residual) {
+  if (rms_residual) PutNumber(object, "rms_residual", *rms_residual);
+  if (seed_rms_residual) {
+    Json seed;
+    PutNumber(&seed, "rms_residual", *seed_rms_residual);
+    (*object)["before_refinement"] = seed;
+  }
+}
+
 Json SpatialDyadToJson(const SpatialDyadReport& report) {
   const SpatialDyad& dyad = report.dyad;
   Json object;
@@ -148,12 +159,7 @@ Json DyadToJson(const DyadReport& report) {
   }
   PutNumber(&object, "max_residual", report.max_residual);
   PutErrorBound(&object, report.error_bound);
-  if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
-  if (report.seed_rms_residual) {
-    Json seed;
-    PutNumber(&seed, "rms_residual", *report.seed_rms_residual);
-    object["before_refinement"] = seed;
-  }
+  PutLeastSquares(&object, report.rms_residual, report.seed_rms_residual);
   return object;
 }
 
@@ -166,12 +172,7 @@ Json SphericalDyadToJson(const SphericalDyadReport& report) {
   PutPoint3(&object, "moving_axis", report.dyad.moving_axis);
   PutNumber(&object, "angle_deg", report.dyad.angle * 180.0 / M_PI);
   PutNumber(&object, "max_residual", report.max_residual);
-  if (report.rms_residual) PutNumber(&object, "rms_residual", *report.rms_residual);
-  if (report.seed_rms_residual) {
-    Json seed;
-    PutNumber(&seed, "rms_residual", *report.seed_rms_residual);
-    object["before_refinement"] = seed;
-  }
+  PutLeastSquares(&object, report.rms_residual, report.seed_rms_residual);
   return object;
 }
 

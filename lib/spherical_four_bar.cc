@@ -184,12 +184,7 @@ SphericalFourBarAnalysis AnalyzeSphericalFourBar(const SphericalFourBar& four_ba
         if (count == 0) return kInfinity;
         return motion.PoseError(configurations[std::min(label, count - 1)], motion.rotations[j]);
       });
-  analysis.locations = judgment.locations;
-  analysis.defects = judgment.defects;
-  if (judgment.circuit < 0) return analysis;
-  analysis.circuit = judgment.circuit;
-  analysis.input_rotates_fully = judgment.input_rotates_fully;
-  analysis.max_pose_error = judgment.max_pose_error;
+  if (!TakeJudgment(judgment, &analysis)) return analysis;
   if (cycle_samples > 0) {
     analysis.cycle = CircuitConfigurations<Eigen::Matrix3d>(
         closure, judgment.circuits[judgment.circuit], judgment.lo, judgment.hi, cycle_samples,

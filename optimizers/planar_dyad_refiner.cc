@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lib/text_format.h"
 #include "optimizers/design_bounds.h"
 #include "optimizers/exact_poses.h"
 #include "optimizers/limit_hyperplane.h"
@@ -354,12 +355,6 @@ bool SliderSuffices(const Fit& slider, const Fit& circle, int n) {
   if (!std::isfinite(circle.cost)) return true;
   if (slider.meets_exact != circle.meets_exact) return slider.meets_exact;
   return SimplerModelSuffices(slider.cost, circle.cost, n - 5);
-}
-
-std::string Format(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "lib/text_format.h"
 #include "optimizers/exact_poses.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/refiner_input.h"
@@ -211,12 +212,6 @@ Attempt RefineModel(const ScaledTask& task, const SpatialDyad& start,
     if (fit.meets_exact) break;
   }
   return best;
-}
-
-std::string Format(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
 }
 
 }  // namespace

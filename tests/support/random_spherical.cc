@@ -80,6 +80,15 @@ std::vector<Eigen::Matrix3d> SphericalFourBarRotations(std::mt19937_64& rng,
   return {};
 }
 
+SphericalTask RandomSphericalTask(std::mt19937_64& rng, int count, double spread) {
+  SphericalTask task;
+  while (task.rotations.empty()) {
+    task.four_bar = RandomSphericalFourBar(rng);
+    task.rotations = SphericalFourBarRotations(rng, task.four_bar, count, spread);
+  }
+  return task;
+}
+
 std::vector<DualQuaternion> PosesAboutCenter(const std::vector<Eigen::Matrix3d>& rotations,
                                              const Eigen::Vector3d& center_in_moving,
                                              const Eigen::Vector3d& center_in_fixed) {

@@ -28,6 +28,14 @@ std::vector<Eigen::Matrix3d> SphericalFourBarRotations(std::mt19937_64& rng,
                                                        const SphericalFourBar& four_bar, int count,
                                                        double spread = 3.0);
 
+// A spherical four-bar and `count` of its rotations on one branch (SphericalFourBarRotations),
+// the four-bar drawn again until its branch is long enough.
+struct SphericalTask {
+  SphericalFourBar four_bar;
+  std::vector<Eigen::Matrix3d> rotations;
+};
+SphericalTask RandomSphericalTask(std::mt19937_64& rng, int count, double spread = 3.0);
+
 // The spatial poses (R_j, P - R_j p) of rotations about the centre p (E) = P (Sigma).
 std::vector<DualQuaternion> PosesAboutCenter(const std::vector<Eigen::Matrix3d>& rotations,
                                              const Eigen::Vector3d& center_in_moving,

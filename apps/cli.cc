@@ -327,12 +327,16 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
   if (!outputs.svg_path.empty() || !outputs.animate_path.empty()) {
     const std::string title = std::filesystem::path(task_path).filename().string();
     std::string why;
-    if (!TaskPicture(title, tasks[0], results[0], 1, &why))
+    const auto* spatial = std::get_if<SpatialMotionResult>(&results[0]);
+    if (spatial != nullptr && spatial->model == "spherical" && outputs.animate_path.empty()) {
+      svg = *RenderSphericalSvg(title, tasks[0], *spatial, 12);
+    } else if (!TaskPicture(title, tasks[0], results[0], 1, &why)) {
       throw InputError(task_path + ": " + why);
+    }
     const auto picture_of = [&](size_t panels) {
       return *TaskPicture(title, tasks[0], results[0], panels, &why);
     };
-    if (!outputs.svg_path.empty()) svg = RenderSvg(picture_of(12));
+    if (!outputs.svg_path.empty() && svg.empty()) svg = RenderSvg(picture_of(12));
     if (!outputs.animate_path.empty()) {
       const Picture picture = picture_of(64);
       const size_t index = static_cast<size_t>(outputs.animate_index - 1);

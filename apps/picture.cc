@@ -8,6 +8,7 @@
 // Non-finite input points are skipped.
 #include "apps/picture.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdarg>
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "fitting/spherical_motion.h"
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
@@ -1124,6 +1126,118 @@ const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
   return &*spatial.planar;
 }
 
+// An orthographic view of the unit sphere about a spherical motion's centre, in a panel: points
+// of the sphere (unit vectors of Sigma) projected along `toward` (the viewer's direction), Sigma's
+// z-axis up where it can be.
+struct SphereView {
+  Eigen::Vector3d toward = Eigen::Vector3d::UnitZ(), right = Eigen::Vector3d::UnitX(),
+                  up = Eigen::Vector3d::UnitY();
+  Vec center = Vec::Zero();
+  double radius = 1.0;  // document units
+
+  SphereView(const Eigen::Vector3d& direction, const Vec& at, double size)
+      : center(at), radius(size) {
+    toward = direction.norm() > 1e-9 ? direction.normalized() : Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d z = Eigen::Vector3d::UnitZ() - toward.z() * toward;
+    if (z.norm() < 1e-6) z = Eigen::Vector3d::UnitY() - toward.y() * toward;
+    up = z.normalized();
+    right = up.cross(toward);
+  }
+  Vec Project(const Eigen::Vector3d& x) const {
+    return center + radius * Vec(x.dot(right), -x.dot(up));
+  }
+  bool Front(const Eigen::Vector3d& x) const { return x.dot(toward) >= 0.0; }
+};
+
+// Draws a polyline of points of the sphere, solid on the near hemisphere and dashed on the far.
+void SpherePolyline(Svg* svg, const SphereView& view, const std::vector<Eigen::Vector3d>& points,
+                    const std::string& colour, double width) {
+  for (size_t i = 0; i + 1 < points.size(); ++i) {
+    const bool front = view.Front(points[i]) && view.Front(points[i + 1]);
+    svg->Line(view.Project(points[i]), view.Project(points[i + 1]),
+              "stroke=\"" + colour + "\" stroke-width=\"" + Num(front ? width : 0.6 * width) +
+                  "\" stroke-linecap=\"round\"" +
+                  (front ? "" : " stroke-dasharray=\"3,3\" opacity=\"0.6\""));
+  }
+}
+
+// The great-circle arc from a to b (unit vectors), sampled.
+std::vector<Eigen::Vector3d> GreatArc(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  constexpr int kSteps = 32;
+  const double angle = DirectionAngle(a, b);
+  std::vector<Eigen::Vector3d> points;
+  for (int k = 0; k <= kSteps; ++k) {
+    const double t = static_cast<double>(k) / kSteps;
+    if (angle < 1e-9) {
+      points.push_back(a);
+      continue;
+    }
+    points.push_back(((std::sin((1.0 - t) * angle) * a + std::sin(t * angle) * b) / std::sin(angle))
+                         .normalized());
+  }
+  return points;
+}
+
+// One spherical four-bar's panel drawing: the sphere, the task's coupler arcs (thin), the
+// coupler pins' paths over the circuit, and the links at the first pose.
+void DrawSphericalFourBar(Svg* svg, const SphereView& view, const SphericalFourBar& four_bar,
+                          const SphericalMotion& motion, const SphericalFourBarAnalysis& analysis) {
+  svg->Circle(view.center, view.radius, "fill=\"#f3f6fa\" stroke=\"#9aa7b5\" stroke-width=\"1\"");
+  const Eigen::Vector3d& u1 = four_bar.input.fixed_axis;
+  const Eigen::Vector3d& u2 = four_bar.output.fixed_axis;
+  const Eigen::Vector3d& v1 = four_bar.input.moving_axis;
+  const Eigen::Vector3d& v2 = four_bar.output.moving_axis;
+  // Sigma's axes from the centre.
+  const char* names[3] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
+    svg->Line(view.center, view.Project(0.25 * axis), "stroke=\"#9a9a9a\" stroke-width=\"1\"");
+    svg->Text(view.Project(0.3 * axis), names[i], "font-size=\"10\" fill=\"#9a9a9a\"");
+  }
+  for (const Eigen::Matrix3d& rotation : motion.rotations) {
+    SpherePolyline(svg, view, GreatArc(rotation * v1, rotation * v2), kTaskXColour, 1.2);
+  }
+  std::vector<Eigen::Vector3d> path1, path2;
+  for (const Eigen::Matrix3d& rotation : analysis.cycle) {
+    path1.push_back(rotation * v1);
+    path2.push_back(rotation * v2);
+  }
+  SpherePolyline(svg, view, path1, kCouplerCurveColour, 1.0);
+  SpherePolyline(svg, view, path2, kCenterCurveColour, 1.0);
+  // The links at the first pose's assembly (the nearer one).
+  Eigen::Matrix3d configurations[2];
+  double input_angle = 0.0;
+  const int count = motion.rotations.empty()
+                        ? 0
+                        : AssembleSphericalFourBarAt(four_bar, motion.rotations[0], 1e-9,
+                                                     configurations, &input_angle);
+  Eigen::Matrix3d first =
+      motion.rotations.empty() ? Eigen::Matrix3d::Identity() : motion.rotations[0];
+  if (count == 2) {
+    first = motion.PoseError(configurations[1], first) < motion.PoseError(configurations[0], first)
+                ? configurations[1]
+                : configurations[0];
+  }
+  const Eigen::Vector3d w1 = first * v1, w2 = first * v2;
+  SpherePolyline(svg, view, GreatArc(u1, u2), "#777777", 2.0);
+  SpherePolyline(svg, view, GreatArc(u1, w1), kLinkColour, 3.0);
+  SpherePolyline(svg, view, GreatArc(u2, w2), kLinkColour, 3.0);
+  SpherePolyline(svg, view, GreatArc(w1, w2), kCouplerStroke, 4.0);
+  for (const Eigen::Vector3d* pin : {&w1, &w2}) {
+    svg->Circle(view.Project(*pin), kPivotRadius,
+                std::string("fill=\"#ffffff\" stroke=\"") + kLinkColour +
+                    "\" stroke-width=\"1.5\"" + (view.Front(*pin) ? "" : " opacity=\"0.5\""));
+  }
+  for (const Eigen::Vector3d* pivot : {&u1, &u2}) {
+    const Vec at = view.Project(*pivot);
+    svg->Polygon({at, at + Vec(-7.0, 11.0), at + Vec(7.0, 11.0)},
+                 std::string("fill=\"") + kLinkColour + "\"" +
+                     (view.Front(*pivot) ? "" : " opacity=\"0.5\""));
+  }
+  svg->Text(view.Project(u1) + Vec(8.0, -6.0), "input", Halo(kLinkColour, 10.0));
+  svg->Text(view.Project(u2) + Vec(8.0, -6.0), "output", Halo(kLinkColour, 10.0));
+}
+
 }  // namespace
 
 std::string RenderSvg(const Picture& picture) {
@@ -1325,7 +1439,11 @@ std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
   const PlanarMotionResult* planar = PlanarView(result, task, &planar_task);
   if (planar == nullptr) {
     if (why != nullptr) {
-      *why = "pictures draw planar mechanisms; this task's result is a spatial platform";
+      const auto* spatial = std::get_if<SpatialMotionResult>(&result);
+      *why = spatial != nullptr && spatial->model == "spherical"
+                 ? "a spherical result is drawn by --svg (an orthographic view of the sphere); "
+                   "animations draw planar mechanisms"
+                 : "pictures draw planar mechanisms; this task's result is a spatial platform";
     }
     return std::nullopt;
   }
@@ -1385,6 +1503,87 @@ std::string PictureToJson(const Picture& picture) {
     root["mechanisms"].push_back(object);
   }
   return root.dump();
+}
+
+std::optional<std::string> RenderSphericalSvg(const std::string& title, const Task& task,
+                                              const SpatialMotionResult& result,
+                                              size_t max_panels) {
+  if (result.model != "spherical" || !result.spherical) return std::nullopt;
+  const SphericalMotion motion = TaskSphericalMotion(task, *result.spherical, result.scale);
+  const size_t panels =
+      std::max<size_t>(1, std::min(max_panels, result.spherical_mechanisms.size()));
+  const size_t columns = panels == 1 ? 1 : (panels == 2 || panels == 4) ? 2 : 3;
+  const size_t rows = (panels + columns - 1) / columns;
+  const double plot = panels == 1 ? 480.0 : 340.0;
+  const int label_lines = 2;
+  const double header = kTitleLine + kLabelLine * label_lines + 6.0;
+  const double panel_w = plot + 2.0 * kPad, panel_h = kPad + header + plot + kPad;
+  const double width = kGap + static_cast<double>(columns) * (panel_w + kGap);
+  const double height = kDocTitleHeight + static_cast<double>(rows) * (panel_h + kGap) + 28.0;
+  Svg body;
+  for (size_t i = 0; i < panels; ++i) {
+    const double left = kGap + static_cast<double>(i % columns) * (panel_w + kGap);
+    const double top = kDocTitleHeight + static_cast<double>(i / columns) * (panel_h + kGap);
+    body.Rect(left, top, panel_w, panel_h, "rx=\"4\" fill=\"#fafafa\" stroke=\"#c8c8c8\"");
+    const Vec center(left + kPad + 0.5 * plot, top + kPad + header + 0.5 * plot);
+    if (result.spherical_mechanisms.empty()) {
+      DrawPanelHeader(&body, left + kPad, top + kPad, plot, "task: no four-bar listed", {},
+                      label_lines);
+      const SphereView view(Eigen::Vector3d(1.0, -1.0, 1.0), center, 0.42 * plot);
+      body.Circle(view.center, view.radius,
+                  "fill=\"#f3f6fa\" stroke=\"#9aa7b5\" stroke-width=\"1\"");
+      continue;
+    }
+    const MechanismReport& mechanism = result.spherical_mechanisms[i];
+    const SphericalFourBar four_bar =
+        MakeSphericalFourBar(result.spherical_dyads[mechanism.input_dyad].dyad,
+                             result.spherical_dyads[mechanism.output_dyad].dyad);
+    const SphericalFourBarAnalysis analysis = AnalyzeSphericalFourBar(four_bar, motion, 240);
+    std::vector<std::string> labels;
+    std::string defects;
+    for (const std::string& defect : mechanism.defects) {
+      defects += (defects.empty() ? "" : ", ") + defect;
+    }
+    labels.push_back(defects.empty() ? "no defect" : "defects: " + defects);
+    if (mechanism.max_pose_error) {
+      labels.push_back("max pose error " + Format("%.3g", *mechanism.max_pose_error));
+    }
+    DrawPanelHeader(&body, left + kPad, top + kPad, plot,
+                    std::to_string(i + 1) + ": spherical 4R, " +
+                        (mechanism.grashof.empty() ? std::string("?") : mechanism.grashof),
+                    labels, label_lines);
+    const Eigen::Vector3d toward =
+        four_bar.input.fixed_axis + four_bar.output.fixed_axis +
+        motion.rotations[0] * (four_bar.input.moving_axis + four_bar.output.moving_axis);
+    const SphereView view(toward, center, 0.42 * plot);
+    DrawSphericalFourBar(&body, view, four_bar, motion, analysis);
+  }
+  Svg legend;
+  const double y = height - 16.0;
+  double x = kGap;
+  for (const auto& [colour, name] :
+       {std::pair<const char*, const char*>{kTaskXColour, "coupler arc at each task pose"},
+        {kCouplerCurveColour, "input crank pin's path"},
+        {kCenterCurveColour, "output crank pin's path"},
+        {"#9aa7b5", "far hemisphere dashed"}}) {
+    legend.Line(Vec(x, y - 4.0), Vec(x + 22.0, y - 4.0),
+                std::string("stroke=\"") + colour + "\" stroke-width=\"2\"");
+    legend.Text(Vec(x + 28.0, y), name, "font-size=\"11\" fill=\"#333333\"");
+    x += 40.0 + 6.2 * std::string(name).size();
+  }
+  std::string out = SvgOpen(width, height, true, "");
+  out += "<title>" + Escape(title.empty() ? "linkfit" : title) + "</title>\n";
+  out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
+  Svg heading;
+  const Eigen::Vector3d& c = result.spherical->in_fixed;
+  heading.Text(Vec(kGap, 21.0),
+               (title.empty() ? std::string("linkfit") : title) + ": spherical motion about [" +
+                   Coord(c.x()) + ", " + Coord(c.y()) + ", " + Coord(c.z()) +
+                   "], orthographic view of the unit sphere",
+               "font-size=\"16\" font-weight=\"bold\" fill=\"#111111\"",
+               static_cast<size_t>(width / 9.0));
+  out += heading.text() + body.text() + legend.text() + "</svg>\n";
+  return out;
 }
 
 }  // namespace linkfit

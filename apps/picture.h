@@ -57,6 +57,15 @@ std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
 // for a dyad's unused point).
 std::string PictureToJson(const Picture& picture);
 
+// The SVG of a spherical motion result (model "spherical"): one panel per listed four-bar, in
+// ranked order (at most `max_panels`), each an orthographic view of the unit sphere about the
+// centre (Sigma's axes), looking along the mean of the four-bar's axes at the first pose: the
+// ground pivots (the fixed axes' points), the links as great-circle arcs at the first pose, the
+// crank pins' paths over the circuit and the coupler arc at every task pose; the far hemisphere
+// dashed. Nothing for another result.
+std::optional<std::string> RenderSphericalSvg(const std::string& title, const Task& task,
+                                              const SpatialMotionResult& result, size_t max_panels);
+
 // A standalone SVG document (one panel per mechanism, in a grid).
 std::string RenderSvg(const Picture& picture);
 

@@ -52,11 +52,21 @@ double SphericalMotion::PoseError(const Eigen::Matrix3d& a, const Eigen::Matrix3
   return std::sqrt(shift.squaredNorm() + length * length * turn * turn);
 }
 
+double SphericalMotion::TaskPoseError(const Eigen::Matrix3d& rotation, size_t j) const {
+  if (j >= translations.size()) return PoseError(rotation, rotations[j]);
+  const Eigen::Vector3d shift = center_in_fixed - rotation * center_in_moving - translations[j];
+  const double turn = Eigen::AngleAxisd(rotation * rotations[j].transpose()).angle();
+  return std::sqrt(shift.squaredNorm() + length * length * turn * turn);
+}
+
 SphericalMotion MakeSphericalMotion(const std::vector<DualQuaternion>& poses,
                                     const Eigen::Vector3d& center_in_moving,
                                     const Eigen::Vector3d& center_in_fixed, double length) {
   SphericalMotion motion;
-  for (const DualQuaternion& pose : poses) motion.rotations.push_back(pose.Rotation());
+  for (const DualQuaternion& pose : poses) {
+    motion.rotations.push_back(pose.Rotation());
+    motion.translations.push_back(pose.Translation());
+  }
   motion.center_in_moving = center_in_moving;
   motion.center_in_fixed = center_in_fixed;
   motion.length = length;

@@ -44,6 +44,9 @@ struct SphericalDyad {
 // A body point p + y (E) is at P + R_j y (Sigma).
 struct SphericalMotion {
   std::vector<Eigen::Matrix3d> rotations;
+  // The task poses' translations d_j, when made from spatial poses (MakeSphericalMotion): a pose
+  // error is then measured against the pose as given, its deviation from the sphere included.
+  std::vector<Eigen::Vector3d> translations;
   Eigen::Vector3d center_in_fixed = Eigen::Vector3d::Zero();   // P
   Eigen::Vector3d center_in_moving = Eigen::Vector3d::Zero();  // p
   double length = 1.0;                                         // the task's characteristic length L
@@ -53,6 +56,9 @@ struct SphericalMotion {
   // The spatial pose error (lib/spatial_pose.h PoseError) of two rotations' poses:
   // sqrt(|(R_a - R_b) p|^2 + (L angle(R_a R_b^T))^2).
   double PoseError(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) const;
+  // The spatial pose error of rotation R's pose from task pose j: against (R_j, d_j) when the
+  // translations are known, else PoseError(R, R_j).
+  double TaskPoseError(const Eigen::Matrix3d& rotation, size_t j) const;
 };
 
 // The motion of `poses` about the centre (p in E, P in Sigma): the rotations of the poses.

@@ -169,12 +169,12 @@ SphericalFourBarAnalysis AnalyzeSphericalFourBar(const SphericalFourBar& four_ba
   Eigen::Matrix3d configurations[2];
   std::vector<double> inputs;
   std::vector<std::array<double, 2>> label_errors;
-  for (const Eigen::Matrix3d& rotation : motion.rotations) {
+  for (size_t j = 0; j < motion.rotations.size(); ++j) {
     double value = 0.0;
-    const int count =
-        AssembleSphericalFourBarAt(four_bar, rotation, kGramTolerance, configurations, &value);
+    const int count = AssembleSphericalFourBarAt(four_bar, motion.rotations[j], kGramTolerance,
+                                                 configurations, &value);
     std::array<double, 2> errors = {kInfinity, kInfinity};
-    for (int l = 0; l < count; ++l) errors[l] = motion.PoseError(configurations[l], rotation);
+    for (int l = 0; l < count; ++l) errors[l] = motion.TaskPoseError(configurations[l], j);
     inputs.push_back(value);
     label_errors.push_back(errors);
   }
@@ -182,7 +182,7 @@ SphericalFourBarAnalysis AnalyzeSphericalFourBar(const SphericalFourBar& four_ba
       closure, inputs, label_errors, 0.0, 1.0, [&](size_t j, double value, int label) {
         const int count = AssembleSphericalFourBar(four_bar, value, kGramTolerance, configurations);
         if (count == 0) return kInfinity;
-        return motion.PoseError(configurations[std::min(label, count - 1)], motion.rotations[j]);
+        return motion.TaskPoseError(configurations[std::min(label, count - 1)], j);
       });
   if (!TakeJudgment(judgment, &analysis)) return analysis;
   if (cycle_samples > 0) {

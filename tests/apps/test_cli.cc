@@ -536,6 +536,62 @@ TEST_F(CliTest, SolvesTheBundledPlatform) {
   EXPECT_EQ(platform["order"], nlohmann::json({0, 1, 2, 3, 4, 5, 6}));
 }
 
+// The bundled spherical four-bar (data/spherical_four_bar_5_poses.json: five orientations of a
+// spherical 4R about the centre [1.2, -0.5, 0.8], printed to six digits, made by
+// tests/support/random_spherical.h): solved as spherical, both generating dyads back within what
+// six digits allow, their four-bar listed; drawn as an orthographic view; not animated.
+TEST_F(CliTest, SolvesAndDrawsTheBundledSphericalFourBar) {
+  const std::string svg = Path("sphere.svg");
+  const RunResult run =
+      Run("solve '" + DataPath("spherical_four_bar_5_poses.json") + "' --svg '" + svg + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json result = nlohmann::json::parse(run.out);
+  EXPECT_EQ(result["model"], "spherical");
+  EXPECT_EQ(result["method"], "exact");
+  EXPECT_EQ(result["roots"]["total"], 6);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(result["center"][k].get<double>(), (std::vector<double>{1.2, -0.5, 0.8})[k], 1e-5);
+  }
+  // The generating dyads (fixed axis, moving axis, angle in degrees).
+  const double planted[2][7] = {
+      {-0.386329, 0.686501, -0.616008, -0.891556, 0.382512, -0.242514, 40.8505},
+      {0.272805, 0.454243, 0.84808, -0.539467, 0.520343, 0.661981, 49.4127}};
+  std::vector<int> found;
+  for (const auto& expected : planted) {
+    for (size_t i = 0; i < result["dyads"].size(); ++i) {
+      const nlohmann::json& dyad = result["dyads"][i];
+      EXPECT_EQ(dyad["type"], "RR");
+      bool same = std::abs(dyad["angle_deg"].get<double>() - expected[6]) <= 1e-3;
+      for (int k = 0; k < 3; ++k) {
+        same &= std::abs(dyad["fixed_axis"][k].get<double>() - expected[k]) <= 1e-4 &&
+                std::abs(dyad["moving_axis"][k].get<double>() - expected[3 + k]) <= 1e-4;
+      }
+      if (same) found.push_back(static_cast<int>(i));
+    }
+  }
+  ASSERT_EQ(found.size(), 2u) << run.out;
+  bool listed = false;
+  for (const nlohmann::json& mechanism : result["mechanisms"]) {
+    const nlohmann::json pair = mechanism["dyads"];
+    if ((pair[0] == found[0] && pair[1] == found[1]) ||
+        (pair[0] == found[1] && pair[1] == found[0])) {
+      listed = true;
+      EXPECT_LE(mechanism["max_pose_error"].get<double>(), 1e-5);
+      EXPECT_EQ(mechanism["type"], "4R");
+    }
+  }
+  EXPECT_TRUE(listed);
+  const std::string picture = ReadFile(svg);
+  EXPECT_NE(picture.find("orthographic view of the unit sphere"), std::string::npos);
+  EXPECT_NE(picture.find("spherical 4R"), std::string::npos);
+  EXPECT_EQ(picture.find("nan"), std::string::npos);
+  const RunResult animate = Run("solve '" + DataPath("spherical_four_bar_5_poses.json") +
+                                "' --animate '" + Path("sphere_anim.svg") + "'");
+  EXPECT_EQ(animate.status, 2);
+  EXPECT_NE(animate.err.find("a spherical result is drawn by --svg"), std::string::npos)
+      << animate.err;
+}
+
 // Spatial tasks that are not seven general poses: fewer poses give the family's dimension in a
 // note; planar data are solved as planar and say so; pictures of a spatial platform and
 // --platform on a planar task are usage errors.

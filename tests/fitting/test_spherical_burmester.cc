@@ -212,5 +212,43 @@ TEST(SphericalMotion, SpatialPosesAboutACentreGiveTheFourBarBack) {
   EXPECT_EQ(first_defect_free, kTasks);
 }
 
+// End to end: moving both frames (Sigma' = Q Sigma + t, E' = S E + s) moves the centre and every
+// dyad with them, R' = Q R S^T, d' = Q d + t - R' s.
+TEST(SphericalMotion, MovingTheFramesMovesTheAnswer) {
+  std::mt19937_64 rng(1717);
+  for (int trial = 0; trial < 20; ++trial) {
+    const testing::SphericalTask drawn = testing::RandomSphericalTask(rng, 5);
+    const Eigen::Vector3d center_in_moving(0.6, 0.1, -0.4), center_in_fixed(-1.0, 0.5, 2.0);
+    const std::vector<DualQuaternion> poses =
+        testing::PosesAboutCenter(drawn.rotations, center_in_moving, center_in_fixed);
+    const Eigen::Matrix3d q = RandomRotation(rng), s = RandomRotation(rng);
+    const Eigen::Vector3d t(3.0, -1.0, 0.5), shift(-0.7, 0.2, 1.1);
+    std::vector<DualQuaternion> moved;
+    for (const DualQuaternion& pose : poses) {
+      const Eigen::Matrix3d r = q * pose.Rotation() * s.transpose();
+      moved.push_back(
+          DualQuaternion::FromRotationTranslation(r, q * pose.Translation() + t - r * shift));
+    }
+    const SpatialMotionResult before = SolveSpatialMotion(SpatialMotionTask(poses));
+    const SpatialMotionResult after = SolveSpatialMotion(SpatialMotionTask(moved));
+    ASSERT_EQ(before.model, "spherical") << trial;
+    ASSERT_EQ(after.model, "spherical") << trial;
+    EXPECT_LT((after.spherical->in_fixed - (q * before.spherical->in_fixed + t)).norm(), 1e-9);
+    EXPECT_LT((after.spherical->in_moving - (s * before.spherical->in_moving + shift)).norm(),
+              1e-9);
+    ASSERT_EQ(before.spherical_dyads.size(), after.spherical_dyads.size()) << trial;
+    std::vector<SphericalDyad> moved_dyads;
+    for (const SphericalDyadReport& report : after.spherical_dyads) {
+      moved_dyads.push_back(report.dyad);
+    }
+    for (const SphericalDyadReport& report : before.spherical_dyads) {
+      const SphericalDyad expected = SphericalDyad::Make(
+          q * report.dyad.fixed_axis, s * report.dyad.moving_axis, report.dyad.angle);
+      EXPECT_TRUE(Contains(moved_dyads, expected)) << trial;
+    }
+    EXPECT_EQ(before.spherical_mechanisms.size(), after.spherical_mechanisms.size());
+  }
+}
+
 }  // namespace
 }  // namespace linkfit

@@ -275,24 +275,23 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
   }
   std::vector<double> weights = task.pose_weights;
   if (weights.size() != poses.size()) weights.assign(poses.size(), 1.0);
-  if (!have_pivots && n >= 3) {
-    if (std::optional<SphericalCenter> center =
-            DetectSphericalMotion(poses, length, task.precision, options.sphericity_tolerance)) {
+  // One fit of the centre decides: spherical within the data's precision, else nearly spherical
+  // (solved as spatial, and said so), else spatial.
+  if (std::optional<SphericalCenter> center =
+          have_pivots ? std::nullopt : FitSphericalCenter(poses, length)) {
+    const double within =
+        SphericityTolerance(*center, length, task.precision, options.sphericity_tolerance);
+    if (center->sphericity <= within) {
       SolveSphericalMotion(task, *center, options.spherical, &result);
       return finish();
     }
-  }
-  if (!have_pivots && n >= 3) {
-    // Nearly spherical beyond the data's precision: solved as spatial, and said so.
-    if (std::optional<SphericalCenter> center = FitSphericalCenter(poses, length);
-        center && center->sphericity <= options.nearly_spherical * length) {
+    if (center->sphericity <= options.nearly_spherical * length) {
       const Eigen::Vector3d& c = center->in_fixed;
       result.notes.push_back(
           "the poses are nearly a spherical motion about [" + Format("%.6g", c.x()) + ", " +
           Format("%.6g", c.y()) + ", " + Format("%.6g", c.z()) + "] (largest deviation " +
           Format("%.3g", center->sphericity) + ", beyond the data's precision " +
-          Format("%.3g", SphericityTolerance(*center, length, task.precision,
-                                             options.sphericity_tolerance)) +
+          Format("%.3g", within) +
           "): solved as spatial; give the data's precision (\"precision\") if it is coarser");
     }
   }

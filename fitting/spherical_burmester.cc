@@ -194,43 +194,6 @@ std::vector<std::vector<Eigen::Vector3d>> SampleCone(const std::vector<Eigen::Ma
   return polylines;
 }
 
-// The dyad of a moving axis (file comment of SphericalDyadFromMovingAxis).
-bool DyadOfMovingAxis(const std::vector<Eigen::Matrix3d>& rotations,
-                      const std::vector<double>& weights_in, const Eigen::Vector3d& axis,
-                      SphericalDyad* dyad, double* moved_deg) {
-  const size_t n = rotations.size();
-  if (n < 3 || !axis.allFinite() || !(axis.norm() > 0.0)) return false;
-  const std::vector<double> weights = WeightsOf(weights_in, n);
-  Eigen::Vector3d v = axis.normalized();
-  if (moved_deg) *moved_deg = 0.0;
-  if (n == 4) {
-    std::vector<Eigen::Matrix3d> bilinear;
-    Eigen::VectorXd singular;
-    SphericalEquations(rotations, weights, 3, &bilinear, &singular);
-    const Eigen::Vector3d given = v;
-    if (!ProjectOntoCone(bilinear, &v)) return false;
-    if (moved_deg) *moved_deg = DirectionAngle(given, v) * 180.0 / M_PI;
-  }
-  // The plane best fitting the positions R_j v: its normal is the fixed axis.
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  double total = 0.0;
-  for (size_t j = 0; j < n; ++j) {
-    centroid += weights[j] * (rotations[j] * v);
-    total += weights[j];
-  }
-  centroid /= total;
-  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
-  for (size_t j = 0; j < n; ++j) {
-    const Eigen::Vector3d x = rotations[j] * v - centroid;
-    scatter += weights[j] * x * x.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
-  // Positions that barely move (v along the common axis) do not determine the plane.
-  if (!(eigen.eigenvalues()(1) > 1e-20 * total)) return false;
-  *dyad = DyadOf(eigen.eigenvectors().col(0), v, rotations, weights);
-  return dyad->AllFinite();
-}
-
 std::vector<Eigen::Matrix3d> Inverted(const std::vector<Eigen::Matrix3d>& rotations) {
   std::vector<Eigen::Matrix3d> inverted;
   for (const Eigen::Matrix3d& rotation : rotations) inverted.push_back(rotation.transpose());
@@ -253,8 +216,7 @@ void SphericalEquations(const std::vector<Eigen::Matrix3d>& rotations,
     total += weights[j];
   }
   mean /= total;
-  Eigen::MatrixXd rows(std::max(n, 9), 9);
-  rows.setZero();
+  Eigen::MatrixXd rows(n, 9);
   for (int j = 0; j < n; ++j) {
     const double scale = std::sqrt(weights[j]);
     for (int i = 0; i < 3; ++i) {
@@ -381,10 +343,39 @@ int SolveSphericalBurmester(const std::vector<Eigen::Matrix3d>& rotations,
 }
 
 bool SphericalDyadFromMovingAxis(const std::vector<Eigen::Matrix3d>& rotations,
-                                 const std::vector<double>& weights,
-                                 const Eigen::Vector3d& moving_axis, SphericalDyad* dyad,
-                                 double* moved_deg) {
-  return DyadOfMovingAxis(rotations, weights, moving_axis, dyad, moved_deg);
+                                 const std::vector<double>& weights_in, const Eigen::Vector3d& axis,
+                                 SphericalDyad* dyad, double* moved_deg) {
+  const size_t n = rotations.size();
+  if (n < 3 || !axis.allFinite() || !(axis.norm() > 0.0)) return false;
+  const std::vector<double> weights = WeightsOf(weights_in, n);
+  Eigen::Vector3d v = axis.normalized();
+  if (moved_deg) *moved_deg = 0.0;
+  if (n == 4) {
+    std::vector<Eigen::Matrix3d> bilinear;
+    Eigen::VectorXd singular;
+    SphericalEquations(rotations, weights, 3, &bilinear, &singular);
+    const Eigen::Vector3d given = v;
+    if (!ProjectOntoCone(bilinear, &v)) return false;
+    if (moved_deg) *moved_deg = DirectionAngle(given, v) * 180.0 / M_PI;
+  }
+  // The plane best fitting the positions R_j v: its normal is the fixed axis.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  double total = 0.0;
+  for (size_t j = 0; j < n; ++j) {
+    centroid += weights[j] * (rotations[j] * v);
+    total += weights[j];
+  }
+  centroid /= total;
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (size_t j = 0; j < n; ++j) {
+    const Eigen::Vector3d x = rotations[j] * v - centroid;
+    scatter += weights[j] * x * x.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter);
+  // Positions that barely move (v along the common axis) do not determine the plane.
+  if (!(eigen.eigenvalues()(1) > 1e-20 * total)) return false;
+  *dyad = DyadOf(eigen.eigenvectors().col(0), v, rotations, weights);
+  return dyad->AllFinite();
 }
 
 bool SphericalDyadFromFixedAxis(const std::vector<Eigen::Matrix3d>& rotations,
@@ -393,7 +384,8 @@ bool SphericalDyadFromFixedAxis(const std::vector<Eigen::Matrix3d>& rotations,
                                 double* moved_deg) {
   // In the inverted motion (E seen from Sigma) the fixed axis moves and the moving one stays.
   SphericalDyad inverted;
-  if (!DyadOfMovingAxis(Inverted(rotations), weights, fixed_axis, &inverted, moved_deg)) {
+  if (!SphericalDyadFromMovingAxis(Inverted(rotations), weights, fixed_axis, &inverted,
+                                   moved_deg)) {
     return false;
   }
   *dyad = SphericalDyad::Make(inverted.moving_axis, inverted.fixed_axis, inverted.angle);

@@ -163,7 +163,7 @@ MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dya
 }
 
 void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
-                              SpatialMotionResult* result) {
+                              SpatialMotionResult* result, int bound) {
   const auto start = std::chrono::steady_clock::now();
   result->spherical_mechanisms.clear();
   const int count = static_cast<int>(result->spherical_dyads.size());
@@ -173,8 +173,9 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
           AnalyzeSphericalPair(result->spherical_dyads, i, j, motion, task.constraints));
     }
   }
-  RankMechanisms(PoseFitTolerance(task.precision, motion.length), -1,
-                 &result->spherical_mechanisms);
+  const int dropped = RankMechanisms(PoseFitTolerance(task.precision, motion.length), bound,
+                                     &result->spherical_mechanisms);
+  if (dropped > 0) result->notes.push_back(DroppedNote(dropped));
   result->analysis_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -244,7 +245,9 @@ void SolveSphericalMotion(const Task& task, const SphericalCenter& center,
       result->notes.push_back("no real spherical dyad: all roots are complex");
     }
   }
-  BuildSphericalMechanisms(task, motion, result);
+  if (result->method != "least-squares" || options.seed_mechanisms) {
+    BuildSphericalMechanisms(task, motion, result);
+  }
 }
 
 }  // namespace linkfit

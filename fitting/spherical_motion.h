@@ -26,6 +26,9 @@ struct SphericalMotionOptions {
   // Six or more orientations: five-orientation subsets solved for seeds besides the algebraic
   // least-squares fit.
   int seed_subsets = 4;
+  // Six or more orientations: build the four-bars of the seeds. False when the caller refines the
+  // seeds first and builds the four-bars of the refined dyads (SolveSpatialTask).
+  bool seed_mechanisms = true;
 };
 
 // The task's motion about the centre.
@@ -58,9 +61,10 @@ MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dya
                                      const SphericalMotion& motion,
                                      const DesignConstraints& constraints);
 
-// Every four-bar of two of result->spherical_dyads, analysed and ranked.
+// Every four-bar of two of result->spherical_dyads, analysed and ranked; with `bound` >= 0 at
+// most that many listed (RankMechanisms: and the best of each group), the rest said in a note.
 void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
-                              SpatialMotionResult* result);
+                              SpatialMotionResult* result, int bound = -1);
 
 }  // namespace linkfit
 

@@ -58,6 +58,18 @@ bool JointTurnsFully(double a, double b, double c, double d, double tolerance, b
   return diagonal_low >= closes_low - tolerance && diagonal_high <= closes_high + tolerance;
 }
 
+// g = u2 . w1 = cos(gamma) cos(alpha1) + sin(gamma) sin(alpha1) cos(phi) as a crank's closure
+// scalar (four_bar_closure.h): the closure condition's and the transmission angle's variable.
+ClosureScalar PinToOutputAxis(const SphericalFourBar& four_bar) {
+  ClosureScalar scalar;
+  scalar.crank = true;
+  scalar.c0 = std::cos(four_bar.ground) * std::cos(four_bar.input.angle);
+  scalar.c1 = std::sin(four_bar.ground) * std::sin(four_bar.input.angle);
+  scalar.amplitude = std::abs(scalar.c1);
+  scalar.peak = scalar.c1 >= 0.0 ? 0.0 : M_PI;
+  return scalar;
+}
+
 }  // namespace
 
 SphericalFourBar MakeSphericalFourBar(const SphericalDyad& input, const SphericalDyad& output) {
@@ -117,11 +129,10 @@ FourBarClosure SphericalClosure(const SphericalFourBar& four_bar) {
   closure.angle_input = true;
   closure.labels = 2;
   if (!four_bar.valid) return closure;
-  const double alpha1 = four_bar.input.angle, alpha2 = four_bar.output.angle;
-  const double beta = four_bar.coupler, gamma = four_bar.ground;
+  const double alpha2 = four_bar.output.angle, beta = four_bar.coupler;
   // g = u2 . w1 in [cos(alpha2 + beta), cos(alpha2 - beta)].
-  SinusoidClosure(std::cos(gamma) * std::cos(alpha1), std::sin(gamma) * std::sin(alpha1), 0.0,
-                  std::cos(alpha2 + beta), std::cos(alpha2 - beta), &closure);
+  const ClosureScalar g = PinToOutputAxis(four_bar);
+  SinusoidClosure(g.c0, g.c1, 0.0, std::cos(alpha2 + beta), std::cos(alpha2 - beta), &closure);
   std::sort(closure.intervals.begin(), closure.intervals.end(),
             [](const ClosureInterval& a, const ClosureInterval& b) { return a.start < b.start; });
   return closure;
@@ -201,14 +212,8 @@ SphericalFourBarAnalysis AnalyzeSphericalFourBar(const SphericalFourBar& four_ba
   }
   // cos(mu) = (g - cos(beta) cos(alpha2)) / (sin(beta) sin(alpha2)): mu falls as g grows, and
   // g = c0 + c1 cos(phi) has its exact range over the sweep (ClosureScalar::Range).
-  ClosureScalar scalar;
-  scalar.crank = true;
-  scalar.c0 = std::cos(four_bar.ground) * std::cos(four_bar.input.angle);
-  scalar.c1 = std::sin(four_bar.ground) * std::sin(four_bar.input.angle);
-  scalar.amplitude = std::abs(scalar.c1);
-  scalar.peak = scalar.c1 >= 0.0 ? 0.0 : M_PI;
   double g_low = 0.0, g_high = 0.0;
-  scalar.Range(judgment.sweep_start, judgment.sweep_extent, &g_low, &g_high);
+  PinToOutputAxis(four_bar).Range(judgment.sweep_start, judgment.sweep_extent, &g_low, &g_high);
   const double alpha2 = four_bar.output.angle, beta = four_bar.coupler;
   const auto mu = [&](double g) {
     const double x = (g - std::cos(beta) * std::cos(alpha2)) / (std::sin(beta) * std::sin(alpha2));

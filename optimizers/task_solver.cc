@@ -281,16 +281,16 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                    });
   if (static_cast<int>(refined.size()) > options.max_dyads) refined.resize(options.max_dyads);
   result->spherical_dyads = refined;
-  BuildSphericalMechanisms(task, motion, result);
-  if (static_cast<int>(result->spherical_mechanisms.size()) > options.reported_mechanisms) {
-    result->spherical_mechanisms.resize(options.reported_mechanisms);
-  }
+  BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);
   result->refine_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options) {
-  SpatialMotionResult result = SolveSpatialMotion(task, options.spatial);
+  // Spherical seeds that will be refined make their four-bars after the refinement only.
+  SpatialMotionOptions spatial = options.spatial;
+  spatial.spherical.seed_mechanisms = task.effort == Effort::kFast;
+  SpatialMotionResult result = SolveSpatialMotion(task, spatial);
   if (result.model == "planar" && result.planar && result.plane && result.plane->poses.size() > 5) {
     // Planar data beyond five poses: the approximate planar synthesis, in the plane.
     Task planar_task = task;

@@ -52,10 +52,8 @@ std::vector<Eigen::Matrix3d> SphericalFourBarRotations(std::mt19937_64& rng,
   // On a limited input each label is a branch from one end of the arc to the other: forward on
   // the identity's label to the arc's end stays on its branch.
   const ClosureInterval& arc = closure.intervals[interval];
-  double room = closure.full_turn ? 2.0 * M_PI : arc.end - start;
-  room -= 2.0 * M_PI * std::floor(room / (2.0 * M_PI));
-  if (closure.full_turn) room = 2.0 * M_PI;
-  room = std::min(room * 0.95, spread);
+  const double room =
+      std::min(0.95 * (closure.full_turn ? 2.0 * M_PI : PositiveAngle(arc.end - start)), spread);
   // Inputs at least 0.15 rad apart, or half the even spacing for many orientations.
   const double kGap = std::min(0.15, 0.5 * room / count);
   if (room < 0.15 * std::min(count, 5)) return {};

@@ -1440,7 +1440,9 @@ std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
   if (planar == nullptr) {
     if (why != nullptr) {
       const auto* spatial = std::get_if<SpatialMotionResult>(&result);
-      *why = spatial != nullptr && spatial->model == "spherical"
+      *why = std::holds_alternative<FunctionResult>(result)
+                 ? "function generators are not drawn: pictures draw motion and path tasks"
+             : spatial != nullptr && spatial->model == "spherical"
                  ? "a spherical result is drawn by --svg (an orthographic view of the sphere); "
                    "animations draw planar mechanisms"
                  : "pictures draw planar mechanisms; this task's result is a spatial platform";

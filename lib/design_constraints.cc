@@ -72,6 +72,14 @@ std::pair<bool, int> GroupOf(const RankKey& key) {
 
 }  // namespace
 
+std::vector<std::string> FunctionViolations(const DesignConstraints& constraints,
+                                            const FourBarLinks& links, const FourBarClass& kind,
+                                            double length) {
+  std::vector<std::string> violates;
+  CommonViolations(constraints, links, {}, kind, length, &violates);
+  return violates;
+}
+
 double MaxLinkLength(const DesignConstraints& constraints, double length) {
   return constraints.max_link_length ? *constraints.max_link_length
                                      : kDefaultMaxLinkLength * length;

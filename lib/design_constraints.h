@@ -104,6 +104,12 @@ std::vector<std::string> PathViolations(const DesignConstraints& constraints,
                                         const PathFourBar& four_bar, const FourBarClass& kind,
                                         double length);
 
+// The same for a function generator's links (its ground, cranks and coupler): the link-length
+// and class constraints (its fixed pivots are the task's ground).
+std::vector<std::string> FunctionViolations(const DesignConstraints& constraints,
+                                            const FourBarLinks& links, const FourBarClass& kind,
+                                            double length);
+
 // Adds the defect "transmission" to `defects` (once) when the worst transmission angle is below
 // the constraints' minimum (MinTransmissionAngleDeg).
 void JudgeTransmission(const DesignConstraints& constraints,

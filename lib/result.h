@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "lib/dyad.h"
+#include "lib/function_four_bar.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/spatial_dyad.h"
@@ -40,6 +41,7 @@ struct StageReport {
   std::optional<double> best_dyad_rms;         // smallest weighted RMS dyad residual
   std::optional<double> best_max_pose_error;   // smallest max pose error of a listed four-bar
   std::optional<double> best_max_point_error;  // path problems: the same for the points
+  std::optional<double> best_max_angle_error;  // function problems: the output's, radians
 };
 
 struct MechanismReport {
@@ -227,8 +229,57 @@ struct PathResult {
   DesignConstraints constraints;  // the task's, echoed
 };
 
+// A four-bar function generator (lib/function_four_bar.h) and how it meets the pairs, driven by
+// its input from the first pair's configuration (AnalyzeFunctionFourBar).
+struct FunctionMechanismReport {
+  FunctionFourBar design;
+  // The pivots and pins in Sigma at the first pair's input; absent when it does not assemble
+  // there.
+  std::optional<FunctionConfiguration> first;
+  std::optional<double> max_angle_error;  // over the pairs, radians
+  std::optional<double> rms_angle_error;  // weighted RMS, radians
+  std::string error_note;                 // why max_angle_error is absent
+  // Least squares: the largest error before the refinement (absent when not refined).
+  std::optional<double> seed_max_angle_error;
+  // A function given as samples: the largest output error over every sample (the structural
+  // error between the precision points), radians; absent when a sample's input does not
+  // assemble.
+  std::optional<double> function_max_error;
+  // How far the data's precision can move the four-bar (lib/function_four_bar.h
+  // FunctionErrorBound; infinity: the pairs do not determine it); absent when it does not meet
+  // the pairs.
+  std::optional<double> error_bound;
+  std::vector<std::string> defects;   // "circuit", "branch", "transmission"
+  std::vector<std::string> violates;  // the task's design constraints it breaks
+  std::string grashof;
+  bool input_rotates_fully = false;
+  bool output_rotates_fully = false;
+  std::optional<double> transmission_min_deg;  // over the pairs' input range
+  std::optional<double> transmission_max_deg;
+};
+
+struct FunctionResult {
+  std::string method = "exact";  // "exact" | "least-squares"
+  bool relative_angles = false;  // the task's "angles": "relative"
+  Eigen::Vector2d ground_input = Eigen::Vector2d::Zero();
+  Eigen::Vector2d ground_output = Eigen::Vector2d::UnitX();
+  double scale = 1.0;  // the ground length d, the characteristic length L
+  // A function given as samples: the precision pairs made of it (Chebyshev or uniform points),
+  // echoed; empty for a task of pairs.
+  std::vector<FunctionPair> precision_points;
+  std::vector<FunctionMechanismReport> mechanisms;  // ranked (lib/design_constraints.h)
+  std::vector<std::string> notes;
+  double solve_seconds = 0.0;
+  double analysis_seconds = 0.0;    // of solve_seconds, the four-bars' analysis and ranking
+  std::string effort;               // least squares: the effort level used
+  std::vector<StageReport> stages;  // least squares: what each stage took and gave
+  DataPrecision precision;          // the data precision assumed (the task's)
+  DesignConstraints constraints;    // the task's, echoed
+};
+
 // What `linkfit solve` returns for one task.
-using TaskResult = std::variant<PlanarMotionResult, SpatialMotionResult, PathResult>;
+using TaskResult =
+    std::variant<PlanarMotionResult, SpatialMotionResult, PathResult, FunctionResult>;
 
 }  // namespace linkfit
 

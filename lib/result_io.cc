@@ -257,6 +257,54 @@ Json PathMechanismToJson(const PathMechanismReport& report) {
   return object;
 }
 
+Json FunctionMechanismToJson(const FunctionMechanismReport& report) {
+  const FunctionFourBar& design = report.design;
+  constexpr double kDeg = 180.0 / M_PI;
+  Json object;
+  object["type"] = "4R";
+  if (report.first) {
+    PutPoint(&object, "input_pivot", report.first->input_pivot);
+    PutPoint(&object, "input_moving", report.first->input_moving);
+    PutPoint(&object, "output_pivot", report.first->output_pivot);
+    PutPoint(&object, "output_moving", report.first->output_moving);
+  }
+  PutNumber(&object, "ground_length", design.ground);
+  PutNumber(&object, "input_length", design.input_length);
+  PutNumber(&object, "coupler_length", design.coupler_length);
+  PutNumber(&object, "output_length", design.output_length);
+  // Relative angles: the cranks' directions are offset + the task's angle (from the ground line).
+  PutNumber(&object, "input_offset_deg", design.input_offset * kDeg + 0.0);
+  PutNumber(&object, "output_offset_deg", design.output_offset * kDeg + 0.0);
+  if (report.max_angle_error) {
+    PutNumber(&object, "max_angle_error_deg", *report.max_angle_error * kDeg);
+  } else {
+    object["max_angle_error_note"] = report.error_note.empty() ? "not computed" : report.error_note;
+  }
+  if (report.rms_angle_error) {
+    PutNumber(&object, "rms_angle_error_deg", *report.rms_angle_error * kDeg);
+  }
+  if (report.function_max_error) {
+    PutNumber(&object, "function_max_error_deg", *report.function_max_error * kDeg);
+  }
+  PutErrorBound(&object, report.error_bound,
+                "the pairs do not determine this four-bar at the data's precision");
+  if (report.seed_max_angle_error) {
+    Json seed;
+    PutNumber(&seed, "max_angle_error_deg", *report.seed_max_angle_error * kDeg);
+    object["before_refinement"] = seed;
+  }
+  object["defects"] = report.defects;
+  object["violates"] = report.violates;
+  if (!report.grashof.empty()) object["grashof"] = report.grashof;
+  object["input_rotates_fully"] = report.input_rotates_fully;
+  object["output_rotates_fully"] = report.output_rotates_fully;
+  if (report.transmission_min_deg && report.transmission_max_deg) {
+    PutNumber(&object, "transmission_angle_min_deg", *report.transmission_min_deg);
+    PutNumber(&object, "transmission_angle_max_deg", *report.transmission_max_deg);
+  }
+  return object;
+}
+
 Json StagesToJson(const std::vector<StageReport>& stages) {
   Json list = Json::array();
   for (const StageReport& stage : stages) {
@@ -269,6 +317,9 @@ Json StagesToJson(const std::vector<StageReport>& stages) {
     }
     if (stage.best_max_point_error) {
       PutNumber(&object, "best_max_point_error", *stage.best_max_point_error);
+    }
+    if (stage.best_max_angle_error) {
+      PutNumber(&object, "best_max_angle_error_deg", *stage.best_max_angle_error * 180.0 / M_PI);
     }
     list.push_back(object);
   }
@@ -531,6 +582,35 @@ std::string ResultToJson(const PathResult& result, int indent) {
     root["roots"] = Json{{"cranks", result.crank_roots_total},
                          {"real_cranks", result.crank_roots_real},
                          {"four_bars", result.four_bars_total}};
+  }
+  if (!result.effort.empty()) root["effort"] = result.effort;
+  if (!result.stages.empty()) root["stages"] = StagesToJson(result.stages);
+  if (!result.notes.empty()) root["notes"] = result.notes;
+  PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
+  return Dump(root, indent);
+}
+
+std::string ResultToJson(const FunctionResult& result, int indent) {
+  Json root;
+  root["problem"] = "function";
+  root["method"] = result.method;
+  root["angles"] = result.relative_angles ? "relative" : "absolute";
+  root["ground"] = Json::array({Json::array({result.ground_input.x(), result.ground_input.y()}),
+                                Json::array({result.ground_output.x(), result.ground_output.y()})});
+  PutNumber(&root, "scale", result.scale);
+  PutPrecision(&root, result.precision, false);
+  PutConstraints(&root, result.constraints, result.scale);
+  if (!result.precision_points.empty()) {
+    Json points = Json::array();
+    for (const FunctionPair& pair : result.precision_points) {
+      points.push_back(Json{{"input_deg", pair.input * 180.0 / M_PI + 0.0},
+                            {"output_deg", pair.output * 180.0 / M_PI + 0.0}});
+    }
+    root["precision_points"] = points;
+  }
+  root["mechanisms"] = Json::array();
+  for (const FunctionMechanismReport& mechanism : result.mechanisms) {
+    root["mechanisms"].push_back(FunctionMechanismToJson(mechanism));
   }
   if (!result.effort.empty()) root["effort"] = result.effort;
   if (!result.stages.empty()) root["stages"] = StagesToJson(result.stages);

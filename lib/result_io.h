@@ -13,6 +13,7 @@ namespace linkfit {
 std::string ResultToJson(const PlanarMotionResult& result, int indent);
 std::string ResultToJson(const SpatialMotionResult& result, int indent);
 std::string ResultToJson(const PathResult& result, int indent);
+std::string ResultToJson(const FunctionResult& result, int indent);
 std::string ResultToJson(const TaskResult& result, int indent);
 
 }  // namespace linkfit

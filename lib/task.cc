@@ -3,7 +3,7 @@
 namespace linkfit {
 
 const char* ProblemKindName(ProblemKind kind) {
-  return kind == ProblemKind::kMotion ? "motion" : "path";
+  return kind == ProblemKind::kMotion ? "motion" : kind == ProblemKind::kPath ? "path" : "function";
 }
 
 const char* SpaceName(Space space) { return space == Space::kPlanar ? "planar" : "spatial"; }

@@ -10,6 +10,7 @@
 
 #include "lib/design_constraints.h"
 #include "lib/dyad.h"
+#include "lib/function_four_bar.h"
 #include "lib/path_motion.h"
 #include "lib/planar_pose.h"
 #include "lib/precision.h"
@@ -18,7 +19,7 @@
 
 namespace linkfit {
 
-enum class ProblemKind { kMotion, kPath };
+enum class ProblemKind { kMotion, kPath, kFunction };
 enum class Space { kPlanar, kSpatial };
 enum class Effort { kFast, kBalanced, kThorough };
 
@@ -41,6 +42,15 @@ struct Task {
   std::vector<double> pose_weights;           // one per pose, default 1
   std::vector<bool> pose_exact;               // one per pose, default false
   std::vector<TimedPoint> points;             // path
+  // Function problems (issue 17): the precision pairs (radians), angles counter-clockwise from the
+  // ground line, measured at `ground_input` (the input pivot A) and `ground_output` (B) in Sigma.
+  std::vector<FunctionPair> pairs;
+  bool relative_angles = false;  // only differences matter: the cranks' offsets are unknowns
+  Eigen::Vector2d ground_input = Eigen::Vector2d::Zero();
+  Eigen::Vector2d ground_output = Eigen::Vector2d::UnitX();
+  // A function given as samples of y = f(x): the samples mapped to angles (the result reports
+  // each four-bar's largest output error over them); empty for a task of pairs.
+  std::vector<FunctionPair> function_samples;
   // Planar motion with three or four poses: pivots chosen by the user, one dyad each.
   std::vector<Eigen::Vector2d> moving_pivots;  // in E (on the circle-point curve for 4 poses)
   std::vector<Eigen::Vector2d> fixed_pivots;   // in Sigma (on the center-point curve)

@@ -19,6 +19,8 @@
 #include <unordered_set>
 #include <utility>
 
+#include "lib/function_samples.h"
+
 namespace linkfit {
 namespace {
 
@@ -140,14 +142,14 @@ class ParsePath {
   std::string ItemList() const {
     if (frames_.size() != 2 || frames_[0].is_array || !frames_[1].is_array) return "";
     const std::string& key = frames_[0].key;
-    return key == "poses" || key == "points" ? key : "";
+    return key == "poses" || key == "points" || key == "pairs" ? key : "";
   }
 
   // The field of a pose or point the parser is in ("x" inside poses[3], "q" inside
   // poses[3].q[1]), or null elsewhere.
   const std::string* ItemField() const {
     if (frames_.size() < 3 || frames_[0].is_array || !frames_[1].is_array || frames_[2].is_array ||
-        (frames_[0].key != "poses" && frames_[0].key != "points")) {
+        (frames_[0].key != "poses" && frames_[0].key != "points" && frames_[0].key != "pairs")) {
       return nullptr;
     }
     return &frames_[2].key;
@@ -197,7 +199,7 @@ int DigitKindOf(const std::string& field) {
   if (field == "x" || field == "y" || field == "translation") return kLengthDigits;
   if (field == "g") return kHalfLengthDigits;
   if (field == "theta_deg" || field == "angle_deg" || field == "euler_deg" ||
-      field == "input_deg") {
+      field == "input_deg" || field == "output_deg") {
     return kDegreeDigits;
   }
   if (field == "rotation" || field == "axis") return kUnitDigits;
@@ -545,15 +547,16 @@ class TaskParser {
     DigitTallies tallies;
     const Json root = ParseJson(text, &tallies);
     if (!root.is_object()) Fail("top level", "expected an object, got " + Describe(root));
-    CheckKeys(
-        root, "",
-        {"problem", "space", "poses", "points", "scale", "precision", "options", "moving_pivots",
-         "fixed_pivots", "moving_axes", "fixed_axes", "platform", "constraints"});
+    CheckKeys(root, "",
+              {"problem", "space", "poses", "points", "scale", "precision", "options",
+               "moving_pivots", "fixed_pivots", "moving_axes", "fixed_axes", "platform",
+               "constraints", "pairs", "angles", "ground", "function"});
 
     Task task;
-    task.problem =
-        ParseEnum<ProblemKind>(root, "", "problem", ProblemKind::kMotion,
-                               {{"motion", ProblemKind::kMotion}, {"path", ProblemKind::kPath}});
+    task.problem = ParseEnum<ProblemKind>(root, "", "problem", ProblemKind::kMotion,
+                                          {{"motion", ProblemKind::kMotion},
+                                           {"path", ProblemKind::kPath},
+                                           {"function", ProblemKind::kFunction}});
     task.space = ParseEnum<Space>(root, "", "space", Space::kPlanar,
                                   {{"planar", Space::kPlanar}, {"spatial", Space::kSpatial}});
     if (root.contains("options")) {
@@ -604,10 +607,24 @@ class TaskParser {
         }
         task.platform = Platform(root);
       }
+    } else if (task.problem == ProblemKind::kFunction) {
+      if (task.space == Space::kSpatial) Fail("space", "function problems are planar only");
+      for (const char* key : {"poses", "points"}) {
+        if (root.contains(key)) {
+          Fail(key, "not used by function problems (give \"pairs\" or \"function\")");
+        }
+      }
+      if (task.scale) Fail("scale", "not used by function problems (the ground's length is L)");
+      ParseFunctionTask(root, &task);
     } else {
       if (task.space == Space::kSpatial) Fail("space", "path problems are planar only");
       if (root.contains("poses")) Fail("poses", "not used by path problems (give \"points\")");
       ParsePoints(Items(root, "points", 1, "path synthesis"), &task);
+    }
+    if (task.problem != ProblemKind::kFunction) {
+      for (const char* key : {"pairs", "angles", "ground", "function"}) {
+        if (root.contains(key)) Fail(key, "used by function problems only");
+      }
     }
     if (task.problem != ProblemKind::kMotion) {
       for (const char* key : {"moving_pivots", "fixed_pivots"}) {
@@ -833,6 +850,10 @@ class TaskParser {
       Fail(KeyItem(item, "max_coupler_point_offset"), "used by path problems only");
     }
     if (value.contains("fixed_pivots_box")) {
+      if (task->problem == ProblemKind::kFunction) {
+        Fail(KeyItem(item, "fixed_pivots_box"),
+             "not used by function problems (their fixed pivots are the task's \"ground\")");
+      }
       constraints.fixed_pivots_box =
           Box(value.at("fixed_pivots_box"), KeyItem(item, "fixed_pivots_box"));
     }
@@ -1359,6 +1380,167 @@ class TaskParser {
         1.0, CoincidentWindow(std::sqrt(2.0), length, 3, 2.0, task->precision), coincide);
   }
 
+  // Function problems (issue 17): "pairs" of crank angles, or a "function" given as samples of
+  // y = f(x) mapped linearly onto input and output ranges; "angles" and "ground".
+  void ParseFunctionTask(const Json& root, Task* task) const {
+    if (root.contains("ground")) {
+      const Json& ground = root.at("ground");
+      if (!ground.is_array() || ground.size() != 2) {
+        Fail("ground", "expected [[x, y], [x, y]] (the input pivot, then the output pivot), got " +
+                           Describe(ground));
+      }
+      task->ground_input = Vector<2>(ground[0], "ground[0]");
+      task->ground_output = Vector<2>(ground[1], "ground[1]");
+      const double length = (task->ground_output - task->ground_input).norm();
+      if (!(length > 0.0) || !std::isfinite(length)) {
+        Fail("ground", length > 0.0 ? "coordinates too large" : "the two pivots coincide");
+      }
+    }
+    if (root.contains("pairs") == root.contains("function")) {
+      Fail(root.contains("pairs") ? "function" : "pairs",
+           root.contains("pairs") ? "give \"pairs\" or \"function\", not both"
+                                  : "missing field (give \"pairs\" or a \"function\")");
+    }
+    const bool samples = root.contains("function");
+    const std::string angles =
+        root.contains("angles")
+            ? ParseEnum<std::string>(root, "", "angles", "absolute",
+                                     {{"absolute", "absolute"}, {"relative", "relative"}})
+            : (samples ? "relative" : "absolute");
+    task->relative_angles = angles == "relative";
+    const size_t minimum = task->relative_angles ? 5 : 3;
+    const std::string purpose =
+        task->relative_angles
+            ? "function generation with relative angles (five pairs determine the four-bars; "
+              "give \"angles\": \"absolute\" for three)"
+            : "function generation with absolute angles (three pairs determine the four-bar)";
+    if (samples) {
+      ParseFunctionSamples(root.at("function"), minimum, purpose, task);
+    } else {
+      const Json& pairs = Items(root, "pairs", minimum, purpose);
+      for (size_t i = 0; i < pairs.size(); ++i) {
+        const std::string item = IndexItem("pairs", i);
+        const Json& pair = Object(pairs[i], item);
+        CheckKeys(pair, item, {"input_deg", "output_deg", "weight", "exact"});
+        FunctionPair parsed;
+        parsed.input = Number(Field(pair, item, "input_deg"), KeyItem(item, "input_deg")) * kDegree;
+        parsed.output =
+            Number(Field(pair, item, "output_deg"), KeyItem(item, "output_deg")) * kDegree;
+        ParseWeightAndExact(pair, item, &parsed.weight, &parsed.exact);
+        task->pairs.push_back(parsed);
+      }
+    }
+    FinishPrecision(
+        task->ground_input.cwiseAbs().maxCoeff() + task->ground_output.cwiseAbs().maxCoeff(), 0.0,
+        task);
+    // Two pairs at one input angle (modulo a turn, within precision) ask one four-bar for two
+    // outputs there, or repeat a pair: no four-bar is determined by them.
+    const std::string list = samples ? "function" : "pairs";
+    for (size_t i = 0; i < task->pairs.size(); ++i) {
+      for (size_t j = 0; j < i; ++j) {
+        if (std::abs(WrapAngle(task->pairs[i].input - task->pairs[j].input)) <=
+            2.0 * task->precision.angle) {
+          Fail(samples ? "function" : IndexItem("pairs", i),
+               "the same input angle as " +
+                   (samples ? "another precision point" : IndexItem("pairs", j)) +
+                   " (each input angle gives one output)");
+        }
+      }
+    }
+  }
+
+  // "function": {"x": [...], "y": [...], "input_range_deg": [start, end], "output_range_deg":
+  // [start, end], "precision_points": n, "spacing": "chebyshev" | "uniform"}. x runs over
+  // [x_0, x_last] as the input over its range and f(x) over [f(x_0), f(x_last)] as the output
+  // over its range. With precision_points, the pairs are n points so spaced (f between samples
+  // by the natural cubic spline through them); without, every sample is a pair (least squares).
+  void ParseFunctionSamples(const Json& value, size_t minimum, const std::string& purpose,
+                            Task* task) const {
+    const std::string item = "function";
+    const Json& function = Object(value, item);
+    CheckKeys(function, item,
+              {"x", "y", "input_range_deg", "output_range_deg", "precision_points", "spacing"});
+    const auto numbers = [&](const char* key) {
+      const Json& list = Field(function, item, key);
+      const std::string list_item = KeyItem(item, key);
+      if (!list.is_array()) Fail(list_item, "expected an array of numbers, got " + Describe(list));
+      if (list.size() > options_.max_items) {
+        Fail(list_item, OverLimit(list_item, list.size(), options_.max_items));
+      }
+      std::vector<double> out;
+      for (size_t i = 0; i < list.size(); ++i)
+        out.push_back(Number(list[i], IndexItem(list_item, i)));
+      return out;
+    };
+    const std::vector<double> x = numbers("x"), y = numbers("y");
+    if (x.size() != y.size()) {
+      Fail(KeyItem(item, "y"),
+           std::to_string(y.size()) + " values for " + std::to_string(x.size()) + " x values");
+    }
+    if (x.size() < 2) Fail(KeyItem(item, "x"), "at least two samples are needed");
+    for (size_t i = 1; i < x.size(); ++i) {
+      if (!(x[i] > x[i - 1])) Fail(IndexItem(KeyItem(item, "x"), i), "x must increase");
+    }
+    const auto range = [&](const char* key) {
+      const std::vector<double> pair = numbers(key);
+      if (pair.size() != 2) Fail(KeyItem(item, key), "expected [start, end] in degrees");
+      if (!(pair[0] != pair[1])) Fail(KeyItem(item, key), "the range is empty (start = end)");
+      return std::pair<double, double>(pair[0] * kDegree, pair[1] * kDegree);
+    };
+    const auto [input_start, input_end] = range("input_range_deg");
+    const auto [output_start, output_end] = range("output_range_deg");
+    if (!(y.back() != y.front())) {
+      Fail(KeyItem(item, "y"),
+           "f(x) is the same at both ends of the range: the output range "
+           "cannot be mapped onto it");
+    }
+    const auto pair_at = [&](double xv, double yv) {
+      FunctionPair pair;
+      pair.input =
+          input_start + (xv - x.front()) / (x.back() - x.front()) * (input_end - input_start);
+      pair.output =
+          output_start + (yv - y.front()) / (y.back() - y.front()) * (output_end - output_start);
+      return pair;
+    };
+    for (size_t i = 0; i < x.size(); ++i) task->function_samples.push_back(pair_at(x[i], y[i]));
+    if (!function.contains("precision_points")) {
+      if (function.contains("spacing")) {
+        Fail(KeyItem(item, "spacing"), "used with \"precision_points\" only");
+      }
+      if (x.size() < minimum) {
+        Fail(KeyItem(item, "x"), std::to_string(x.size()) + " samples, " + purpose +
+                                     " needs at least " + std::to_string(minimum));
+      }
+      task->pairs = task->function_samples;
+      return;
+    }
+    const Json& count_value = function.at("precision_points");
+    const std::string count_item = KeyItem(item, "precision_points");
+    if (!count_value.is_number_integer() || count_value.get<long long>() < 1) {
+      Fail(count_item, "expected a positive integer, got " + Describe(count_value));
+    }
+    const long long count = count_value.get<long long>();
+    if (count < static_cast<long long>(minimum) || count > 1000) {
+      Fail(count_item, count > 1000 ? "at most 1000"
+                                    : std::to_string(count) + " points, " + purpose +
+                                          " needs at least " + std::to_string(minimum));
+    }
+    const std::string spacing =
+        ParseEnum<std::string>(function, item, "spacing", "chebyshev",
+                               {{"chebyshev", "chebyshev"}, {"uniform", "uniform"}});
+    std::vector<double> points;
+    if (spacing == "chebyshev") {
+      points = ChebyshevPoints(x.front(), x.back(), static_cast<int>(count));
+    } else {
+      for (long long k = 0; k < count; ++k) {
+        points.push_back(x.front() + (x.back() - x.front()) * static_cast<double>(k) /
+                                         static_cast<double>(count - 1));
+      }
+    }
+    const NaturalCubicSpline spline(x, y);
+    for (double xv : points) task->pairs.push_back(pair_at(xv, spline(xv)));
+  }
+
   void ParsePoints(const Json& points, Task* task) const {
     double largest = 0.0;
     for (size_t i = 0; i < points.size(); ++i) {
@@ -1543,6 +1725,12 @@ SpatialDesign ParseSpatialDesign(const std::string& json_text, const std::string
 
 TaskDesign ParseTaskDesign(const std::string& json_text, const std::string& source,
                            const Task& task) {
+  if (task.problem == ProblemKind::kFunction) {
+    throw InputError(source +
+                     ": a function task's four-bars are refined by `linkfit solve` "
+                     "(least squares beyond three absolute or five relative pairs); "
+                     "refine takes motion and path designs");
+  }
   if (task.problem == ProblemKind::kPath) return ParsePathDesign(json_text, source);
   if (task.space == Space::kSpatial) return ParseSpatialDesign(json_text, source);
   return ParseDesign(json_text, source);

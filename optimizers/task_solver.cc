@@ -1,6 +1,7 @@
 #include "optimizers/task_solver.h"
 
 #include <algorithm>
+#include <type_traits>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -748,6 +749,8 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
 }
 
 TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
+  // Function results carry the task's notes and precision themselves.
+  if (task.problem == ProblemKind::kFunction) return SolveFunctionTask(task, options);
   TaskResult result;
   if (task.problem == ProblemKind::kMotion && task.space == Space::kPlanar) {
     result = SolvePlanarTask(task, options);
@@ -759,7 +762,9 @@ TaskResult SolveTask(const Task& task, const TaskSolverOptions& options) {
   std::visit(
       [&task](auto& solved) {
         solved.precision = task.precision;
-        solved.closed = task.closed;
+        if constexpr (!std::is_same_v<std::decay_t<decltype(solved)>, FunctionResult>) {
+          solved.closed = task.closed;
+        }
         // What reading the task did comes first.
         solved.notes.insert(solved.notes.begin(), task.input_notes.begin(), task.input_notes.end());
       },

@@ -31,6 +31,8 @@
 #include "lib/task.h"
 #include "lib/task_io.h"
 #include "optimizers/four_bar_refiner.h"
+#include "optimizers/function_refiner.h"
+#include "optimizers/function_search.h"
 #include "optimizers/global_search.h"
 #include "optimizers/path_refiner.h"
 #include "optimizers/path_search.h"
@@ -58,6 +60,10 @@ struct TaskSolverOptions {
   int path_seed_subsets = 6;        // five-point subsets solved exactly for seeds
   int path_refined = 6;             // best seed four-bars refined (balanced and thorough)
   int path_reported = 12;           // four-bars listed at most (least squares)
+  FunctionRefinerOptions function_refiner;  // function problems, least squares
+  FunctionSearchOptions function_search;    // function problems, effort thorough
+  int function_seed_subsets = 8;  // exact solves of spread subsets (3 or 5 pairs) for seeds
+  int function_reported = 12;     // four-bars listed at most (least squares)
 };
 
 // Never throws for numerical trouble: what could not be done is said in the result's notes.
@@ -73,6 +79,14 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options = {}
 // The largest point error of a path four-bar that passes the points (ranked "within precision"):
 // kModelUnits point uncertainties of `precision` at the crank's pivot, not below 1e-8 `length`.
 double PathPassTolerance(const DataPrecision& precision, double length);
+
+// Function problems only (issue 17): absolute angles, three pairs, and relative angles, five
+// pairs, exactly (fitting/function_generation.h); more pairs by least squares: fast = the linear
+// least-squares and subset seeds on both assemblies, balanced = each refined on the output-angle
+// error (function_refiner.h), thorough = as balanced plus an NLopt search (function_search.h).
+// The four-bars are analysed from the first pair's configuration and ranked (lib/design_
+// constraints.h).
+FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& options = {});
 
 // Spatial motion only: solve, refine (more than seven poses, unless effort is fast), and add
 // the platform. A spherical motion of six or more orientations: every seed dyad refined

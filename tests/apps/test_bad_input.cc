@@ -222,7 +222,7 @@ TEST_F(BadInputTest, EveryKindOfBadInputIsOneLineAndExitTwo) {
       {"object for an array", R"({"poses": {"x": 1, "y": 2, "theta_deg": 3}})",
        "case.json: poses: expected an array, got an object"},
       {"number for a string", R"({"problem": 7, "poses": []})",
-       "case.json: problem: expected \"motion\" or \"path\", got a number"},
+       "case.json: problem: expected \"motion\" or \"path\" or \"function\", got a number"},
       {"number for an object", MotionTask(With(FivePoses(), 2, "7")),
        "case.json: poses[2]: expected an object, got a number"},
       {"boolean for a number",
@@ -287,7 +287,7 @@ TEST_F(BadInputTest, EveryKindOfBadInputIsOneLineAndExitTwo) {
        "case.json: points: 0 points given, path synthesis needs at least 1"},
       // Unknown kinds.
       {"unknown problem", R"({"problem": "linkage", "poses": []})",
-       "case.json: problem: expected \"motion\" or \"path\", got \"linkage\""},
+       "case.json: problem: expected \"motion\" or \"path\" or \"function\", got \"linkage\""},
       {"unknown space", R"({"space": "hyperbolic", "poses": []})",
        "case.json: space: expected \"planar\" or \"spatial\", got \"hyperbolic\""},
       {"spatial path", R"({"problem": "path", "space": "spatial", "points": []})",

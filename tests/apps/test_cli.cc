@@ -540,6 +540,41 @@ TEST_F(CliTest, SolvesTheBundledPlatform) {
 // spherical 4R about the centre [1.2, -0.5, 0.8], printed to six digits, made by
 // tests/support/random_spherical.h): solved as spherical, both generating dyads back within what
 // six digits allow, their four-bar listed; drawn as an orthographic view; not animated.
+TEST_F(CliTest, SolvesTheBundledFunctionGenerators) {
+  // Three absolute pairs printed to two decimals, of the crank-rocker with cranks 40 and 80,
+  // coupler 110 and ground 100: Freudenstein's equation gives it back within its error bound.
+  RunResult run = Run("solve '" + DataPath("function_3_pairs.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  nlohmann::json result = nlohmann::json::parse(run.out);
+  EXPECT_EQ(result["problem"], "function");
+  EXPECT_EQ(result["method"], "exact");
+  ASSERT_EQ(result["mechanisms"].size(), 1u) << run.out;
+  const nlohmann::json& first = result["mechanisms"][0];
+  const double bound = first["error_bound"].get<double>();
+  EXPECT_LT(bound, 0.5);
+  EXPECT_NEAR(first["input_length"].get<double>(), 40.0, bound);
+  EXPECT_NEAR(first["coupler_length"].get<double>(), 110.0, bound);
+  EXPECT_NEAR(first["output_length"].get<double>(), 80.0, bound);
+  EXPECT_EQ(first["grashof"], "crank-rocker");
+  EXPECT_EQ(first["defects"], nlohmann::json::array());
+  // The first pair's configuration: the input crank at 40 degrees from the ground line.
+  EXPECT_NEAR(first["input_moving"][0].get<double>(),
+              first["input_length"].get<double>() * std::cos(40.0 * M_PI / 180.0), 1e-9);
+  // y = log10 x through five Chebyshev precision points (relative angles).
+  run = Run("solve '" + DataPath("function_log10.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  result = nlohmann::json::parse(run.out);
+  EXPECT_EQ(result["angles"], "relative");
+  EXPECT_EQ(result["precision_points"].size(), 5u);
+  ASSERT_FALSE(result["mechanisms"].empty());
+  EXPECT_LT(result["mechanisms"][0]["max_angle_error_deg"].get<double>(), 1e-9);
+  EXPECT_LT(result["mechanisms"][0]["function_max_error_deg"].get<double>(), 1.0);
+  // Pictures draw motion and path tasks: --svg says so (exit 2).
+  run = Run("solve '" + DataPath("function_3_pairs.json") + "' --svg '" + Path("f.svg") + "'");
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("function generators are not drawn"), std::string::npos) << run.err;
+}
+
 TEST_F(CliTest, SolvesAndDrawsTheBundledSphericalFourBar) {
   const std::string svg = Path("sphere.svg");
   const RunResult run =

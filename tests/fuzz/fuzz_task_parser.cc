@@ -48,6 +48,19 @@ void CheckTask(const linkfit::Task& task, const linkfit::TaskReadOptions& option
     if (task.space == linkfit::Space::kPlanar && task.planar_poses.size() < 3) {
       Finding("planar motion task with fewer than three poses");
     }
+  } else if (task.problem == linkfit::ProblemKind::kFunction) {
+    const size_t minimum = task.relative_angles ? 5 : 3;
+    if (task.pairs.size() < minimum || poses != 0 || !task.points.empty()) {
+      Finding("function task with too few pairs, or with poses or points");
+    }
+    for (const linkfit::FunctionPair& pair : task.pairs) {
+      if (!std::isfinite(pair.input) || !std::isfinite(pair.output) ||
+          !std::isfinite(pair.weight) || !(pair.weight > 0.0)) {
+        Finding("accepted a non-finite pair or a non-positive weight");
+      }
+    }
+    CheckFinite(task.ground_input, "ground pivot");
+    CheckFinite(task.ground_output, "ground pivot");
   } else if (task.points.empty() || poses != 0) {
     Finding("path task without points or with poses");
   }

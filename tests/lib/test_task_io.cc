@@ -213,7 +213,7 @@ TEST(TaskIoErrors, FieldTypesAndValues) {
        "task.json: poses: expected an array, got an object"},
       {[](Json* j) { j->erase("poses"); }, "task.json: poses: missing field"},
       {[](Json* j) { (*j)["problem"] = "moton"; },
-       "task.json: problem: expected \"motion\" or \"path\", got \"moton\""},
+       "task.json: problem: expected \"motion\" or \"path\" or \"function\", got \"moton\""},
       {[](Json* j) { (*j)["space"] = 3; },
        "task.json: space: expected \"planar\" or \"spatial\", got a number"},
       {[](Json* j) {
@@ -702,6 +702,85 @@ TEST(TaskIoSpatial, PivotsAndPlatform) {
   nlohmann::json planar = PlanarTaskJson();
   planar["platform"] = {0, 1, 2, 3, 4};
   EXPECT_EQ(ErrorOf(planar.dump()), "task.json: platform: used by spatial motion problems only");
+}
+
+}  // namespace
+}  // namespace linkfit
+
+namespace linkfit {
+namespace {
+
+// Function problems (issue 17, item 6).
+TEST(TaskIoFunction, PairsAnglesGroundAndPrecision) {
+  const Task task = ParseTask(R"({"problem": "function", "ground": [[1, 2], [1, 5]],
+      "pairs": [{"input_deg": 10.25, "output_deg": 42.5}, {"input_deg": 30.5, "output_deg": 50},
+                {"input_deg": 50, "output_deg": 61.75, "weight": 2, "exact": true}]})",
+                              "t");
+  EXPECT_EQ(task.problem, ProblemKind::kFunction);
+  EXPECT_FALSE(task.relative_angles);  // pairs: absolute by default
+  ASSERT_EQ(task.pairs.size(), 3u);
+  EXPECT_NEAR(task.pairs[0].input, 10.25 * M_PI / 180.0, 1e-15);
+  EXPECT_NEAR(task.pairs[2].output, 61.75 * M_PI / 180.0, 1e-15);
+  EXPECT_EQ(task.pairs[2].weight, 2.0);
+  EXPECT_TRUE(task.pairs[2].exact);
+  EXPECT_EQ(task.ground_output, Eigen::Vector2d(1, 5));
+  // Two decimals in degrees: half a unit of the last digit.
+  EXPECT_NEAR(task.precision.angle, 0.005 * M_PI / 180.0, 1e-12);
+}
+
+TEST(TaskIoFunction, FunctionSamplesMapOntoTheRanges) {
+  const Task task = ParseTask(R"({"problem": "function", "function": {"x": [0, 1, 2, 3, 4],
+      "y": [0, 1, 4, 9, 16], "input_range_deg": [10, 90], "output_range_deg": [0, 120],
+      "precision_points": 5, "spacing": "uniform"}})",
+                              "t");
+  EXPECT_TRUE(task.relative_angles);  // a function: relative by default
+  ASSERT_EQ(task.function_samples.size(), 5u);
+  ASSERT_EQ(task.pairs.size(), 5u);
+  // x = 1 is a quarter of the input range; f(1) = 1 a sixteenth of the output's.
+  EXPECT_NEAR(task.function_samples[1].input, 30.0 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(task.function_samples[1].output, 7.5 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(task.pairs[2].input, 50.0 * M_PI / 180.0, 1e-12);
+}
+
+TEST(TaskIoFunction, BadFunctionTasksSayWhatIsWrong) {
+  const std::string pairs3 =
+      R"("pairs": [{"input_deg": 10, "output_deg": 40}, {"input_deg": 30, "output_deg": 50},
+                   {"input_deg": 50, "output_deg": 61}])";
+  EXPECT_NE(ErrorOf(R"({"problem": "function"})").find("pairs: missing field"), std::string::npos);
+  EXPECT_NE(ErrorOf("{\"problem\": \"function\", \"angles\": \"relative\", " + pairs3 + "}")
+                .find("needs at least 5"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("{\"problem\": \"function\", \"angles\": \"sideways\", " + pairs3 + "}")
+                .find("angles: expected \"absolute\" or \"relative\""),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("{\"problem\": \"function\", \"ground\": [[0, 0], [0, 0]], " + pairs3 + "}")
+                .find("ground: the two pivots coincide"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(R"({"problem": "function", "pairs": [{"input_deg": 10, "output_deg": 40},
+      {"input_deg": 370, "output_deg": 50}, {"input_deg": 50, "output_deg": 61}]})")
+                .find("pairs[1]: the same input angle as pairs[0]"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(R"({"problem": "function", "function": {"x": [0, 2, 1], "y": [0, 1, 2],
+      "input_range_deg": [0, 90], "output_range_deg": [0, 90], "precision_points": 3}})")
+                .find("function.x[2]: x must increase"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(R"({"problem": "function", "function": {"x": [0, 1, 2], "y": [0, 1, 0],
+      "input_range_deg": [0, 90], "output_range_deg": [0, 90], "precision_points": 3}})")
+                .find("the same at both ends"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf("{\"problem\": \"function\", \"poses\": [], " + pairs3 + "}")
+                .find("poses: not used by function problems"),
+            std::string::npos);
+  EXPECT_NE(
+      ErrorOf(R"({"poses": [{"x": 0, "y": 0, "theta_deg": 0}, {"x": 1, "y": 0, "theta_deg": 10},
+                {"x": 2, "y": 1, "theta_deg": 30}], "pairs": []})")
+          .find("pairs: used by function"),
+      std::string::npos);
+  EXPECT_NE(ErrorOf("{\"problem\": \"function\", \"constraints\": {\"fixed_pivots_box\": [[0, 0], "
+                    "[1, 1]]}, " +
+                    pairs3 + "}")
+                .find("fixed_pivots_box: not used by function problems"),
+            std::string::npos);
 }
 
 }  // namespace

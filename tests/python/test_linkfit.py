@@ -17,10 +17,11 @@ import linkfit
 DATA = pathlib.Path(__file__).resolve().parents[2] / "data"
 CLI = os.environ.get("LINKFIT_CLI", "linkfit")
 # Quick tasks of every kind: planar (exact, families, least squares), spatial, timed and untimed
-# paths.
+# paths, function generators.
 FILES = ["four_bar_5_poses.json", "four_bar_4_poses.json", "four_bar_3_poses.json",
          "slider_crank_5_poses.json", "four_bar_12_poses.json", "platform_7_poses.json",
-         "path_5_points.json", "path_12_points.json", "bounded_four_bar_12_poses.json"]
+         "path_5_points.json", "path_12_points.json", "bounded_four_bar_12_poses.json",
+         "function_3_pairs.json", "function_log10.json"]
 
 
 def untimed(value):

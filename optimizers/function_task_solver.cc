@@ -1,0 +1,262 @@
+// Function problems (issue 17, items 6-8): the exact solvers of fitting/function_generation.h,
+// least squares beyond them (seeds refined by optimizers/function_refiner.h, searched by
+// optimizers/function_search.h), and the four-bars' analysis and ranking.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "fitting/function_generation.h"
+#include "fitting/model_choice.h"
+#include "lib/text_format.h"
+#include "optimizers/function_refiner.h"
+#include "optimizers/function_search.h"
+#include "optimizers/task_solver.h"
+
+namespace linkfit {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// Subsets of `size` of `count` pairs, spread over the task as SpreadSubsets spreads five: subset
+// k takes the pairs at round((i + k / subsets) count / size), i < size.
+std::vector<std::vector<FunctionPair>> SpreadPairSubsets(const std::vector<FunctionPair>& pairs,
+                                                         int size, int subsets) {
+  std::vector<std::vector<FunctionPair>> out;
+  const int count = static_cast<int>(pairs.size());
+  for (int k = 0; k < subsets; ++k) {
+    std::vector<int> chosen;
+    for (int i = 0; i < size; ++i) {
+      const int index = static_cast<int>(
+          std::lround((i + static_cast<double>(k) / subsets) * count / static_cast<double>(size)));
+      chosen.push_back(std::min(index, count - 1));
+    }
+    std::sort(chosen.begin(), chosen.end());
+    if (std::adjacent_find(chosen.begin(), chosen.end()) != chosen.end()) continue;
+    std::vector<FunctionPair> subset;
+    for (int index : chosen) subset.push_back(pairs[index]);
+    out.push_back(subset);
+  }
+  return out;
+}
+
+// Two four-bars are one when of one assembly, their lengths agree within `tolerance` times the
+// larger of the ground and the length, and their offsets within `tolerance` radians.
+bool SameFourBar(const FunctionFourBar& a, const FunctionFourBar& b, double tolerance) {
+  if (a.assembly != b.assembly) return false;
+  const auto same = [&](double x, double y) {
+    return std::abs(x - y) <= tolerance * std::max({a.ground, std::abs(x), std::abs(y)});
+  };
+  return same(a.input_length, b.input_length) && same(a.coupler_length, b.coupler_length) &&
+         same(a.output_length, b.output_length) &&
+         std::abs(WrapToPi(a.input_offset - b.input_offset)) <= tolerance &&
+         std::abs(WrapToPi(a.output_offset - b.output_offset)) <= tolerance;
+}
+
+// The largest output error of a four-bar that meets the pairs within the data's precision:
+// kModelUnits angle uncertainties of a pair (its input's and output's rounding, sqrt 2 h).
+double AnglePassTolerance(const DataPrecision& precision) {
+  return kModelUnits * std::sqrt(2.0) * precision.angle;
+}
+
+FunctionMechanismReport Report(const Task& task, const FunctionFourBar& four_bar,
+                               std::optional<double> seed_max) {
+  FunctionMechanismReport report;
+  report.design = four_bar;
+  const FunctionAnalysis analysis = AnalyzeFunctionFourBar(four_bar, task.pairs);
+  report.max_angle_error = analysis.max_error;
+  report.rms_angle_error = analysis.rms_error;
+  report.error_note = analysis.error_note;
+  report.defects = analysis.defects;
+  report.grashof = analysis.grashof;
+  report.input_rotates_fully = analysis.input_rotates_fully;
+  report.output_rotates_fully = analysis.output_rotates_fully;
+  report.transmission_min_deg = analysis.transmission_min_deg;
+  report.transmission_max_deg = analysis.transmission_max_deg;
+  if (seed_max && report.max_angle_error && *seed_max != *report.max_angle_error) {
+    report.seed_max_angle_error = seed_max;
+  }
+  if (!task.pairs.empty()) {
+    report.first =
+        ConfigurationAt(four_bar, task.pairs[0].input, task.ground_input, task.ground_output);
+  }
+  if (report.max_angle_error && !HasKinematicDefect(report.defects)) {
+    report.error_bound =
+        FunctionErrorBound(four_bar, task.pairs, task.relative_angles, task.precision.angle);
+  }
+  if (!task.function_samples.empty()) {
+    report.function_max_error = LargestOutputError(four_bar, task.function_samples);
+  }
+  FourBarLinks links;
+  links.ground = four_bar.ground;
+  links.input = four_bar.input_length;
+  links.coupler = four_bar.coupler_length;
+  links.output = four_bar.output_length;
+  FourBarClass kind;
+  kind.grashof = analysis.grashof;
+  kind.input_rotates_fully = analysis.input_rotates_fully;
+  report.violates = FunctionViolations(task.constraints, links, kind, four_bar.ground);
+  JudgeTransmission(task.constraints, report.transmission_min_deg, &report.defects);
+  return report;
+}
+
+}  // namespace
+
+FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& options) {
+  const auto start = Clock::now();
+  FunctionResult result;
+  result.relative_angles = task.relative_angles;
+  result.ground_input = task.ground_input;
+  result.ground_output = task.ground_output;
+  result.precision = task.precision;
+  result.constraints = task.constraints;
+  result.notes = task.input_notes;
+  if (!task.function_samples.empty() && task.pairs.size() != task.function_samples.size()) {
+    result.precision_points = task.pairs;
+  }
+  const double d = (task.ground_output - task.ground_input).norm();
+  result.scale = d;
+  const size_t minimum = task.relative_angles ? 5 : 3;
+  const bool exact = task.pairs.size() == minimum;
+  if (!exact) {
+    result.method = "least-squares";
+    result.effort = EffortName(task.effort);
+  }
+  FunctionGenerationOptions generation;
+  generation.precision = task.precision;
+
+  // Seeds: the exact or linear least-squares solve of every pair, and beyond the minimum the
+  // exact solves of spread subsets.
+  auto stage_start = Clock::now();
+  std::vector<FunctionFourBar> seeds;
+  std::string why;
+  const auto solve = [&](const std::vector<FunctionPair>& pairs, std::string* reason) {
+    return task.relative_angles ? SolveRelativeFunction(pairs, d, generation, &seeds, reason)
+                                : SolveFreudenstein(pairs, d, &seeds, reason);
+  };
+  solve(task.pairs, &why);
+  if (!exact) {
+    for (const std::vector<FunctionPair>& subset :
+         SpreadPairSubsets(task.pairs, static_cast<int>(minimum), options.function_seed_subsets)) {
+      solve(subset, nullptr);
+    }
+  }
+  // Each seed on both assemblies: a subset's assembly need not be the whole task's.
+  std::vector<FunctionFourBar> candidates;
+  std::vector<std::optional<double>> seed_errors;
+  for (FunctionFourBar seed : seeds) {
+    for (int sigma : {seed.assembly, -seed.assembly}) {
+      if (exact && sigma != seed.assembly) continue;
+      seed.assembly = sigma;
+      // Subsets often give one four-bar twice: refined once.
+      if (std::none_of(candidates.begin(), candidates.end(), [&](const FunctionFourBar& other) {
+            return SameFourBar(other, seed, 1e-9);
+          })) {
+        candidates.push_back(seed);
+      }
+    }
+  }
+  const auto best_max = [&](const std::vector<FunctionFourBar>& four_bars) {
+    std::optional<double> best;
+    for (const FunctionFourBar& f : four_bars) {
+      const FunctionAnalysis analysis = AnalyzeFunctionFourBar(f, task.pairs);
+      if (analysis.max_error && (!best || *analysis.max_error < *best)) best = analysis.max_error;
+    }
+    return best;
+  };
+  if (!exact) {
+    StageReport stage;
+    stage.name = "seed";
+    stage.seconds = Since(stage_start);
+    stage.best_max_angle_error = best_max(candidates);
+    result.stages.push_back(stage);
+  }
+  // Balanced and thorough: every seed refined on the output-angle error; thorough also searches.
+  std::vector<std::optional<double>> before(candidates.size());
+  if (!exact && task.effort != Effort::kFast) {
+    stage_start = Clock::now();
+    FunctionRefinerOptions refiner = options.function_refiner;
+    refiner.free_offsets = task.relative_angles;
+    refiner.exact_tolerance = std::max(refiner.exact_tolerance, 1e-3 * task.precision.angle);
+    refiner.max_link_length = MaxLinkLength(task.constraints, d) / d;
+    // With constraints given, the transmission angle is held (as for path four-bars).
+    if (task.constraints.given) {
+      refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
+    }
+    std::vector<FunctionFourBar> refined;
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      FunctionFourBar four_bar = candidates[i];
+      const RefinerSummary summary = RefineFunctionFourBar(task.pairs, &four_bar, refiner);
+      before[i] = summary.initial_max;
+      candidates[i] = four_bar;
+    }
+    StageReport stage;
+    stage.name = "refine";
+    stage.seconds = Since(stage_start);
+    stage.best_max_angle_error = best_max(candidates);
+    result.stages.push_back(stage);
+    if (task.effort == Effort::kThorough) {
+      stage_start = Clock::now();
+      FunctionSearchOptions search = options.function_search;
+      search.relative = task.relative_angles;
+      search.max_link_length = refiner.max_link_length;
+      search.refiner = refiner;
+      std::vector<FunctionFourBar> found;
+      SearchFunctionFourBars(task.pairs, d, search, &found);
+      for (const FunctionFourBar& f : found) {
+        candidates.push_back(f);
+        before.push_back(std::nullopt);
+      }
+      StageReport search_stage;
+      search_stage.name = "search";
+      search_stage.seconds = Since(stage_start);
+      search_stage.best_max_angle_error = best_max(candidates);
+      result.stages.push_back(search_stage);
+    }
+  }
+
+  // The four-bars, without repeats (the better-fitting of two kept), analysed and ranked.
+  const auto analysis_start = Clock::now();
+  std::vector<FunctionMechanismReport> reports;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (!candidates[i].Valid()) continue;
+    FunctionMechanismReport report = Report(task, candidates[i], before[i]);
+    bool repeated = false;
+    for (FunctionMechanismReport& other : reports) {
+      if (!SameFourBar(other.design, report.design, exact ? 1e-9 : 1e-4)) continue;
+      repeated = true;
+      const double mine = report.rms_angle_error.value_or(std::numeric_limits<double>::infinity());
+      const double theirs = other.rms_angle_error.value_or(std::numeric_limits<double>::infinity());
+      if (mine < theirs) other = report;
+      break;
+    }
+    if (!repeated) reports.push_back(report);
+  }
+  const double pass = AnglePassTolerance(task.precision);
+  const auto key_of = [&](const FunctionMechanismReport& report) {
+    RankKey key;
+    key.violates = !report.violates.empty();
+    key.defect_level = report.max_angle_error ? DefectLevel(report.defects) : 2;
+    key.fit = report.rms_angle_error;
+    key.within_precision = report.max_angle_error && *report.max_angle_error <= pass;
+    key.parameters = FourBarParameters(FourBarType::k4R);
+    key.transmission_min_deg = report.transmission_min_deg;
+    return key;
+  };
+  const int dropped = RankReports<FunctionMechanismReport>(
+      key_of, exact ? -1 : options.function_reported, &reports);
+  if (dropped > 0) result.notes.push_back(DroppedNote(dropped));
+  result.mechanisms = std::move(reports);
+  if (result.mechanisms.empty()) {
+    result.notes.push_back("no four-bar meets the pairs" + (why.empty() ? "" : ": " + why));
+  }
+  result.analysis_seconds = Since(analysis_start);
+  result.solve_seconds = Since(start);
+  return result;
+}
+
+}  // namespace linkfit

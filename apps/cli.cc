@@ -329,7 +329,7 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
     std::string why;
     const auto* spatial = std::get_if<SpatialMotionResult>(&results[0]);
     if (spatial != nullptr && spatial->model == "spherical" && outputs.animate_path.empty()) {
-      svg = *RenderSphericalSvg(title, tasks[0], *spatial, 12);
+      svg = RenderSphericalSvg(*SphericalTaskPicture(title, tasks[0], *spatial, 12));
     } else if (!TaskPicture(title, tasks[0], results[0], 1, &why)) {
       throw InputError(task_path + ": " + why);
     }

@@ -1126,39 +1126,51 @@ const PlanarMotionResult* PlanarView(const TaskResult& result, const Task& task,
   return &*spatial.planar;
 }
 
-// An orthographic view of the unit sphere about a spherical motion's centre, in a panel: points
-// of the sphere (unit vectors of Sigma) projected along `toward` (the viewer's direction), Sigma's
-// z-axis up where it can be.
+// An orthographic view of the unit sphere about a spherical motion's centre: points of the sphere
+// (unit vectors of Sigma) projected along `toward` (the viewer's direction) to
+// (x . right, x . up), Sigma's z-axis up where it can be.
 struct SphereView {
   Eigen::Vector3d toward = Eigen::Vector3d::UnitZ(), right = Eigen::Vector3d::UnitX(),
                   up = Eigen::Vector3d::UnitY();
-  Vec center = Vec::Zero();
-  double radius = 1.0;  // document units
 
-  SphereView(const Eigen::Vector3d& direction, const Vec& at, double size)
-      : center(at), radius(size) {
-    toward = direction.norm() > 1e-9 ? direction.normalized() : Eigen::Vector3d::UnitZ();
+  explicit SphereView(const Eigen::Vector3d& direction) {
+    toward = direction.allFinite() && direction.norm() > 1e-9 ? direction.normalized()
+                                                              : Eigen::Vector3d::UnitZ();
     Eigen::Vector3d z = Eigen::Vector3d::UnitZ() - toward.z() * toward;
     if (z.norm() < 1e-6) z = Eigen::Vector3d::UnitY() - toward.y() * toward;
     up = z.normalized();
     right = up.cross(toward);
   }
-  Vec Project(const Eigen::Vector3d& x) const {
-    return center + radius * Vec(x.dot(right), -x.dot(up));
-  }
+  Vec Project(const Eigen::Vector3d& x) const { return Vec(x.dot(right), x.dot(up)); }
   bool Front(const Eigen::Vector3d& x) const { return x.dot(toward) >= 0.0; }
 };
 
-// Draws a polyline of points of the sphere, solid on the near hemisphere and dashed on the far.
-void SpherePolyline(Svg* svg, const SphereView& view, const std::vector<Eigen::Vector3d>& points,
-                    const std::string& colour, double width) {
+// A piece of a polyline of the sphere as drawn: projected, on the near hemisphere (solid) or not
+// (dashed).
+struct SphereRun {
+  bool front = true;
+  std::vector<Vec> points;
+};
+
+// A polyline of the sphere in runs of segments on the near hemisphere (both ends near) and on the
+// far one; a run starts where the last ended. Non-finite points break the polyline.
+std::vector<SphereRun> SphereRuns(const SphereView& view,
+                                  const std::vector<Eigen::Vector3d>& points) {
+  std::vector<SphereRun> runs;
+  bool open = false;
   for (size_t i = 0; i + 1 < points.size(); ++i) {
-    const bool front = view.Front(points[i]) && view.Front(points[i + 1]);
-    svg->Line(view.Project(points[i]), view.Project(points[i + 1]),
-              "stroke=\"" + colour + "\" stroke-width=\"" + Num(front ? width : 0.6 * width) +
-                  "\" stroke-linecap=\"round\"" +
-                  (front ? "" : " stroke-dasharray=\"3,3\" opacity=\"0.6\""));
+    const Eigen::Vector3d& a = points[i];
+    const Eigen::Vector3d& b = points[i + 1];
+    if (!a.allFinite() || !b.allFinite()) {
+      open = false;
+      continue;
+    }
+    const bool front = view.Front(a) && view.Front(b);
+    if (!open || runs.back().front != front) runs.push_back(SphereRun{front, {view.Project(a)}});
+    runs.back().points.push_back(view.Project(b));
+    open = true;
   }
+  return runs;
 }
 
 // The great-circle arc from a to b (unit vectors), sampled.
@@ -1178,64 +1190,127 @@ std::vector<Eigen::Vector3d> GreatArc(const Eigen::Vector3d& a, const Eigen::Vec
   return points;
 }
 
-// One spherical four-bar's panel drawing: the sphere, the task's coupler arcs (thin), the
-// coupler pins' paths over the circuit, and the links at the first pose.
-void DrawSphericalFourBar(Svg* svg, const SphereView& view, const SphericalFourBar& four_bar,
-                          const SphericalMotion& motion, const SphericalFourBarAnalysis& analysis) {
-  svg->Circle(view.center, view.radius, "fill=\"#f3f6fa\" stroke=\"#9aa7b5\" stroke-width=\"1\"");
+// The panel of one listed spherical four-bar (number `index` from 0): its title and labels, its
+// view, the links at the first pose's nearer assembly, the coupler at every task pose and the
+// crank pins' paths over the circuit (`cycle_steps` samples).
+SphericalPanel MakeSphericalPanel(size_t index, const MechanismReport& mechanism,
+                                  const SphericalFourBar& four_bar, const SphericalMotion& motion,
+                                  int cycle_steps) {
+  SphericalPanel panel;
+  std::string defects;
+  for (const std::string& defect : mechanism.defects) {
+    defects += (defects.empty() ? "" : ", ") + defect;
+  }
+  panel.title = std::to_string(index + 1) + ": spherical 4R, " +
+                (mechanism.grashof.empty() ? std::string("?") : mechanism.grashof);
+  panel.labels.push_back(defects.empty() ? "no defect" : "defects: " + defects);
+  if (mechanism.max_pose_error) {
+    panel.labels.push_back("max pose error " + Format("%.3g", *mechanism.max_pose_error));
+  }
   const Eigen::Vector3d& u1 = four_bar.input.fixed_axis;
   const Eigen::Vector3d& u2 = four_bar.output.fixed_axis;
   const Eigen::Vector3d& v1 = four_bar.input.moving_axis;
   const Eigen::Vector3d& v2 = four_bar.output.moving_axis;
-  // Sigma's axes from the centre.
-  const char* names[3] = {"x", "y", "z"};
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d axis = Eigen::Vector3d::Unit(i);
-    svg->Line(view.center, view.Project(0.25 * axis), "stroke=\"#9a9a9a\" stroke-width=\"1\"");
-    svg->Text(view.Project(0.3 * axis), names[i], "font-size=\"10\" fill=\"#9a9a9a\"");
-  }
+  const Eigen::Matrix3d rotation0 =
+      motion.rotations.empty() ? Eigen::Matrix3d::Identity() : motion.rotations[0];
+  panel.toward = u1 + u2 + rotation0 * (v1 + v2);
   for (const Eigen::Matrix3d& rotation : motion.rotations) {
-    SpherePolyline(svg, view, GreatArc(rotation * v1, rotation * v2), kTaskXColour, 1.2);
+    panel.task_couplers.push_back(GreatArc(rotation * v1, rotation * v2));
   }
-  std::vector<Eigen::Vector3d> path1, path2;
+  const SphericalFourBarAnalysis analysis = AnalyzeSphericalFourBar(four_bar, motion, cycle_steps);
   for (const Eigen::Matrix3d& rotation : analysis.cycle) {
-    path1.push_back(rotation * v1);
-    path2.push_back(rotation * v2);
+    panel.input_pin_path.push_back(rotation * v1);
+    panel.output_pin_path.push_back(rotation * v2);
   }
-  SpherePolyline(svg, view, path1, kCouplerCurveColour, 1.0);
-  SpherePolyline(svg, view, path2, kCenterCurveColour, 1.0);
   // The links at the first pose's assembly (the nearer one).
   Eigen::Matrix3d configurations[2];
   double input_angle = 0.0;
-  const int count = motion.rotations.empty()
-                        ? 0
-                        : AssembleSphericalFourBarAt(four_bar, motion.rotations[0], 1e-9,
-                                                     configurations, &input_angle);
-  Eigen::Matrix3d first =
-      motion.rotations.empty() ? Eigen::Matrix3d::Identity() : motion.rotations[0];
+  const int count =
+      motion.rotations.empty()
+          ? 0
+          : AssembleSphericalFourBarAt(four_bar, rotation0, 1e-9, configurations, &input_angle);
+  Eigen::Matrix3d first = rotation0;
   if (count == 2) {
     first = motion.PoseError(configurations[1], first) < motion.PoseError(configurations[0], first)
                 ? configurations[1]
                 : configurations[0];
   }
-  const Eigen::Vector3d w1 = first * v1, w2 = first * v2;
-  SpherePolyline(svg, view, GreatArc(u1, u2), "#777777", 2.0);
-  SpherePolyline(svg, view, GreatArc(u1, w1), kLinkColour, 3.0);
-  SpherePolyline(svg, view, GreatArc(u2, w2), kLinkColour, 3.0);
-  SpherePolyline(svg, view, GreatArc(w1, w2), kCouplerStroke, 4.0);
-  for (const Eigen::Vector3d* pin : {&w1, &w2}) {
-    svg->Circle(view.Project(*pin), kPivotRadius,
-                std::string("fill=\"#ffffff\" stroke=\"") + kLinkColour +
-                    "\" stroke-width=\"1.5\"" + (view.Front(*pin) ? "" : " opacity=\"0.5\""));
+  panel.fixed_axes[0] = u1;
+  panel.fixed_axes[1] = u2;
+  panel.pins[0] = first * v1;
+  panel.pins[1] = first * v2;
+  panel.ground = GreatArc(u1, u2);
+  panel.input_link = GreatArc(u1, panel.pins[0]);
+  panel.output_link = GreatArc(u2, panel.pins[1]);
+  panel.coupler = GreatArc(panel.pins[0], panel.pins[1]);
+  return panel;
+}
+
+// What a spherical picture's heading says after the task's title.
+std::string SphericalHeading(const Eigen::Vector3d& c) {
+  return "spherical motion about [" + Coord(c.x()) + ", " + Coord(c.y()) + ", " + Coord(c.z()) +
+         "], orthographic view of the unit sphere";
+}
+
+// A panel's disk in the document: the view's plane (the unit sphere, y up) to pixels (y down).
+struct Disk {
+  Vec center = Vec::Zero();
+  double radius = 1.0;
+  Vec Px(const Vec& p) const { return center + radius * Vec(p.x(), -p.y()); }
+};
+
+// Draws a polyline of the sphere, solid on the near hemisphere and dashed on the far.
+void SpherePolyline(Svg* svg, const SphereView& view, const Disk& disk,
+                    const std::vector<Eigen::Vector3d>& points, const std::string& colour,
+                    double width) {
+  for (const SphereRun& run : SphereRuns(view, points)) {
+    std::string d;
+    for (const Vec& p : run.points) {
+      const Vec px = disk.Px(p);
+      d += (d.empty() ? "M" : " L") + Num(px.x()) + " " + Num(px.y());
+    }
+    svg->Path(d, "fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"" +
+                     Num(run.front ? width : 0.6 * width) +
+                     "\" stroke-linecap=\"round\" stroke-linejoin=\"round\"" +
+                     (run.front ? "" : " stroke-dasharray=\"3,3\" opacity=\"0.6\""));
   }
-  for (const Eigen::Vector3d* pivot : {&u1, &u2}) {
-    const Vec at = view.Project(*pivot);
+}
+
+// One spherical four-bar's panel drawing: the sphere, Sigma's axes, the task's coupler arcs
+// (thin), the crank pins' paths over the circuit, and the links at the first pose.
+void DrawSphericalPanel(Svg* svg, const Disk& disk, const SphericalPanel& panel) {
+  const SphereView view(panel.toward);
+  svg->Circle(disk.center, disk.radius, "fill=\"#f3f6fa\" stroke=\"#9aa7b5\" stroke-width=\"1\"");
+  const char* names[3] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i) {
+    const Vec axis = view.Project(Eigen::Vector3d::Unit(i));
+    svg->Line(disk.center, disk.Px(0.25 * axis), "stroke=\"#9a9a9a\" stroke-width=\"1\"");
+    svg->Text(disk.Px(0.3 * axis), names[i], "font-size=\"10\" fill=\"#9a9a9a\"");
+  }
+  for (const auto& arc : panel.task_couplers) {
+    SpherePolyline(svg, view, disk, arc, kTaskXColour, 1.2);
+  }
+  SpherePolyline(svg, view, disk, panel.input_pin_path, kCouplerCurveColour, 1.0);
+  SpherePolyline(svg, view, disk, panel.output_pin_path, kCenterCurveColour, 1.0);
+  SpherePolyline(svg, view, disk, panel.ground, "#777777", 2.0);
+  SpherePolyline(svg, view, disk, panel.input_link, kLinkColour, 3.0);
+  SpherePolyline(svg, view, disk, panel.output_link, kLinkColour, 3.0);
+  SpherePolyline(svg, view, disk, panel.coupler, kCouplerStroke, 4.0);
+  for (const Eigen::Vector3d& pin : panel.pins) {
+    svg->Circle(disk.Px(view.Project(pin)), kPivotRadius,
+                std::string("fill=\"#ffffff\" stroke=\"") + kLinkColour +
+                    "\" stroke-width=\"1.5\"" + (view.Front(pin) ? "" : " opacity=\"0.5\""));
+  }
+  for (const Eigen::Vector3d& pivot : panel.fixed_axes) {
+    const Vec at = disk.Px(view.Project(pivot));
     svg->Polygon({at, at + Vec(-7.0, 11.0), at + Vec(7.0, 11.0)},
                  std::string("fill=\"") + kLinkColour + "\"" +
-                     (view.Front(*pivot) ? "" : " opacity=\"0.5\""));
+                     (view.Front(pivot) ? "" : " opacity=\"0.5\""));
   }
-  svg->Text(view.Project(u1) + Vec(8.0, -6.0), "input", Halo(kLinkColour, 10.0));
-  svg->Text(view.Project(u2) + Vec(8.0, -6.0), "output", Halo(kLinkColour, 10.0));
+  svg->Text(disk.Px(view.Project(panel.fixed_axes[0])) + Vec(8.0, -6.0), "input",
+            Halo(kLinkColour, 10.0));
+  svg->Text(disk.Px(view.Project(panel.fixed_axes[1])) + Vec(8.0, -6.0), "output",
+            Halo(kLinkColour, 10.0));
 }
 
 }  // namespace
@@ -1476,6 +1551,7 @@ std::string PictureToJson(const Picture& picture) {
   };
   const double length = MarkLength(picture);
   Json root;
+  root["kind"] = "planar";
   root["title"] = picture.title;
   root["length"] = length;
   root["coupler_curve_label"] = picture.coupler_curve_label;
@@ -1507,13 +1583,28 @@ std::string PictureToJson(const Picture& picture) {
   return root.dump();
 }
 
-std::optional<std::string> RenderSphericalSvg(const std::string& title, const Task& task,
-                                              const SpatialMotionResult& result,
-                                              size_t max_panels) {
+std::optional<SphericalPicture> SphericalTaskPicture(const std::string& title, const Task& task,
+                                                     const SpatialMotionResult& result,
+                                                     size_t max_panels) {
   if (result.model != "spherical" || !result.spherical) return std::nullopt;
+  constexpr int kCycleSteps = 240;  // samples of the pins' paths over the circuit
   const SphericalMotion motion = TaskSphericalMotion(task, *result.spherical, result.scale);
-  const size_t panels =
-      std::max<size_t>(1, std::min(max_panels, result.spherical_mechanisms.size()));
+  SphericalPicture picture;
+  picture.title = title;
+  picture.center = result.spherical->in_fixed;
+  const size_t panels = std::min(max_panels, result.spherical_mechanisms.size());
+  for (size_t i = 0; i < panels; ++i) {
+    const MechanismReport& mechanism = result.spherical_mechanisms[i];
+    const SphericalFourBar four_bar =
+        MakeSphericalFourBar(result.spherical_dyads[mechanism.input_dyad].dyad,
+                             result.spherical_dyads[mechanism.output_dyad].dyad);
+    picture.panels.push_back(MakeSphericalPanel(i, mechanism, four_bar, motion, kCycleSteps));
+  }
+  return picture;
+}
+
+std::string RenderSphericalSvg(const SphericalPicture& picture) {
+  const size_t panels = std::max<size_t>(1, picture.panels.size());
   const size_t columns = panels == 1 ? 1 : (panels == 2 || panels == 4) ? 2 : 3;
   const size_t rows = (panels + columns - 1) / columns;
   const double plot = panels == 1 ? 480.0 : 340.0;
@@ -1527,38 +1618,17 @@ std::optional<std::string> RenderSphericalSvg(const std::string& title, const Ta
     const double left = kGap + static_cast<double>(i % columns) * (panel_w + kGap);
     const double top = kDocTitleHeight + static_cast<double>(i / columns) * (panel_h + kGap);
     body.Rect(left, top, panel_w, panel_h, "rx=\"4\" fill=\"#fafafa\" stroke=\"#c8c8c8\"");
-    const Vec center(left + kPad + 0.5 * plot, top + kPad + header + 0.5 * plot);
-    if (result.spherical_mechanisms.empty()) {
+    const Disk disk{Vec(left + kPad + 0.5 * plot, top + kPad + header + 0.5 * plot), 0.42 * plot};
+    if (picture.panels.empty()) {
       DrawPanelHeader(&body, left + kPad, top + kPad, plot, "task: no four-bar listed", {},
                       label_lines);
-      const SphereView view(Eigen::Vector3d(1.0, -1.0, 1.0), center, 0.42 * plot);
-      body.Circle(view.center, view.radius,
+      body.Circle(disk.center, disk.radius,
                   "fill=\"#f3f6fa\" stroke=\"#9aa7b5\" stroke-width=\"1\"");
       continue;
     }
-    const MechanismReport& mechanism = result.spherical_mechanisms[i];
-    const SphericalFourBar four_bar =
-        MakeSphericalFourBar(result.spherical_dyads[mechanism.input_dyad].dyad,
-                             result.spherical_dyads[mechanism.output_dyad].dyad);
-    const SphericalFourBarAnalysis analysis = AnalyzeSphericalFourBar(four_bar, motion, 240);
-    std::vector<std::string> labels;
-    std::string defects;
-    for (const std::string& defect : mechanism.defects) {
-      defects += (defects.empty() ? "" : ", ") + defect;
-    }
-    labels.push_back(defects.empty() ? "no defect" : "defects: " + defects);
-    if (mechanism.max_pose_error) {
-      labels.push_back("max pose error " + Format("%.3g", *mechanism.max_pose_error));
-    }
-    DrawPanelHeader(&body, left + kPad, top + kPad, plot,
-                    std::to_string(i + 1) + ": spherical 4R, " +
-                        (mechanism.grashof.empty() ? std::string("?") : mechanism.grashof),
-                    labels, label_lines);
-    const Eigen::Vector3d toward =
-        four_bar.input.fixed_axis + four_bar.output.fixed_axis +
-        motion.rotations[0] * (four_bar.input.moving_axis + four_bar.output.moving_axis);
-    const SphereView view(toward, center, 0.42 * plot);
-    DrawSphericalFourBar(&body, view, four_bar, motion, analysis);
+    const SphericalPanel& panel = picture.panels[i];
+    DrawPanelHeader(&body, left + kPad, top + kPad, plot, panel.title, panel.labels, label_lines);
+    DrawSphericalPanel(&body, disk, panel);
   }
   Svg legend;
   const double y = height - 16.0;
@@ -1573,19 +1643,80 @@ std::optional<std::string> RenderSphericalSvg(const std::string& title, const Ta
     legend.Text(Vec(x + 28.0, y), name, "font-size=\"11\" fill=\"#333333\"");
     x += 40.0 + 6.2 * std::string(name).size();
   }
+  const std::string title = picture.title.empty() ? std::string("linkfit") : picture.title;
   std::string out = SvgOpen(width, height, true, "");
-  out += "<title>" + Escape(title.empty() ? "linkfit" : title) + "</title>\n";
+  out += "<title>" + Escape(title) + "</title>\n";
   out += "<rect width=\"100%\" height=\"100%\" fill=\"#ffffff\"/>\n";
   Svg heading;
-  const Eigen::Vector3d& c = result.spherical->in_fixed;
-  heading.Text(Vec(kGap, 21.0),
-               (title.empty() ? std::string("linkfit") : title) + ": spherical motion about [" +
-                   Coord(c.x()) + ", " + Coord(c.y()) + ", " + Coord(c.z()) +
-                   "], orthographic view of the unit sphere",
+  heading.Text(Vec(kGap, 21.0), title + ": " + SphericalHeading(picture.center),
                "font-size=\"16\" font-weight=\"bold\" fill=\"#111111\"",
                static_cast<size_t>(width / 9.0));
   out += heading.text() + body.text() + legend.text() + "</svg>\n";
   return out;
+}
+
+std::string SphericalPictureToJson(const SphericalPicture& picture) {
+  using Json = nlohmann::json;
+  const auto vector = [](const Eigen::Vector3d& v) { return Json({v.x(), v.y(), v.z()}); };
+  const auto point = [](const Vec& p) { return Json({p.x(), p.y()}); };
+  Json root;
+  root["kind"] = "spherical";
+  root["title"] = picture.title;
+  root["heading"] = SphericalHeading(picture.center);
+  root["center"] = vector(picture.center);
+  root["mechanisms"] = Json::array();
+  for (const SphericalPanel& panel : picture.panels) {
+    const SphereView view(panel.toward);
+    const auto runs = [&](const std::vector<Eigen::Vector3d>& points) {
+      Json list = Json::array();
+      for (const SphereRun& run : SphereRuns(view, points)) {
+        Json drawn = Json::array();
+        for (const Vec& p : run.points) drawn.push_back(point(p));
+        list.push_back({{"front", run.front}, {"points", drawn}});
+      }
+      return list;
+    };
+    const auto marks = [&](const Eigen::Vector3d(&axes)[2]) {
+      Json list = Json::array();
+      for (const Eigen::Vector3d& axis : axes) {
+        list.push_back({{"at", point(view.Project(axis))}, {"front", view.Front(axis)}});
+      }
+      return list;
+    };
+    Json object;
+    object["title"] = panel.title;
+    object["labels"] = panel.labels;
+    object["toward"] = vector(view.toward);
+    object["right"] = vector(view.right);
+    object["up"] = vector(view.up);
+    object["sigma_axes"] = Json::array();
+    for (int i = 0; i < 3; ++i) {
+      object["sigma_axes"].push_back(point(view.Project(Eigen::Vector3d::Unit(i))));
+    }
+    object["ground"] = runs(panel.ground);
+    object["input_link"] = runs(panel.input_link);
+    object["output_link"] = runs(panel.output_link);
+    object["coupler"] = runs(panel.coupler);
+    object["input_pin_path"] = runs(panel.input_pin_path);
+    object["output_pin_path"] = runs(panel.output_pin_path);
+    object["task_couplers"] = Json::array();
+    for (const auto& arc : panel.task_couplers) object["task_couplers"].push_back(runs(arc));
+    object["fixed_pivots"] = marks(panel.fixed_axes);
+    object["pins"] = marks(panel.pins);
+    root["mechanisms"].push_back(object);
+  }
+  return root.dump();
+}
+
+std::string TaskPictureJson(const std::string& title, const Task& task, const TaskResult& result,
+                            size_t max_panels, std::string* why) {
+  if (const auto* spatial = std::get_if<SpatialMotionResult>(&result)) {
+    if (const auto picture = SphericalTaskPicture(title, task, *spatial, max_panels)) {
+      return SphericalPictureToJson(*picture);
+    }
+  }
+  const std::optional<Picture> picture = TaskPicture(title, task, result, max_panels, why);
+  return picture ? PictureToJson(*picture) : std::string();
 }
 
 }  // namespace linkfit

@@ -47,24 +47,68 @@ std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
                                    const TaskResult& result, size_t max_panels,
                                    std::string* why = nullptr);
 
-// The picture's geometry as JSON, for drawing elsewhere (linkfit.plot): "title", "length",
-// "task_poses" ([x, y, theta] in Sigma, theta in radians), "path_points", "center_point_curves" and
-// "circle_point_curves" (polylines in Sigma), "coupler_curve_label", "view" (the panel's region,
-// [x0, y0, x1, y1], for a panel without mechanism) and "mechanisms": each with "title", "labels",
-// "input" and "output" dyads ("type", "fixed" in Sigma, "moving" and for RP the line in E, for
-// PR the line in Sigma: "line_point", "line_direction"), "first_pose" (the coupler pose the links
-// are drawn at), "coupler_curve" and its panel's "view". Non-finite points are left out (null
-// for a dyad's unused point).
+// The picture's geometry as JSON, for drawing elsewhere (linkfit.plot): "kind": "planar",
+// "title", "length", "task_poses" ([x, y, theta] in Sigma, theta in radians), "path_points",
+// "center_point_curves" and "circle_point_curves" (polylines in Sigma), "coupler_curve_label",
+// "view" (the panel's region, [x0, y0, x1, y1], for a panel without mechanism) and "mechanisms":
+// each with "title", "labels", "input" and "output" dyads ("type", "fixed" in Sigma, "moving" and
+// for RP the line in E, for PR the line in Sigma: "line_point", "line_direction"), "first_pose"
+// (the coupler pose the links are drawn at), "coupler_curve" and its panel's "view". Non-finite
+// points are left out (null for a dyad's unused point).
 std::string PictureToJson(const Picture& picture);
 
-// The SVG of a spherical motion result (model "spherical"): one panel per listed four-bar, in
-// ranked order (at most `max_panels`), each an orthographic view of the unit sphere about the
-// centre (Sigma's axes), looking along the mean of the four-bar's axes at the first pose: the
-// ground pivots (the fixed axes' points), the links as great-circle arcs at the first pose, the
-// crank pins' paths over the circuit and the coupler arc at every task pose; the far hemisphere
-// dashed. Nothing for another result.
-std::optional<std::string> RenderSphericalSvg(const std::string& title, const Task& task,
-                                              const SpatialMotionResult& result, size_t max_panels);
+// A spherical motion result's picture (model "spherical"): one panel per listed four-bar, its
+// geometry on the unit sphere about the centre (points are unit vectors along Sigma's axes).
+struct SphericalPanel {
+  std::string title;                // e.g. "1: spherical 4R, crank-rocker"
+  std::vector<std::string> labels;  // defects, pose error
+  // The viewer's direction of the panel's orthographic view: along the mean of the four-bar's
+  // axes at the first pose (Sigma's z-axis drawn up where it can be).
+  Eigen::Vector3d toward = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d fixed_axes[2];  // the ground pivots: input, output
+  Eigen::Vector3d pins[2];        // the moving axes at the first pose's (nearer) assembly
+  // Polylines of the sphere: the great-circle arcs of the ground, the input and output links and
+  // the coupler at the first pose; the coupler's arc at every task pose; the crank pins' paths
+  // over the circuit.
+  std::vector<Eigen::Vector3d> ground, input_link, output_link, coupler;
+  std::vector<std::vector<Eigen::Vector3d>> task_couplers;
+  std::vector<Eigen::Vector3d> input_pin_path, output_pin_path;
+};
+
+struct SphericalPicture {
+  std::string title;                                 // the task (file name)
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // the motion's centre, in Sigma
+  std::vector<SphericalPanel> panels;                // ranked order; none without a four-bar
+};
+
+// The picture of a spherical motion result (model "spherical"): its listed four-bars in ranked
+// order, at most `max_panels`. Nothing for another result.
+std::optional<SphericalPicture> SphericalTaskPicture(const std::string& title, const Task& task,
+                                                     const SpatialMotionResult& result,
+                                                     size_t max_panels);
+
+// The SVG of a spherical picture: each panel an orthographic view of the unit sphere about the
+// centre along its `toward` (Sigma's axes from the centre, the ground pivots, the links at the
+// first pose, the crank pins' paths, the coupler arc at every task pose; the far hemisphere
+// dashed), or the bare sphere when no four-bar is listed.
+std::string RenderSphericalSvg(const SphericalPicture& picture);
+
+// The spherical picture's geometry as JSON, for drawing elsewhere (linkfit.plot), projected as
+// the SVG projects it: "kind": "spherical", "title", "heading" (what the SVG's heading says after
+// the title), "center" and "mechanisms", each with "title", "labels", its view's basis "toward",
+// "right" and "up" (unit vectors of Sigma: a point x of the sphere is drawn at (x . right,
+// x . up), y up, on the near hemisphere when x . toward >= 0), "sigma_axes" (Sigma's unit axes so
+// drawn), the polylines "ground", "input_link", "output_link", "coupler", "input_pin_path",
+// "output_pin_path" and "task_couplers" (a list of polylines) as runs {"front": on the near
+// hemisphere, "points": [[x, y], ...]} (the SVG's solid and dashed pieces), and "fixed_pivots"
+// and "pins" (input, output), each {"at": [x, y], "front"}.
+std::string SphericalPictureToJson(const SphericalPicture& picture);
+
+// The JSON of a solved task's picture, whichever it is (PictureToJson of TaskPicture, or
+// SphericalPictureToJson of SphericalTaskPicture); empty with the reason in *why when there is
+// none (a spatial platform).
+std::string TaskPictureJson(const std::string& title, const Task& task, const TaskResult& result,
+                            size_t max_panels, std::string* why);
 
 // A standalone SVG document (one panel per mechanism, in a grid).
 std::string RenderSvg(const Picture& picture);

@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <exception>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,18 +30,18 @@ std::string SolveText(const std::string& text, const std::string& source) {
 }
 
 // A solved task: the result's JSON text, and what its picture is drawn from (apps/picture.h
-// PictureToJson, the SVG's content), made only when asked (linkfit.plot): it costs about as much
+// TaskPictureJson, the SVG's content), made only when asked (linkfit.plot): it costs about as much
 // as a five-pose solve.
 struct Drawn {
   std::string result;
   Task task;
   TaskResult solved;
 
-  // The picture's JSON text, or empty with the reason (a spatial platform) in *why.
+  // The picture's JSON text (planar or spherical), or empty with the reason (a spatial platform)
+  // in *why.
   std::string Picture(std::string* why) const {
     constexpr size_t kPanels = 12;  // as `linkfit solve --svg`
-    const std::optional<linkfit::Picture> picture = TaskPicture("", task, solved, kPanels, why);
-    return picture ? PictureToJson(*picture) : std::string();
+    return TaskPictureJson("", task, solved, kPanels, why);
   }
 };
 

@@ -2,9 +2,11 @@
 
 The drawing is the content of ``linkfit solve --svg``: the task (poses as small frames, path
 points as crosses, for four poses the Burmester curves) and each listed mechanism in its own panel,
-at the first pose, with its coupler curve, pivots, links, sliders and its defects. The geometry
-comes from the solver (apps/picture.h PictureToJson), attached to the results of
-:func:`linkfit.solve` and :func:`linkfit.refine`.
+at the first pose, with its coupler curve, pivots, links, sliders and its defects. A spherical
+result's four-bars are drawn each on an orthographic view of the unit sphere about the centre, as
+the SVG draws them. The geometry comes from the solver (apps/picture.h PictureToJson and
+SphericalPictureToJson), attached to the results of :func:`linkfit.solve` and
+:func:`linkfit.refine`.
 """
 
 import math
@@ -21,6 +23,12 @@ COUPLER_FILL = "#bcbd22"
 COUPLER_STROKE = "#6b6b12"
 BLOCK_FILL = "#d9d9d9"
 GROUND = "#333333"
+# The spherical SVG's (apps/picture.cc DrawSphericalPanel).
+SPHERE_FILL = "#f3f6fa"
+SPHERE_EDGE = "#9aa7b5"
+SIGMA_AXES = "#9a9a9a"
+SPHERICAL_GROUND = "#777777"
+NO_FOUR_BAR = "task: no four-bar listed"
 
 
 def _pyplot():
@@ -187,6 +195,54 @@ def _draw_panel(ax, picture, mechanism):
     ax.tick_params(labelsize=7)
 
 
+def _draw_runs(ax, runs, colour, width, zorder):
+    """A polyline of the sphere as projected: solid on the near hemisphere, dashed on the far."""
+    for run in runs:
+        xs, ys = [p[0] for p in run["points"]], [p[1] for p in run["points"]]
+        if run["front"]:
+            ax.plot(xs, ys, color=colour, lw=0.8 * width, solid_capstyle="round", zorder=zorder)
+        else:
+            ax.plot(xs, ys, color=colour, lw=0.48 * width, ls=(0, (3, 3)), alpha=0.6,
+                    zorder=zorder)
+
+
+def _draw_spherical_panel(ax, picture, mechanism):
+    """One spherical four-bar on its view of the unit sphere (coordinates x . right, x . up)."""
+    import matplotlib.patches as patches
+    ax.add_patch(patches.Circle((0.0, 0.0), 1.0, facecolor=SPHERE_FILL, edgecolor=SPHERE_EDGE,
+                                lw=1, zorder=0))
+    if mechanism is None:
+        ax.set_title(NO_FOUR_BAR, fontsize=9, loc="left")
+    else:
+        for name, (x, y) in zip("xyz", mechanism["sigma_axes"]):
+            ax.plot([0.0, 0.25 * x], [0.0, 0.25 * y], color=SIGMA_AXES, lw=1, zorder=1)
+            ax.text(0.3 * x, 0.3 * y, name, fontsize=8, color=SIGMA_AXES, zorder=1)
+        for arc in mechanism["task_couplers"]:
+            _draw_runs(ax, arc, TASK_X, 1.2, 2)
+        _draw_runs(ax, mechanism["input_pin_path"], COUPLER_CURVE, 1.0, 2)
+        _draw_runs(ax, mechanism["output_pin_path"], CENTER_CURVE, 1.0, 2)
+        _draw_runs(ax, mechanism["ground"], SPHERICAL_GROUND, 2.0, 3)
+        _draw_runs(ax, mechanism["input_link"], LINK, 3.0, 3)
+        _draw_runs(ax, mechanism["output_link"], LINK, 3.0, 3)
+        _draw_runs(ax, mechanism["coupler"], COUPLER_STROKE, 4.0, 3)
+        for pin in mechanism["pins"]:
+            ax.plot([pin["at"][0]], [pin["at"][1]], "o", color="white", mec=LINK, markersize=7,
+                    alpha=1.0 if pin["front"] else 0.5, zorder=5)
+        for name, pivot in zip(("input", "output"), mechanism["fixed_pivots"]):
+            ax.plot([pivot["at"][0]], [pivot["at"][1]], "^", color=GROUND, markersize=9,
+                    alpha=1.0 if pivot["front"] else 0.5, zorder=5)
+            ax.annotate(name, pivot["at"], textcoords="offset points", xytext=(7, 4),
+                        fontsize=8, color=LINK)
+        ax.set_title(mechanism["title"], fontsize=9, loc="left")
+        ax.text(0.01, 0.01, "\n".join(mechanism["labels"]), transform=ax.transAxes, fontsize=7,
+                va="bottom", ha="left", color="#444444",
+                bbox=dict(facecolor="white", edgecolor="none", alpha=0.8, pad=1.5))
+    ax.set_xlim(-1.1, 1.1)
+    ax.set_ylim(-1.1, 1.1)
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_axis_off()
+
+
 def plot(result, ax=None, mechanism=None):
     """Draws a result of :func:`linkfit.solve` or :func:`linkfit.refine` with matplotlib.
 
@@ -195,21 +251,26 @@ def plot(result, ax=None, mechanism=None):
     Without, makes a figure with one panel per listed mechanism (at most 12, as the SVG), or
     ``mechanism`` alone when given; returns the figure.
 
-    Spatial platforms are not drawn (as ``linkfit solve --svg``): ValueError says so. A result
-    read back from a file carries no drawing: solve or refine it again from Python.
+    A spherical result's four-bars are drawn as the SVG draws them, each on an orthographic view
+    of the unit sphere about the centre (a panel's coordinates are those of the sphere's points
+    projected on its view, the picture's "right" and "up"). Spatial platforms are not drawn (as
+    ``linkfit solve --svg``): ValueError says so. A result read back from a file carries no
+    drawing: solve or refine it again from Python.
     """
     picture = getattr(result, "picture", None)  # made here, on first use
     if picture is None:
         reason = getattr(result, "picture_note", "")
         raise ValueError("linkfit.plot: " + (reason or "this result carries no drawing; plot the "
                                              "result of linkfit.solve or linkfit.refine"))
+    spherical = picture.get("kind") == "spherical"
+    draw_panel = _draw_spherical_panel if spherical else _draw_panel
     mechanisms = picture["mechanisms"]
     if mechanism is not None and not 0 <= mechanism < len(mechanisms):
         raise ValueError("linkfit.plot: mechanism %d: the drawing lists %d mechanisms"
                          % (mechanism, len(mechanisms)))
     if ax is not None:
         index = 0 if mechanism is None else mechanism
-        _draw_panel(ax, picture, mechanisms[index] if mechanisms else None)
+        draw_panel(ax, picture, mechanisms[index] if mechanisms else None)
         return ax
     pyplot = _pyplot()
     chosen = mechanisms if mechanism is None else [mechanisms[mechanism]]
@@ -220,10 +281,13 @@ def plot(result, ax=None, mechanism=None):
                                    squeeze=False)
     for k, axis in enumerate(axes.flat):
         if k < panels:
-            _draw_panel(axis, picture, chosen[k] if chosen else None)
+            draw_panel(axis, picture, chosen[k] if chosen else None)
         else:
             axis.set_visible(False)
-    if picture["title"]:
-        figure.suptitle(picture["title"])
+    heading = picture["title"]
+    if spherical:
+        heading = (heading + ": " if heading else "") + picture["heading"]
+    if heading:
+        figure.suptitle(heading)
     figure.tight_layout()
     return figure

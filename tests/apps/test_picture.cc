@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <sys/wait.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -15,13 +16,17 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "apps/picture.h"
 #include "lib/mechanism.h"
+#include "lib/task_io.h"
+#include "optimizers/task_solver.h"
 
 namespace linkfit {
 namespace {
@@ -595,6 +600,173 @@ TEST_F(PictureTest, AnimationWithoutMechanismOrCycleIsStillADrawing) {
   ASSERT_NO_FATAL_FAILURE(CheckAndRender("still", still, &image));
   EXPECT_TRUE(Frames(still).empty());
   EXPECT_GT(CountColour(image, "#333333", 0, image.width), kMinColourPixels);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Spherical pictures.
+
+// Tolerance on directions and projected points, of numbers computed the same way.
+constexpr double kSphereTolerance = 1e-12;
+
+Eigen::Vector3d Vector3(const nlohmann::json& v) {
+  return Eigen::Vector3d(v[0].get<double>(), v[1].get<double>(), v[2].get<double>());
+}
+
+Vec Vector2(const nlohmann::json& v) { return Vec(v[0].get<double>(), v[1].get<double>()); }
+
+// The runs of a polyline's JSON draw `points` (unit vectors) projected on (right, up), in order,
+// each run solid exactly where both ends of its segments face the viewer.
+void ExpectRunsDraw(const nlohmann::json& runs, const std::vector<Eigen::Vector3d>& points,
+                    const Eigen::Vector3d& toward, const Eigen::Vector3d& right,
+                    const Eigen::Vector3d& up, const std::string& what) {
+  SCOPED_TRACE(what);
+  size_t next = 0;  // the 3-D point the next run starts at
+  for (const nlohmann::json& run : runs) {
+    const nlohmann::json& drawn = run["points"];
+    ASSERT_GE(drawn.size(), 2u);
+    for (size_t k = 0; k < drawn.size(); ++k) {
+      ASSERT_LT(next + k, points.size());
+      const Eigen::Vector3d& x = points[next + k];
+      EXPECT_NEAR(Vector2(drawn[k]).x(), x.dot(right), kSphereTolerance);
+      EXPECT_NEAR(Vector2(drawn[k]).y(), x.dot(up), kSphereTolerance);
+      EXPECT_LE(Vector2(drawn[k]).norm(), 1.0 + kSphereTolerance);  // inside the sphere's disk
+      if (k > 0) {
+        const bool front = points[next + k - 1].dot(toward) >= 0.0 && x.dot(toward) >= 0.0;
+        EXPECT_EQ(run["front"].get<bool>(), front) << k;
+      }
+    }
+    next += drawn.size() - 1;
+  }
+  EXPECT_EQ(next + 1, points.size()) << "the runs end where the polyline ends";
+}
+
+// The bundled spherical four-bar (data/spherical_four_bar_5_poses.json, its first orientation
+// the identity), solved: one panel per listed four-bar, in ranked order, each viewed along the mean
+// of its axes at the first pose with Sigma's z-axis up, its ground pivots its fixed axes and its
+// links at the first pose of the angles of its dyads; the JSON draws that geometry projected on
+// the view (solid and dashed as the SVG), and the SVG is sound with ink in the colours of the
+// drawing.
+TEST_F(PictureTest, SphericalPictureDrawsTheListedFourBarsOnTheirViews) {
+  const Task task =
+      ParseTask(ReadFile(LINKFIT_SOURCE_DIR "/data/spherical_four_bar_5_poses.json"), "sphere");
+  const TaskResult solved = SolveTask(task);
+  ASSERT_TRUE(std::holds_alternative<SpatialMotionResult>(solved));
+  const SpatialMotionResult& result = std::get<SpatialMotionResult>(solved);
+  ASSERT_EQ(result.model, "spherical");
+  ASSERT_GE(result.spherical_mechanisms.size(), 2u);
+  const Eigen::Matrix3d first = task.spatial_poses[0].Rotation();
+  ASSERT_TRUE(first.isIdentity(1e-12));
+  const size_t max_panels = 1;  // fewer panels than four-bars: the best ranked
+  for (size_t panels : {max_panels, size_t{12}}) {
+    const std::optional<SphericalPicture> picture =
+        SphericalTaskPicture("sphere", task, result, panels);
+    ASSERT_TRUE(picture);
+    ASSERT_EQ(picture->panels.size(), std::min(panels, result.spherical_mechanisms.size()));
+    EXPECT_TRUE(picture->center.isApprox(result.spherical->in_fixed));
+    const nlohmann::json json = nlohmann::json::parse(SphericalPictureToJson(*picture));
+    EXPECT_EQ(json["kind"], "spherical");
+    EXPECT_NE(json["heading"].get<std::string>().find("orthographic view"), std::string::npos);
+    ASSERT_EQ(json["mechanisms"].size(), picture->panels.size());
+    for (size_t i = 0; i < picture->panels.size(); ++i) {
+      SCOPED_TRACE("panel " + std::to_string(i + 1));
+      const SphericalPanel& panel = picture->panels[i];
+      const nlohmann::json& drawn = json["mechanisms"][i];
+      const MechanismReport& mechanism = result.spherical_mechanisms[i];
+      const SphericalDyad& input = result.spherical_dyads[mechanism.input_dyad].dyad;
+      const SphericalDyad& output = result.spherical_dyads[mechanism.output_dyad].dyad;
+      EXPECT_EQ(panel.title.rfind(std::to_string(i + 1) + ": spherical 4R, ", 0), 0u);
+      EXPECT_EQ(drawn["title"], panel.title);
+      EXPECT_TRUE(panel.fixed_axes[0].isApprox(input.fixed_axis, kSphereTolerance));
+      EXPECT_TRUE(panel.fixed_axes[1].isApprox(output.fixed_axis, kSphereTolerance));
+      // The links at the first pose: the cranks at their dyads' angles, the coupler's arc the
+      // angle of its moving axes, the pins near where the first orientation puts them.
+      EXPECT_NEAR(DirectionAngle(panel.fixed_axes[0], panel.pins[0]), input.angle, 1e-9);
+      EXPECT_NEAR(DirectionAngle(panel.fixed_axes[1], panel.pins[1]), output.angle, 1e-9);
+      EXPECT_NEAR(DirectionAngle(panel.pins[0], panel.pins[1]),
+                  DirectionAngle(input.moving_axis, output.moving_axis), 1e-9);
+      EXPECT_LT((panel.pins[0] - first * input.moving_axis).norm(), 1e-4);
+      EXPECT_LT((panel.pins[1] - first * output.moving_axis).norm(), 1e-4);
+      EXPECT_EQ(panel.task_couplers.size(), task.spatial_poses.size());
+      ASSERT_GT(panel.input_pin_path.size(), 100u);
+      for (const Eigen::Vector3d& pin : panel.input_pin_path) {
+        EXPECT_NEAR(DirectionAngle(input.fixed_axis, pin), input.angle, 1e-9);
+      }
+      // The view.
+      const Eigen::Vector3d toward =
+          (input.fixed_axis + output.fixed_axis + first * (input.moving_axis + output.moving_axis))
+              .normalized();
+      const Eigen::Vector3d right = Vector3(drawn["right"]), up = Vector3(drawn["up"]);
+      EXPECT_TRUE(Vector3(drawn["toward"]).isApprox(toward, kSphereTolerance));
+      EXPECT_NEAR(up.dot(toward), 0.0, kSphereTolerance);
+      EXPECT_NEAR(up.norm(), 1.0, kSphereTolerance);
+      EXPECT_GT(up.z(), 0.0);                                           // Sigma's z-axis up
+      EXPECT_TRUE(right.isApprox(up.cross(toward), kSphereTolerance));  // right-handed
+      for (int k = 0; k < 3; ++k) {
+        const Vec axis = Vector2(drawn["sigma_axes"][k]);
+        EXPECT_NEAR(axis.x(), right[k], kSphereTolerance);
+        EXPECT_NEAR(axis.y(), up[k], kSphereTolerance);
+      }
+      for (int k = 0; k < 2; ++k) {
+        for (const auto& [key, where] :
+             {std::pair<const char*, Eigen::Vector3d>{"fixed_pivots", panel.fixed_axes[k]},
+              {"pins", panel.pins[k]}}) {
+          const nlohmann::json& mark = drawn[key][k];
+          EXPECT_NEAR(Vector2(mark["at"]).x(), where.dot(right), kSphereTolerance) << key;
+          EXPECT_NEAR(Vector2(mark["at"]).y(), where.dot(up), kSphereTolerance) << key;
+          EXPECT_EQ(mark["front"].get<bool>(), where.dot(toward) >= 0.0) << key;
+        }
+      }
+      for (const auto& [key, points] :
+           {std::pair<const char*, const std::vector<Eigen::Vector3d>*>{"ground", &panel.ground},
+            {"input_link", &panel.input_link},
+            {"output_link", &panel.output_link},
+            {"coupler", &panel.coupler},
+            {"input_pin_path", &panel.input_pin_path},
+            {"output_pin_path", &panel.output_pin_path}}) {
+        ExpectRunsDraw(drawn[key], *points, toward, right, up, key);
+      }
+      for (size_t j = 0; j < panel.task_couplers.size(); ++j) {
+        ExpectRunsDraw(drawn["task_couplers"][j], panel.task_couplers[j], toward, right, up,
+                       "task coupler " + std::to_string(j));
+      }
+    }
+    const std::string svg = RenderSphericalSvg(*picture);
+    Image image;
+    ASSERT_NO_FATAL_FAILURE(CheckAndRender("sphere" + std::to_string(panels), svg, &image));
+    EXPECT_NE(svg.find("sphere: spherical motion about ["), std::string::npos);
+    EXPECT_EQ(CountOf(svg, ": spherical 4R, "), static_cast<int>(picture->panels.size()));
+    for (const char* colour : {"#1f77b4", "#9467bd", "#d62728", "#333333"}) {
+      EXPECT_GT(CountColour(image, colour, 0, image.width), kMinColourPixels) << colour;
+    }
+  }
+  // The Python module's picture is the spherical one.
+  std::string why;
+  const nlohmann::json any = nlohmann::json::parse(TaskPictureJson("", task, solved, 12, &why));
+  EXPECT_EQ(any["kind"], "spherical");
+  EXPECT_EQ(any["mechanisms"].size(), std::min<size_t>(12, result.spherical_mechanisms.size()));
+}
+
+// A spherical result without four-bars is a bare sphere; another result has no spherical picture.
+TEST_F(PictureTest, SphericalPictureWithoutFourBarsIsTheBareSphere) {
+  SphericalPicture picture;
+  picture.center = Eigen::Vector3d(1.0, 2.0, 3.0);
+  const std::string svg = RenderSphericalSvg(picture);
+  Image image;
+  ASSERT_NO_FATAL_FAILURE(CheckAndRender("bare", svg, &image));
+  EXPECT_NE(svg.find("task: no four-bar listed"), std::string::npos);
+  EXPECT_GT(CountColour(image, "#9aa7b5", 0, image.width), kMinColourPixels);
+  const nlohmann::json json = nlohmann::json::parse(SphericalPictureToJson(picture));
+  EXPECT_TRUE(json["mechanisms"].empty());
+  EXPECT_EQ(json["heading"],
+            "spherical motion about [1, 2, 3], orthographic view of the unit sphere");
+  Task task;
+  task.space = Space::kSpatial;
+  SpatialMotionResult platform;
+  platform.model = "spatial";
+  EXPECT_FALSE(SphericalTaskPicture("", task, platform, 12));
+  std::string why;
+  EXPECT_TRUE(TaskPictureJson("", task, TaskResult(platform), 12, &why).empty());
+  EXPECT_NE(why.find("spatial platform"), std::string::npos) << why;
 }
 
 }  // namespace

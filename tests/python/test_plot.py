@@ -6,6 +6,7 @@ first command installs).
 
 import html
 import json
+import math
 import os
 import pathlib
 import re
@@ -88,6 +89,78 @@ def test_plot_on_given_axes_and_refined_results():
     refined = linkfit.refine(task, result, mechanism=1)
     single = linkfit.plot(refined)
     assert [a.get_title(loc="left") for a in single.axes] == ["1: 4R, crank-rocker"]
+    with pytest.raises(ValueError, match="mechanism 40"):
+        linkfit.plot(result, mechanism=40)
+    pyplot.close("all")
+
+
+SPHERICAL = "spherical_four_bar_5_poses.json"
+
+
+def spherical_view(result, mechanism):
+    """The view a spherical four-bar is drawn on, from the result alone (README, "Spherical
+    motion"): along the mean of its fixed axes and its moving axes at the first pose (the bundled
+    task's first orientation is the identity), Sigma's z-axis up; returns (right, up)."""
+    def unit(v):
+        n = math.sqrt(sum(x * x for x in v))
+        return [x / n for x in v]
+
+    dyads = [result["dyads"][k] for k in mechanism["dyads"]]
+    toward = unit([sum(d[key][i] for d in dyads for key in ("fixed_axis", "moving_axis"))
+                   for i in range(3)])
+    up = unit([(1.0 if i == 2 else 0.0) - toward[2] * toward[i] for i in range(3)])
+    right = [up[1] * toward[2] - up[2] * toward[1], up[2] * toward[0] - up[0] * toward[2],
+             up[0] * toward[1] - up[1] * toward[0]]
+    return right, up
+
+
+def drawn_ground_pivots(axis):
+    """Where the ground pivots (triangle marks) are drawn on an Axes."""
+    return [(float(x), float(y)) for line in axis.get_lines() if line.get_marker() == "^"
+            for x, y in zip(*line.get_data())]
+
+
+def test_plot_draws_spherical_four_bars_on_their_views(tmp_path):
+    task = json.loads((DATA / SPHERICAL).read_text())
+    assert task["poses"][0]["angle_deg"] == 0  # the first orientation: the identity
+    result = linkfit.solve(task)
+    assert result["model"] == "spherical"
+    figure = linkfit.plot(result)
+    axes = [axis for axis in figure.axes if axis.get_visible()]
+    listed = result["mechanisms"][:12]
+    assert len(listed) >= 2
+    assert [axis.get_title(loc="left") for axis in axes] == svg_panel_titles(SPHERICAL, tmp_path)
+    assert len(axes) == len(listed)
+    assert any("orthographic view of the unit sphere" in text.get_text() for text in figure.texts)
+    for axis, mechanism in zip(axes, listed):
+        right, up = spherical_view(result, mechanism)
+        fixed = [result["dyads"][k]["fixed_axis"] for k in mechanism["dyads"]]
+        expected = [tuple(sum(a * b for a, b in zip(u, direction)) for direction in (right, up))
+                    for u in fixed]
+        drawn = drawn_ground_pivots(axis)
+        assert len(drawn) == 2
+        for pivot, place in zip(drawn, expected):  # input, then output
+            assert pivot == pytest.approx(place, abs=1e-9)
+        # Everything drawn is on the view of the unit sphere.
+        assert all(x * x + y * y <= 1.0 + 1e-9 for x, y in plotted_points(axis))
+    figure.savefig(tmp_path / "sphere.png")
+    matplotlib.pyplot.close(figure)
+
+
+def test_plot_draws_one_spherical_four_bar_on_given_axes():
+    import matplotlib.pyplot as pyplot
+    result = linkfit.solve(json.loads((DATA / SPHERICAL).read_text()))
+    figure, axis = pyplot.subplots()
+    assert linkfit.plot(result, ax=axis, mechanism=1) is axis
+    assert axis.get_title(loc="left").startswith("2: spherical 4R, ")
+    right, up = spherical_view(result, result["mechanisms"][1])
+    fixed = [result["dyads"][k]["fixed_axis"] for k in result["mechanisms"][1]["dyads"]]
+    expected = [sum(a * b for a, b in zip(u, direction))
+                for u in fixed for direction in (right, up)]
+    assert [c for pivot in drawn_ground_pivots(axis) for c in pivot] == pytest.approx(expected,
+                                                                                   abs=1e-9)
+    single = linkfit.plot(result, mechanism=1)
+    assert [a.get_title(loc="left") for a in single.axes] == [axis.get_title(loc="left")]
     with pytest.raises(ValueError, match="mechanism 40"):
         linkfit.plot(result, mechanism=40)
     pyplot.close("all")

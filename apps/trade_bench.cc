@@ -19,6 +19,7 @@
 #include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
 #include "optimizers/task_solver.h"
+#include "tests/support/random_function.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
@@ -184,6 +185,42 @@ TradeOutcome RunPath(std::mt19937_64& rng, Effort effort, int count, double nois
   return outcome;
 }
 
+// ---- function generation ----
+
+// Absolute or relative pairs of a random four-bar (tests/support/random_function.h), the outputs
+// with noise sigma radians. Error: noise 0, the best four-bar's largest output error (radians);
+// noisy, its RMS error against the generator's on the same pairs.
+TradeOutcome RunFunction(std::mt19937_64& rng, Effort effort, int count, double noise,
+                         bool relative) {
+  const testing::FunctionTask generated = testing::RandomFunctionTask(rng, count, relative);
+  std::normal_distribution<double> normal;
+  Task task;
+  task.problem = ProblemKind::kFunction;
+  task.relative_angles = relative;
+  task.effort = effort;
+  task.pairs = generated.pairs;
+  for (FunctionPair& pair : task.pairs) pair.output += noise * normal(rng);
+  TradeOutcome outcome;
+  const auto begin = std::chrono::steady_clock::now();
+  const FunctionResult result = SolveFunctionTask(task);
+  outcome.ms = MillisecondsSince(begin);
+  const bool use_rms = noise > 0.0 && count > (relative ? 5 : 3);
+  double best = kInfinity;
+  for (const FunctionMechanismReport& mechanism : result.mechanisms) {
+    const std::optional<double>& error =
+        use_rms ? mechanism.rms_angle_error : mechanism.max_angle_error;
+    if (error && !HasKinematicDefect(mechanism.defects)) best = std::min(best, *error);
+  }
+  if (noise == 0.0) {
+    outcome.error = best;
+    return outcome;
+  }
+  const FunctionAnalysis reference = AnalyzeFunctionFourBar(generated.four_bar, task.pairs);
+  const std::optional<double>& own = use_rms ? reference.rms_error : reference.max_error;
+  outcome.error = own && *own > 0.0 ? best / *own : kInfinity;
+  return outcome;
+}
+
 // ---- the table ----
 
 struct Sizes {
@@ -213,6 +250,8 @@ TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Ef
                           std::mt19937_64& rng) {
   if (family == "planar motion") return RunPlanar(rng, effort, items, noise);
   if (family == "spatial motion") return RunSpatial(rng, effort, items, noise);
+  if (family == "function abs") return RunFunction(rng, effort, items, noise, false);
+  if (family == "function rel") return RunFunction(rng, effort, items, noise, true);
   return RunPath(rng, effort, items, noise, family == "untimed path");
 }
 
@@ -278,6 +317,15 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
   for (const int count : {10, 20}) {
     run_family("untimed path", count, false, "", "path free timing", kFreeTimingTolerance);
   }
+  // Function generation: noise in radians of the output angle, errors in radians.
+  for (const int count : {3, 12}) {
+    run_family("function abs", count, count == 3, "function exact", "function least squares",
+               kExactTolerance);
+  }
+  for (const int count : {5, 12}) {
+    run_family("function rel", count, count == 5, "function exact", "function least squares",
+               kExactTolerance);
+  }
   return rows;
 }
 
@@ -304,11 +352,15 @@ constexpr double kPanelLeft = 80.0, kPanelTop = 50.0, kPanelWidth = 330.0, kPane
 constexpr double kPanelGap = 70.0;
 
 const char* PathColor(const std::string& path) {
-  static const std::map<std::string, const char*> colors = {
-      {"planar exact", "#1f77b4"},    {"planar least squares", "#1f77b4"},
-      {"spatial exact", "#d62728"},   {"spatial least squares", "#d62728"},
-      {"path exact", "#2ca02c"},      {"path least squares", "#2ca02c"},
-      {"path free timing", "#9467bd"}};
+  static const std::map<std::string, const char*> colors = {{"planar exact", "#1f77b4"},
+                                                            {"planar least squares", "#1f77b4"},
+                                                            {"spatial exact", "#d62728"},
+                                                            {"spatial least squares", "#d62728"},
+                                                            {"path exact", "#2ca02c"},
+                                                            {"path least squares", "#2ca02c"},
+                                                            {"path free timing", "#9467bd"},
+                                                            {"function exact", "#8c564b"},
+                                                            {"function least squares", "#8c564b"}};
   const auto found = colors.find(path);
   return found == colors.end() ? "#555555" : found->second;
 }

@@ -5,8 +5,10 @@
 // Families: planar motion (5, 10, 50, 200 poses from a random four-bar), spatial motion (7, 10,
 // 30 poses of a random 5-SS platform), timed path (5, 10, 20 points of a random crank-driven
 // four-bar, prescribed timing; 10 and 20 also with free timing); noise 0, 1e-3 L and 1e-2 L
-// (positions, and L times the angles). Each task is solved end to end (SolvePlanarTask,
-// SolveSpatialTask, SolvePathTask) at each effort level; minimal data are solved exactly.
+// (positions, and L times the angles); function generation (3 and 12 absolute pairs, 5 and 12
+// relative pairs of a random four-bar, noise in radians of the output angle, errors in radians).
+// Each task is solved end to end (SolvePlanarTask, SolveSpatialTask, SolvePathTask) at each effort
+// level; minimal data are solved exactly.
 //
 // Final error: noise 0, in units of L: the best four-bar's pose or point error (planar and path:
 // RMS over the task, the largest for minimal data; only four-bars without a circuit or branch

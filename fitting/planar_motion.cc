@@ -325,18 +325,19 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-std::vector<std::vector<int>> SpreadSubsets(int count, int subsets) {
+std::vector<std::vector<int>> SpreadSubsets(int count, int subsets, int size) {
   std::vector<std::vector<int>> out;
   for (int k = 0; k < subsets; ++k) {
     std::vector<int> subset;
-    for (int i = 0; i < 5; ++i) {
-      const int index =
-          static_cast<int>(std::lround((i + static_cast<double>(k) / subsets) * count / 5.0)) %
-          count;
+    for (int i = 0; i < size; ++i) {
+      const int index = static_cast<int>(std::lround((i + static_cast<double>(k) / subsets) *
+                                                     count / static_cast<double>(size))) %
+                        count;
       if (std::find(subset.begin(), subset.end(), index) == subset.end()) subset.push_back(index);
     }
     std::sort(subset.begin(), subset.end());
-    if (subset.size() == 5 && std::find(out.begin(), out.end(), subset) == out.end()) {
+    if (static_cast<int>(subset.size()) == size &&
+        std::find(out.begin(), out.end(), subset) == out.end()) {
       out.push_back(subset);
     }
   }

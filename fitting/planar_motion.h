@@ -41,9 +41,10 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
 int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
                 int subsets, std::vector<PlanarDyad>* seeds);
 
-// The five-pose subsets PlanarSeeds solves: subset k takes the poses at positions
-// round((i + k / subsets) n / 5), i = 0..4, so that consecutive subsets shift through the task.
-std::vector<std::vector<int>> SpreadSubsets(int count, int subsets);
+// The five-pose subsets PlanarSeeds solves (other solvers: subsets of `size`): subset k takes the
+// poses at positions round((i + k / subsets) n / size) modulo n, i < size, so that consecutive
+// subsets shift through the task; repeated subsets and those with a repeated position are left out.
+std::vector<std::vector<int>> SpreadSubsets(int count, int subsets, int size = 5);
 
 // Whether two dyads are one: of a type, and their pivots, radii and lines within the data's
 // precision (kModelUnits point uncertainties at their size), within `bound` (how far the data's

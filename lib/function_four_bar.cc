@@ -38,6 +38,15 @@ double WrapToPi(double angle) {
   return wrapped;
 }
 
+double ReachedOutputError(const FunctionFourBar& f, const FunctionPair& pair, int sigma,
+                          double* miss) {
+  double t4, reach_miss;
+  OutputCrankAngle<double>(f.input_length, f.coupler_length, f.output_length, f.ground,
+                           f.input_offset + pair.input, sigma, &t4, &reach_miss);
+  if (miss != nullptr) *miss = reach_miss;
+  return WrapToPi(t4 - f.output_offset - pair.output);
+}
+
 bool FunctionFourBar::Output(double phi, int sigma, double* psi) const {
   double t4, miss;
   const bool assembles = OutputCrankAngle<double>(input_length, coupler_length, output_length,
@@ -122,9 +131,7 @@ FunctionAnalysis AnalyzeFunctionFourBar(const FunctionFourBar& four_bar,
     if (interval < 0 || !error) {
       // Out of the input's reach: the output at the nearest stationary configuration.
       defect("circuit");
-      double t4, miss;
-      OutputCrankAngle<double>(a, b, c, d, f.input_offset + pair.input, f.assembly, &t4, &miss);
-      error = WrapToPi(t4 - f.output_offset - pair.output);
+      error = ReachedOutputError(f, pair, f.assembly);
     } else {
       const std::optional<double> other = PairError(f, pair, -f.assembly);
       // The pair calls for the other assembly: a limited input reaches it only by reversing

@@ -90,6 +90,13 @@ bool OutputCrankAngle(const T& a, const T& b, const T& c, const T& d, const T& t
 // Angle in (-pi, pi].
 double WrapToPi(double angle);
 
+// The output error psi(phi) - psi of `pair` on assembly sigma, wrapped, with the output taken at
+// the nearest stationary configuration where the input is beyond the crank's reach; *miss (when
+// given) is that reach's miss (OutputCrankAngle), 0 within reach. The refiner's, the search's and
+// the analysis's error.
+double ReachedOutputError(const FunctionFourBar& four_bar, const FunctionPair& pair, int sigma,
+                          double* miss = nullptr);
+
 // The four-bar's pivots and pins in Sigma, in the configuration of input angle phi: the task's
 // ground line from `input_pivot` (A) to `output_pivot` (B).
 struct FunctionConfiguration {

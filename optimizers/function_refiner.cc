@@ -85,10 +85,7 @@ internal::DyadFit Fit(const FunctionFourBar& f, const std::vector<FunctionPair>&
     exact.push_back(pair.exact);
   }
   internal::DyadFit fit = internal::EvaluateFit(weights, exact, exact_tolerance, [&](size_t j) {
-    double t4, miss;
-    OutputCrankAngle<double>(f.input_length, f.coupler_length, f.output_length, f.ground,
-                             f.input_offset + pairs[j].input, f.assembly, &t4, &miss);
-    return WrapToPi(t4 - f.output_offset - pairs[j].output);
+    return ReachedOutputError(f, pairs[j], f.assembly);
   });
   fit.cost = FunctionCost(f, pairs, min_transmission_deg);
   return fit;
@@ -101,10 +98,8 @@ double FunctionCost(const FunctionFourBar& f, const std::vector<FunctionPair>& p
   const double limit = TransmissionCosine(min_transmission_deg);
   double cost = 0.0;
   for (const FunctionPair& pair : pairs) {
-    double t4, miss;
-    OutputCrankAngle<double>(f.input_length, f.coupler_length, f.output_length, f.ground,
-                             f.input_offset + pair.input, f.assembly, &t4, &miss);
-    const double error = WrapToPi(t4 - f.output_offset - pair.output);
+    double miss;
+    const double error = ReachedOutputError(f, pair, f.assembly, &miss);
     const double excess =
         TransmissionExcess<double>(f.input_length, f.coupler_length, f.output_length, f.ground,
                                    f.input_offset + pair.input, limit);

@@ -8,11 +8,10 @@
 #include <optional>
 
 #include "fitting/function_generation.h"
+#include "lib/four_bar_closure.h"
 
 namespace linkfit {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Candidate {
   std::vector<double> x;
@@ -87,8 +86,8 @@ int SearchFunctionFourBars(const std::vector<FunctionPair>& pairs, double ground
   const unsigned dimension = options.relative ? 2 : 3;
   std::vector<double> lower(dimension), upper(dimension), x(dimension);
   for (unsigned i = 0; i < dimension; ++i) {
-    lower[i] = options.relative ? -kPi : std::log(1e-2);
-    upper[i] = options.relative ? kPi : std::log(std::max(options.max_link_length, 2e-2));
+    lower[i] = options.relative ? -kClosurePi : std::log(1e-2);
+    upper[i] = options.relative ? kClosurePi : std::log(std::max(options.max_link_length, 2e-2));
     x[i] = 0.5 * (lower[i] + upper[i]);
   }
   nlopt::srand(options.seed);

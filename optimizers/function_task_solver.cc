@@ -8,6 +8,7 @@
 
 #include "fitting/function_generation.h"
 #include "fitting/model_choice.h"
+#include "fitting/planar_motion.h"
 #include "lib/text_format.h"
 #include "optimizers/function_refiner.h"
 #include "optimizers/function_search.h"
@@ -20,28 +21,6 @@ using Clock = std::chrono::steady_clock;
 
 double Since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-// Subsets of `size` of `count` pairs, spread over the task as SpreadSubsets spreads five: subset
-// k takes the pairs at round((i + k / subsets) count / size), i < size.
-std::vector<std::vector<FunctionPair>> SpreadPairSubsets(const std::vector<FunctionPair>& pairs,
-                                                         int size, int subsets) {
-  std::vector<std::vector<FunctionPair>> out;
-  const int count = static_cast<int>(pairs.size());
-  for (int k = 0; k < subsets; ++k) {
-    std::vector<int> chosen;
-    for (int i = 0; i < size; ++i) {
-      const int index = static_cast<int>(
-          std::lround((i + static_cast<double>(k) / subsets) * count / static_cast<double>(size)));
-      chosen.push_back(std::min(index, count - 1));
-    }
-    std::sort(chosen.begin(), chosen.end());
-    if (std::adjacent_find(chosen.begin(), chosen.end()) != chosen.end()) continue;
-    std::vector<FunctionPair> subset;
-    for (int index : chosen) subset.push_back(pairs[index]);
-    out.push_back(subset);
-  }
-  return out;
 }
 
 // Two four-bars are one when of one assembly, their lengths agree within `tolerance` times the
@@ -140,8 +119,11 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
   };
   solve(task.pairs, &why);
   if (!exact) {
-    for (const std::vector<FunctionPair>& subset :
-         SpreadPairSubsets(task.pairs, static_cast<int>(minimum), options.function_seed_subsets)) {
+    for (const std::vector<int>& indices :
+         SpreadSubsets(static_cast<int>(task.pairs.size()), options.function_seed_subsets,
+                       static_cast<int>(minimum))) {
+      std::vector<FunctionPair> subset;
+      for (int index : indices) subset.push_back(task.pairs[index]);
       solve(subset, nullptr);
     }
   }

@@ -1,13 +1,13 @@
 #include "optimizers/task_solver.h"
 
 #include <algorithm>
-#include <type_traits>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <tuple>
+#include <type_traits>
 
 #include "fitting/model_choice.h"
 #include "lib/task_io.h"

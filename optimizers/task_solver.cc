@@ -991,6 +991,7 @@ SpatialMotionResult RefineSpatialDesign(const Task& task, const std::vector<Spat
                            "the poses cannot tell them from their plane readings");
   }
   AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
+  AddSpatialConstraintsNote(task, &result);
   result.refine_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // The platform of the design's five (or, without one, the default five), judged by the

@@ -38,7 +38,7 @@ namespace linkfit {
 
 struct SphericalSearchOptions {
   GlobalAlgorithm algorithm = GlobalAlgorithm::kCrs2;  // NLopt algorithm
-  int max_evaluations = 4000;  // objective evaluations (cell centres, NLopt run and descents)
+  int max_evaluations = 2000;  // objective evaluations (cell centres, NLopt run and descents)
   double time_limit = 0.5;     // seconds for the evaluations (the polish comes on top)
   int polish_count = 4;        // best distinct optima polished by RefineSphericalDyad
   std::uint64_t seed = 1;      // NLopt's random seed (results are reproducible)

@@ -29,12 +29,13 @@ namespace {
 
 constexpr std::uint64_t kSeed = 20250917;  // every random test here starts from kSeed + k
 constexpr double kNoise = 1e-3;            // radians: the orientations' noise
-// The least-squares optimum of noisy data moves from the generating dyad by about the noise
-// times the problem's conditioning (axes and angle, radians); measured up to 6.5 kNoise on the
-// well-conditioned tasks below; random spherical four-bars on 10 orientations are often poorly
-// conditioned, where it moves by up to FirstOrderReach (measured: up to 1.1 times it).
-constexpr double kNearGenerator = 30.0 * kNoise;
+// The least-squares optimum of noisy data moves from the generating dyad by the noise times the
+// problem's conditioning, FirstOrderReach to first order (measured: up to 1.1 times it on the
+// draws below), allowed kReachFactor times it. Random spherical four-bars on 10-12 orientations
+// are often poorly conditioned: 15 of the 40 optima below are more than kNearGenerator (30 times
+// the noise, radians) from their generating dyads, which the test counts but does not require.
 constexpr double kReachFactor = 3.0;
+constexpr double kNearGenerator = 30.0 * kNoise;
 // Two polishes of one optimum agree to this (radians): the refiner's tolerances leave ~1e-8.
 constexpr double kSameOptimum = 1e-6;
 constexpr double kGenerousTime = 30.0;  // seconds: never the binding limit in these tests
@@ -112,7 +113,8 @@ double FirstOrderReach(const SphericalDyad& dyad, const std::vector<Eigen::Matri
 }
 
 // The refiner's options run to convergence: its default 50 iterations can end early in the
-// flat valleys of ill-conditioned tasks (seen 1.8e-4 rad short of the optimum).
+// flat valleys of ill-conditioned tasks (seen: stopped at RMS 4.8e-4 rad on its way to an
+// optimum of RMS 3.1e-4).
 SphericalDyadRefinerOptions Converged() {
   SphericalDyadRefinerOptions options;
   options.max_iterations = 1000;

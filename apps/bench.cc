@@ -38,9 +38,16 @@
 //
 // Then end to end by stage (RunStages): parse, solve, analysis and write per task kind.
 //
+// Then spherical least squares by effort (RunSpherical): noisy orientations of random spherical
+// four-bars about a centre, each task solved at balanced and at thorough (SolveSpatialTask): the
+// median and 90th-percentile time of each and of thorough's search, the tasks where thorough's
+// best dyad fits better than balanced's (beyond 1e-9 relative), where its best defect-free
+// four-bar does, where the search adds a dyad balanced lacks, and the share of generating dyads
+// whose least-squares optimum (the generating dyad refined to convergence) each lists.
+//
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
-//                 [--four-tasks F] [--stage-tasks T] [--seed S]
-//                 [--only planar|spatial|path|refine|stages]
+//                 [--four-tasks F] [--stage-tasks T] [--spherical-tasks K] [--seed S]
+//                 [--only planar|spatial|path|refine|stages|spherical]
 #include <glog/logging.h>
 
 #include <algorithm>
@@ -53,6 +60,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -61,6 +69,7 @@
 #include "fitting/planar_burmester_curves.h"
 #include "fitting/planar_motion.h"
 #include "fitting/spatial_burmester.h"
+#include "fitting/spherical_motion.h"
 #include "fitting/timed_path.h"
 #include "lib/path_motion.h"
 #include "lib/result_io.h"
@@ -70,6 +79,7 @@
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
+#include "tests/support/random_spherical.h"
 #include "tests/support/rounded_task.h"
 
 namespace {
@@ -719,6 +729,92 @@ void RunRefine(int tasks, uint64_t seed) {
 }
 }  // namespace
 
+// Spherical least squares, balanced against thorough (file comment): `tasks` random spherical
+// four-bars, `count` orientations each turned by noise `noise` (radians), about a centre away
+// from both frames' origins.
+void RunSphericalRow(int tasks, int count, double noise, uint64_t seed) {
+  using linkfit::SpatialMotionResult;
+  using linkfit::SphericalDyad;
+  using linkfit::SphericalDyadReport;
+  std::mt19937_64 rng(seed);
+  std::vector<double> balanced_ms, thorough_ms, search_ms;
+  int better_dyad = 0, better_four_bar = 0, added = 0, generators = 0;
+  int balanced_found = 0, thorough_found = 0;
+  const auto best_dyad = [](const SpatialMotionResult& result) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const SphericalDyadReport& report : result.spherical_dyads) {
+      best = std::min(best, report.rms_residual.value_or(best));
+    }
+    return best;
+  };
+  const auto best_four_bar = [](const SpatialMotionResult& result) {
+    double best = std::numeric_limits<double>::infinity();
+    for (const linkfit::MechanismReport& mechanism : result.spherical_mechanisms) {
+      if (mechanism.defects.empty()) best = std::min(best, mechanism.rms_pose_error.value_or(best));
+    }
+    return best;
+  };
+  const auto lists = [](const SpatialMotionResult& result, const SphericalDyad& dyad) {
+    return std::any_of(result.spherical_dyads.begin(), result.spherical_dyads.end(),
+                       [&](const SphericalDyadReport& report) {
+                         return linkfit::SameSphericalDyad(report.dyad, dyad, 1e-6);
+                       });
+  };
+  linkfit::SphericalDyadRefinerOptions converged;
+  converged.max_iterations = 1000;
+  for (int t = 0; t < tasks; ++t) {
+    linkfit::testing::SphericalTask drawn = linkfit::testing::RandomSphericalTask(rng, count);
+    linkfit::testing::JitterRotations(rng, noise, &drawn.rotations);
+    linkfit::Task task = linkfit::SpatialMotionTask(linkfit::testing::PosesAboutCenter(
+        drawn.rotations, Eigen::Vector3d(0.3, -0.2, 0.5), Eigen::Vector3d(1.0, 2.0, -1.0)));
+    task.effort = linkfit::Effort::kBalanced;
+    auto begin = std::chrono::steady_clock::now();
+    const SpatialMotionResult balanced = linkfit::SolveSpatialTask(task);
+    balanced_ms.push_back(1e-3 * MicrosecondsSince(begin));
+    task.effort = linkfit::Effort::kThorough;
+    begin = std::chrono::steady_clock::now();
+    const SpatialMotionResult thorough = linkfit::SolveSpatialTask(task);
+    thorough_ms.push_back(1e-3 * MicrosecondsSince(begin));
+    search_ms.push_back(1e3 * thorough.search_seconds);
+    if (thorough.model != "spherical" || balanced.model != "spherical") continue;
+    better_dyad += best_dyad(thorough) < best_dyad(balanced) * (1.0 - 1e-9);
+    better_four_bar += best_four_bar(thorough) < best_four_bar(balanced) * (1.0 - 1e-9);
+    added += thorough.spherical_dyads.size() > balanced.spherical_dyads.size();
+    const linkfit::SphericalMotion motion =
+        linkfit::TaskSphericalMotion(task, *thorough.spherical, thorough.scale);
+    for (const SphericalDyad* generating : {&drawn.four_bar.input, &drawn.four_bar.output}) {
+      SphericalDyad optimum = *generating;
+      linkfit::RefineSphericalDyad(motion.rotations, {}, {}, &optimum, converged);
+      ++generators;
+      balanced_found += lists(balanced, optimum);
+      thorough_found += lists(thorough, optimum);
+    }
+  }
+  char name[64];
+  std::snprintf(name, sizeof(name), "%d orientations, noise %.0e", count, noise);
+  std::printf("%-28s %6d %8.2f %8.2f %8.2f %8.2f %8.2f %7d %7d %7d %8.1f%% %8.1f%%\n", name, tasks,
+              Percentile(balanced_ms, 0.5), Percentile(balanced_ms, 0.9),
+              Percentile(thorough_ms, 0.5), Percentile(thorough_ms, 0.9),
+              Percentile(search_ms, 0.5), better_dyad, better_four_bar, added,
+              100.0 * balanced_found / std::max(1, generators),
+              100.0 * thorough_found / std::max(1, generators));
+}
+
+void RunSpherical(int tasks, uint64_t seed) {
+  std::printf(
+      "\nspherical least squares, balanced and thorough (SolveSpatialTask, one core): times in ms "
+      "(median, 90th percentile; thorough's search median), tasks where thorough's best dyad / "
+      "best defect-free four-bar fits better and where the search adds a dyad, share of "
+      "generating dyads' optima listed\n");
+  std::printf("%-28s %6s %8s %8s %8s %8s %8s %7s %7s %7s %9s %9s\n", "family", "tasks", "bal_med",
+              "bal_p90", "thr_med", "thr_p90", "search", "dyad+", "4bar+", "added", "bal_opt",
+              "thr_opt");
+  for (const auto& [count, noise] :
+       std::vector<std::pair<int, double>>{{10, 1e-3}, {10, 1e-2}, {20, 1e-3}}) {
+    RunSphericalRow(tasks, count, noise, seed + count);
+  }
+}
+
 int main(int argc, char** argv) {
   // Ceres reports steps the refiners handle through glog at ERROR level (the CLI silences it the
   // same way, apps/cli.cc RunCli): the tables stay clean.
@@ -731,6 +827,7 @@ int main(int argc, char** argv) {
   int refine_tasks = 100;
   int four_tasks = 1000;
   int stage_tasks = 1000;
+  int spherical_tasks = 200;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
@@ -748,11 +845,14 @@ int main(int argc, char** argv) {
       four_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--stage-tasks") && i + 1 < argc) {
       stage_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--spherical-tasks") && i + 1 < argc) {
+      spherical_tasks = std::atoi(argv[++i]);
     } else {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
-                   "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] [--seed S] "
-                   "[--only planar|spatial|path|refine|stages]\n"
+                   "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] "
+                   "[--spherical-tasks K] [--seed S] "
+                   "[--only planar|spatial|path|refine|stages|spherical]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -771,6 +871,10 @@ int main(int argc, char** argv) {
   }
   if (only == "stages") {
     RunStages(stage_tasks, seed);
+    return 0;
+  }
+  if (only == "spherical") {
+    RunSpherical(spherical_tasks, seed);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
@@ -798,6 +902,7 @@ int main(int argc, char** argv) {
     RunPath(path_tasks, seed);
     RunRefine(refine_tasks, seed);
     RunStages(stage_tasks, seed);
+    RunSpherical(spherical_tasks, seed);
   }
   return 0;
 }

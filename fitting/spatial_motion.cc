@@ -99,6 +99,7 @@ void SolvePlanar(const Task& task, const SpatialMotionOptions& options, PlanarEm
   planar_task.scale = task.scale;
   planar_task.effort = task.effort;
   planar_task.precision = task.precision;
+  planar_task.constraints = task.constraints;  // the planar four-bars are judged by them
   const int count = static_cast<int>(plane.poses.size());
   result->notes.push_back(
       "the poses lie in one plane (largest deviation " + Format("%.3g", plane.planarity) +
@@ -251,6 +252,13 @@ std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuate
   return center;
 }
 
+void AddSpatialConstraintsNote(const Task& task, SpatialMotionResult* result) {
+  if (!task.constraints.given) return;
+  result->notes.push_back(
+      "the design constraints judge spherical and planar four-bars only: these poses are solved "
+      "as spatial, and their SS / PS dyads and platforms are not judged by them");
+}
+
 SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   SpatialMotionResult result;
@@ -295,6 +303,7 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
           "): solved as spatial; give the data's precision (\"precision\") if it is coarser");
     }
   }
+  AddSpatialConstraintsNote(task, &result);
   if (!task.moving_axes.empty() || !task.fixed_axes.empty()) {
     result.notes.push_back(
         "moving_axes / fixed_axes choose dyads of a spherical motion, but these poses do not fix "

@@ -12,6 +12,9 @@
 //     beyond; the refinement is in optimizers/).
 //   - Four to six poses with given pivots: one SS dyad per pivot (a sphere through the pivot's
 //     positions); without pivots, the dimension of the solution family is reported.
+// Design constraints (those a spatial task takes: input_rotates_fully, grashof,
+// min_transmission_angle_deg) judge the spherical four-bars and the planar four-bars of planar
+// data; spatial answers (dyads and platforms) are not judged by them, which a note says.
 #ifndef LINKFIT_FITTING_SPATIAL_MOTION_H_
 #define LINKFIT_FITTING_SPATIAL_MOTION_H_
 
@@ -79,6 +82,11 @@ std::optional<SphericalCenter> DetectSphericalMotion(const std::vector<DualQuate
 
 // Solves a validated spatial motion task without refinement or platforms.
 SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOptions& options = {});
+
+// The note of a task with design constraints whose poses are solved as spatial: the
+// constraints judge spherical and planar four-bars only. Added to result->notes when the task
+// has constraints.
+void AddSpatialConstraintsNote(const Task& task, SpatialMotionResult* result);
 
 // Orders dyads by radius, smallest first (the platform's default dyads lead); planes last.
 void SortDyadsByRadius(std::vector<SpatialDyadReport>* dyads);

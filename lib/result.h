@@ -177,6 +177,7 @@ struct SpatialMotionResult {
   std::vector<std::string> notes;
   double solve_seconds = 0.0;
   double refine_seconds = 0.0;    // Ceres refinement (more than seven poses)
+  double search_seconds = 0.0;    // of refine_seconds, the spherical search (effort thorough)
   double analysis_seconds = 0.0;  // of solve_seconds, the platform's tracing
   DataPrecision precision;        // the data precision assumed (the task's)
   bool closed = false;            // the task's last pose repeated the first (dropped)

@@ -516,6 +516,8 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   PutNumber(&root, "solve_time_ms", result.solve_seconds * 1000.0);
   if (result.refine_seconds > 0.0)
     PutNumber(&root, "refine_time_ms", result.refine_seconds * 1000.0);
+  if (result.search_seconds > 0.0)
+    PutNumber(&root, "search_time_ms", result.search_seconds * 1000.0);
   return Dump(root, indent);
 }
 

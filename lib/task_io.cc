@@ -824,15 +824,26 @@ class TaskParser {
     return box;
   }
 
-  // "constraints" (lib/design_constraints.h): planar motion and path problems.
+  // "constraints" (lib/design_constraints.h): planar motion and path problems; spatial motion
+  // takes those of a spherical four-bar's class and transmission only (its links are angles).
   void ReadConstraints(const Json& value, Task* task) const {
     const char* item = "constraints";
-    if (task->space == Space::kSpatial) Fail(item, "used by planar motion and path problems only");
     if (!value.is_object()) Fail(item, "expected an object, got " + Describe(value));
     CheckKeys(
         value, item,
         {"max_link_length", "min_link_length", "max_coupler_point_offset", "fixed_pivots_box",
          "moving_pivots_box", "input_rotates_fully", "grashof", "min_transmission_angle_deg"});
+    if (task->space == Space::kSpatial) {
+      for (const char* key : {"max_link_length", "min_link_length", "max_coupler_point_offset",
+                              "fixed_pivots_box", "moving_pivots_box"}) {
+        if (value.contains(key)) {
+          Fail(KeyItem(item, key),
+               "not used by spatial tasks: spherical four-bars' links are angles and their pivots "
+               "axes (spatial tasks take input_rotates_fully, grashof and "
+               "min_transmission_angle_deg)");
+        }
+      }
+    }
     DesignConstraints& constraints = task->constraints;
     constraints.given = true;
     const auto positive = [&](const char* key, std::optional<double>* out) {

@@ -11,6 +11,7 @@
 
 #include "fitting/model_choice.h"
 #include "lib/task_io.h"
+#include "lib/text_format.h"
 #include "optimizers/limit_hyperplane.h"
 #include "optimizers/nested_model_test.h"
 
@@ -27,6 +28,8 @@ constexpr double kFarMovingPoint = 10.0;
 // leaves the parameters of a noisy optimum uncertain to about its square root times the
 // conditioning; two refinements of one optimum were seen 4e-7 apart.
 constexpr double kSameRefinedOptimum = 1e-5;
+// Two refined spherical dyads whose axes and angles agree to this (radians) are one optimum.
+constexpr double kSameSphericalOptimum = 1e-7;
 
 // With constraints, planar motion keeps this many times the dyads per level and refines this many
 // times the four-bars: the constrained optimum is often a pair refined onto a bound whose dyads
@@ -269,18 +272,45 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
     report.seed_rms_residual = seed.rms_residual;
     bool repeat = false;
     for (SphericalDyadReport& kept : refined) {
-      if (!SameSphericalDyad(kept.dyad, dyad, 1e-7)) continue;
+      if (!SameSphericalDyad(kept.dyad, dyad, kSameSphericalOptimum)) continue;
       repeat = true;
       if (report.rms_residual < kept.rms_residual) kept = report;
     }
     if (!repeat) refined.push_back(report);
   }
   // The best-fitting dyads make the four-bars.
-  std::stable_sort(refined.begin(), refined.end(),
-                   [](const SphericalDyadReport& a, const SphericalDyadReport& b) {
-                     return a.rms_residual.value_or(0.0) < b.rms_residual.value_or(0.0);
-                   });
+  const auto by_fit = [](const SphericalDyadReport& a, const SphericalDyadReport& b) {
+    return a.rms_residual.value_or(0.0) < b.rms_residual.value_or(0.0);
+  };
+  std::stable_sort(refined.begin(), refined.end(), by_fit);
   if (static_cast<int>(refined.size()) > options.max_dyads) refined.resize(options.max_dyads);
+  if (task.effort == Effort::kThorough) {
+    // The search's optima join balanced's dyads, none of which is dropped or changed for them:
+    // thorough lists every dyad and four-bar balanced lists, so it never fits worse.
+    SphericalSearchOptions search = options.spherical_search;
+    search.refiner = options.spherical_refiner;
+    std::vector<SphericalDyad> found;
+    SphericalSearchSummary summary;
+    SearchSphericalDyads(motion.rotations, weights, task.pose_exact, search, &found, &summary);
+    int added = 0;
+    const size_t balanced_count = refined.size();
+    for (const SphericalDyad& dyad : found) {
+      const bool repeat = std::any_of(
+          refined.begin(), refined.begin() + balanced_count, [&](const SphericalDyadReport& kept) {
+            return SameSphericalDyad(kept.dyad, dyad, kSameSphericalOptimum);
+          });
+      if (repeat) continue;
+      refined.push_back(ReportSphericalDyad(dyad, motion, weights));
+      ++added;
+    }
+    std::stable_sort(refined.begin(), refined.end(), by_fit);
+    result->notes.push_back("search (thorough): NLopt " + summary.algorithm +
+                            " over the moving axis, " + std::to_string(summary.evaluations) +
+                            " evaluations, " + std::to_string(summary.optima) + " local optima, " +
+                            std::to_string(found.size()) + " distinct after the polish, " +
+                            std::to_string(added) + " new");
+    result->search_seconds = summary.seconds;
+  }
   result->spherical_dyads = refined;
   BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);
   result->refine_seconds =
@@ -966,6 +996,7 @@ SpatialMotionResult RefineSpatialDesign(const Task& task, const std::vector<Spat
                            "the poses cannot tell them from their plane readings");
   }
   AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
+  AddSpatialConstraintsNote(task, &result);
   result.refine_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // The platform of the design's five (or, without one, the default five), judged by the

@@ -8,7 +8,9 @@
 //     (global_search.h) before the four-bars are built;
 //   - spatial motion: fitting/spatial_motion.h; more than seven poses (effort balanced or
 //     thorough) refine every dyad on its geometric residual (spatial_dyad_refiner.h), then the
-//     platform is built and traced;
+//     platform is built and traced; a spherical motion of six or more orientations refines its
+//     seeds (spherical_dyad_refiner.h), and thorough adds an NLopt search over the moving axis
+//     (spherical_search.h);
 //   - path problems (timed points): five points with input angles are solved exactly
 //     (fitting/timed_path.h); more are least squares: fast = the four-bars of exact solves of
 //     five-point subsets, balanced = those refined on the point errors (path_refiner.h),
@@ -16,8 +18,9 @@
 //     input angles (free timing) are fitted with the angles as unknowns, from timing guesses
 //     (evenly spaced angles over several spans, both directions) solved as above.
 // A higher effort keeps what a lower one finds (planar motion: the lower level's best-fitting
-// four-bar where it fits better; paths: the seeds beside their refinements), so it never fits
-// worse (spatial motion aside: there fast's dyads are replaced by their refinements).
+// four-bar where it fits better; paths: the seeds beside their refinements; spherical motion:
+// balanced's dyads beside the search's), so it never fits worse (spatial motion aside: there
+// fast's dyads are replaced by their refinements).
 #ifndef LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 #define LINKFIT_OPTIMIZERS_TASK_SOLVER_H_
 
@@ -39,6 +42,7 @@
 #include "optimizers/planar_dyad_refiner.h"
 #include "optimizers/spatial_dyad_refiner.h"
 #include "optimizers/spherical_dyad_refiner.h"
+#include "optimizers/spherical_search.h"
 
 namespace linkfit {
 
@@ -50,6 +54,7 @@ struct TaskSolverOptions {
   PlanarDyadRefinerOptions planar_refiner;        // planar least squares, dyad level
   FourBarRefinerOptions four_bar_refiner;         // planar least squares, mechanism level
   GlobalSearchOptions search;                     // planar least squares, effort thorough
+  SphericalSearchOptions spherical_search;        // spherical least squares, effort thorough
   int seed_subsets = 6;                           // five-pose subsets solved exactly for seeds
   int max_dyads = 10;               // dyads kept per effort level (best RMS first) for four-bars
   int refined_mechanisms = 3;       // best-ranked four-bars refined per level (mechanism level)
@@ -95,7 +100,9 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
 
 // Refines every seed dyad of a spherical least-squares result on its cone residual
 // (spherical_dyad_refiner.h), drops repeats, keeps the max_dyads best-fitting and rebuilds the
-// four-bars.
+// four-bars. Effort thorough adds the distinct optima of the search (SearchSphericalDyads, up to
+// spherical_search.polish_count) to those max_dyads, dropping none of them, and says what the
+// search did in a note; its time is search_seconds.
 void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                            SpatialMotionResult* result);
 

@@ -181,8 +181,11 @@ TEST(DesignConstraints, BadConstraintsSayWhatIsWrong) {
       "task.json: constraints.moving_pivots_box: used by motion problems only (a path four-bar's "
       "coupler has no frame of the task)");
   EXPECT_EQ(ErrorOf(R"({"space": "spatial", "scale": 1,
-                        "poses": [{"q": [1, 0, 0, 0], "g": [0, 0, 0, 0]}], "constraints": {}})"),
-            "task.json: constraints: used by planar motion and path problems only");
+                        "poses": [{"q": [1, 0, 0, 0], "g": [0, 0, 0, 0]}],
+                        "constraints": {"max_link_length": 5}})"),
+            "task.json: constraints.max_link_length: not used by spatial tasks: spherical "
+            "four-bars' links are angles and their pivots axes (spatial tasks take "
+            "input_rotates_fully, grashof and min_transmission_angle_deg)");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "lib/task_io.h"
@@ -702,6 +703,45 @@ TEST(TaskIoSpatial, PivotsAndPlatform) {
   nlohmann::json planar = PlanarTaskJson();
   planar["platform"] = {0, 1, 2, 3, 4};
   EXPECT_EQ(ErrorOf(planar.dump()), "task.json: platform: used by spatial motion problems only");
+}
+
+// Spatial tasks take the constraints of a spherical four-bar's class and transmission angle;
+// lengths and boxes (a spherical four-bar's links are angles) are refused, each by its name.
+TEST(TaskIoSpatial, ConstraintsOfSphericalFourBars) {
+  nlohmann::json json = SpatialTaskJson(7);
+  json["constraints"] = {{"input_rotates_fully", true},
+                         {"grashof", "crank-rocker"},
+                         {"min_transmission_angle_deg", 35}};
+  const Task task = ParseTask(json.dump(), "task.json");
+  EXPECT_TRUE(task.constraints.given);
+  EXPECT_TRUE(task.constraints.input_rotates_fully);
+  EXPECT_EQ(task.constraints.grashof, "crank-rocker");
+  EXPECT_EQ(task.constraints.min_transmission_angle_deg, 35.0);
+  json["constraints"] = nlohmann::json::object();
+  EXPECT_TRUE(ParseTask(json.dump(), "task.json").constraints.given);
+
+  const std::string refused =
+      ": not used by spatial tasks: spherical four-bars' links are angles and their pivots axes "
+      "(spatial tasks take input_rotates_fully, grashof and min_transmission_angle_deg)";
+  for (const auto& [key, value] :
+       std::vector<std::pair<std::string, nlohmann::json>>{{"max_link_length", 5.0},
+                                                           {"min_link_length", 0.5},
+                                                           {"fixed_pivots_box", {{0, 0}, {1, 1}}},
+                                                           {"moving_pivots_box", {{0, 0}, {1, 1}}},
+                                                           {"max_coupler_point_offset", 1.0}}) {
+    json["constraints"] = {{"input_rotates_fully", true}, {key, value}};
+    EXPECT_EQ(ErrorOf(json.dump()), "task.json: constraints." + key + refused);
+  }
+  // The object's own checks come first, as for planar tasks.
+  json["constraints"] = {{"max_link", 5}};
+  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: constraints.max_link: unknown field"));
+  json["constraints"] = {{"grashof", "crank"}};
+  EXPECT_TRUE(StartsWith(ErrorOf(json.dump()), "task.json: constraints.grashof: expected"));
+  json["constraints"] = {{"min_transmission_angle_deg", 95}};
+  EXPECT_EQ(ErrorOf(json.dump()),
+            "task.json: constraints.min_transmission_angle_deg: at most 90, got 95");
+  json["constraints"] = nlohmann::json::array();
+  EXPECT_EQ(ErrorOf(json.dump()), "task.json: constraints: expected an object, got an array");
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 // lib/design_constraints.h), nothing is listed twice, and the transmission angle is judged.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -15,6 +16,8 @@
 #include "optimizers/task_solver.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
+#include "tests/support/random_spatial.h"
+#include "tests/support/random_spherical.h"
 #include "tests/support/rounded_task.h"
 
 namespace linkfit {
@@ -181,6 +184,99 @@ TEST(Ranking, FirstPathFourBarIsTheBestFittingDefectFreeOne) {
     }
     EXPECT_LE(*first.rms_point_error, kNearTieRatio * best);
   }
+}
+
+bool Lists(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// Spherical tasks with constraints: every four-bar is judged against them (input_rotates_fully
+// and grashof in `violates`, the transmission minimum as the defect "transmission") and the
+// keepers are listed first. Noisy orientations of random spherical four-bars, each constraint
+// alone; the draw has keepers and violators both.
+TEST(Ranking, ConstrainedSphericalFourBarsKeepersFirst) {
+  std::mt19937_64 rng(1404);
+  int mixed = 0;
+  for (int t = 0; t < 12; ++t) {
+    SCOPED_TRACE("seed 1404, task " + std::to_string(t));
+    testing::SphericalTask drawn = testing::RandomSphericalTask(rng, 10);
+    testing::JitterRotations(rng, 1e-4, &drawn.rotations);
+    Task task = SpatialMotionTask(testing::PosesAboutCenter(
+        drawn.rotations, Eigen::Vector3d(0.2, 0.1, -0.3), Eigen::Vector3d(1.0, -1.0, 2.0)));
+    task.constraints.given = true;
+    if (t % 3 == 0) task.constraints.input_rotates_fully = true;
+    if (t % 3 == 1) task.constraints.grashof = "crank-rocker";
+    if (t % 3 == 2) task.constraints.min_transmission_angle_deg = 50.0;
+    const SpatialMotionResult result = SolveSpatialTask(task);
+    ASSERT_EQ(result.model, "spherical");
+    ASSERT_FALSE(result.spherical_mechanisms.empty());
+    bool keeper = false, violator = false, violating_seen = false, defect_free = false;
+    bool keeps_class = false;
+    for (const MechanismReport& m : result.spherical_mechanisms) {
+      EXPECT_EQ(Lists(m.violates, "input_rotates_fully"),
+                task.constraints.input_rotates_fully && !m.input_rotates_fully);
+      EXPECT_EQ(Lists(m.violates, "grashof"),
+                !task.constraints.grashof.empty() && m.grashof != task.constraints.grashof);
+      EXPECT_EQ(Lists(m.defects, "transmission"),
+                m.transmission_min_deg &&
+                    *m.transmission_min_deg < MinTransmissionAngleDeg(task.constraints));
+      // Keepers first.
+      EXPECT_FALSE(violating_seen && m.violates.empty());
+      violating_seen = violating_seen || !m.violates.empty();
+      const bool keeps = m.violates.empty() && !Lists(m.defects, "transmission");
+      keeper = keeper || keeps;
+      violator = violator || !keeps;
+      defect_free = defect_free || (m.violates.empty() && m.defects.empty());
+      keeps_class = keeps_class || m.violates.empty();
+    }
+    // The first keeps the class constraints when any listed four-bar does (they all do here
+    // when the constraint is the transmission angle), and is defect-free when a keeper is.
+    const MechanismReport& first = result.spherical_mechanisms.front();
+    EXPECT_TRUE(first.violates.empty() || !keeps_class);
+    EXPECT_TRUE((first.violates.empty() && first.defects.empty()) || !defect_free);
+    mixed += keeper && violator;
+  }
+  EXPECT_GE(mixed, 4);  // the draw tells keepers from violators
+}
+
+// Constraints on spatial tasks that are not spherical: planar data pass them on to the planar
+// four-bars; a 5-SS platform is not judged by them, which a note says.
+TEST(Ranking, ConstraintsOnPlanarAndPlatformSpatialTasks) {
+  std::mt19937_64 rng(1405);
+  const std::string note =
+      "the design constraints judge spherical and planar four-bars only: these poses are solved "
+      "as spatial, and their SS / PS dyads and platforms are not judged by them";
+  for (int t = 0; t < 4; ++t) {
+    SCOPED_TRACE("seed 1405, task " + std::to_string(t));
+    const testing::GeneratedTask generated =
+        testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, t % 2 == 0 ? 5 : 8);
+    std::vector<DualQuaternion> poses;
+    for (const PlanarPose& pose : generated.poses) {
+      poses.push_back(DualQuaternion::FromRotationTranslation(
+          Eigen::AngleAxisd(pose.theta, Eigen::Vector3d::UnitZ()).toRotationMatrix(),
+          Eigen::Vector3d(pose.origin_in_fixed.x(), pose.origin_in_fixed.y(), 0.0)));
+    }
+    Task task = SpatialMotionTask(poses);
+    task.constraints.given = true;
+    task.constraints.input_rotates_fully = true;
+    const SpatialMotionResult result = SolveSpatialTask(task);
+    ASSERT_EQ(result.model, "planar");
+    ASSERT_TRUE(result.planar);
+    EXPECT_TRUE(result.planar->constraints.input_rotates_fully);
+    ASSERT_FALSE(result.planar->mechanisms.empty());
+    for (const MechanismReport& m : result.planar->mechanisms) {
+      EXPECT_EQ(Lists(m.violates, "input_rotates_fully"), !m.input_rotates_fully);
+    }
+    EXPECT_FALSE(Lists(result.notes, note));
+  }
+  const testing::PlantedSpatialTask platform = testing::RandomPlatformTask(rng, 7);
+  Task task = SpatialMotionTask(platform.poses);
+  EXPECT_FALSE(Lists(SolveSpatialTask(task).notes, note));
+  task.constraints.given = true;
+  task.constraints.grashof = "grashof";
+  const SpatialMotionResult result = SolveSpatialTask(task);
+  ASSERT_EQ(result.model, "spatial");
+  EXPECT_TRUE(Lists(result.notes, note));
 }
 
 }  // namespace

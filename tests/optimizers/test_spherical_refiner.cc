@@ -20,12 +20,6 @@
 namespace linkfit {
 namespace {
 
-// A rotation by a random axis and a normal angle of deviation sigma.
-Eigen::Matrix3d Jitter(std::mt19937_64& rng, double sigma) {
-  std::normal_distribution<double> normal(0.0, sigma);
-  return Eigen::AngleAxisd(normal(rng), testing::RandomUnitVector(rng)).toRotationMatrix();
-}
-
 double Rms(const SphericalDyad& dyad, const std::vector<Eigen::Matrix3d>& rotations) {
   double sum = 0.0;
   for (const Eigen::Matrix3d& r : rotations) sum += dyad.Residual(r) * dyad.Residual(r);
@@ -44,7 +38,7 @@ TEST(SphericalRefiner, NoisyOrientationsGiveTheGeneratingDyadsBack) {
     const testing::SphericalTask drawn = testing::RandomSphericalTask(rng, 10);
     const SphericalFourBar& four_bar = drawn.four_bar;
     std::vector<Eigen::Matrix3d> rotations = drawn.rotations;
-    for (Eigen::Matrix3d& r : rotations) r = Jitter(rng, kNoise) * r;
+    testing::JitterRotations(rng, kNoise, &rotations);
     const Eigen::Vector3d center_in_moving(-0.5, 0.2, 0.9), center_in_fixed(0.1, -2.0, 1.5);
     const Task task =
         SpatialMotionTask(testing::PosesAboutCenter(rotations, center_in_moving, center_in_fixed));
@@ -76,7 +70,7 @@ TEST(SphericalRefiner, ExactOrientationsAreMet) {
     const testing::SphericalTask drawn = testing::RandomSphericalTask(rng, 8);
     const SphericalFourBar& four_bar = drawn.four_bar;
     std::vector<Eigen::Matrix3d> rotations = drawn.rotations;
-    for (Eigen::Matrix3d& r : rotations) r = Jitter(rng, 1e-2) * r;
+    testing::JitterRotations(rng, 1e-2, &rotations);
     std::vector<bool> exact(rotations.size(), false);
     exact[3] = true;
     SphericalDyad dyad = four_bar.input;

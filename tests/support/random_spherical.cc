@@ -15,6 +15,16 @@ Eigen::Vector3d RandomUnitVector(std::mt19937_64& rng) {
   return x.normalized();
 }
 
+Eigen::Matrix3d RandomSmallRotation(std::mt19937_64& rng, double sigma) {
+  std::normal_distribution<double> normal(0.0, sigma);
+  return Eigen::AngleAxisd(normal(rng), RandomUnitVector(rng)).toRotationMatrix();
+}
+
+void JitterRotations(std::mt19937_64& rng, double sigma, std::vector<Eigen::Matrix3d>* rotations) {
+  for (Eigen::Matrix3d& rotation : *rotations)
+    rotation = RandomSmallRotation(rng, sigma) * rotation;
+}
+
 SphericalFourBar RandomSphericalFourBar(std::mt19937_64& rng) {
   const double low = 15.0 * M_PI / 180.0, high = M_PI - low;
   for (;;) {

@@ -15,6 +15,13 @@ namespace linkfit::testing {
 // A uniformly random unit vector.
 Eigen::Vector3d RandomUnitVector(std::mt19937_64& rng);
 
+// A rotation about a uniformly random axis by a normal angle of deviation `sigma` (radians):
+// noise on an orientation.
+Eigen::Matrix3d RandomSmallRotation(std::mt19937_64& rng, double sigma);
+
+// `rotations` each turned by its own RandomSmallRotation(rng, sigma), on the left.
+void JitterRotations(std::mt19937_64& rng, double sigma, std::vector<Eigen::Matrix3d>* rotations);
+
 // A random spherical four-bar assembled at the identity rotation: random fixed axes u1, u2 and
 // moving axes v1, v2 (the cranks' angles those between u_i and v_i), every link (cranks,
 // coupler, ground) between 15 and 165 degrees and its axes not nearly coplanar at the identity.

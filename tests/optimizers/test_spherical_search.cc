@@ -112,8 +112,8 @@ double FirstOrderReach(const SphericalDyad& dyad, const std::vector<Eigen::Matri
   return residuals.norm() / svd.singularValues()[4];
 }
 
-// The refiner's options run to convergence: its default 50 iterations can end early in the
-// flat valleys of ill-conditioned tasks (seen: stopped at RMS 4.8e-4 rad on its way to an
+// The refiner's options run to convergence: its default iterations can end early in the flat
+// valleys of ill-conditioned tasks (seen with 50: stopped at RMS 4.8e-4 rad on its way to an
 // optimum of RMS 3.1e-4).
 SphericalDyadRefinerOptions Converged() {
   SphericalDyadRefinerOptions options;

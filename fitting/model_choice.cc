@@ -443,6 +443,90 @@ double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>
   return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
 }
 
+namespace {
+
+// The residuals of a spherical dyad at the rotations and (when `jacobian` is given) their
+// Jacobian in its parameters: the fixed axis u turned by its tangents t1, t2 (NormalTurns), the
+// moving axis v by s1, s2, the cone angle. With w = R v and theta = angle(u, w), moving u by du
+// changes theta by -n . du (n: the unit tangent at u toward w) and moving w by dw by -m . dw (m:
+// the unit tangent at w toward u).
+void SphericalDyadResiduals(const SphericalDyad& dyad,
+                            const std::vector<Eigen::Matrix3d>& rotations,
+                            Eigen::VectorXd* residual, Eigen::MatrixXd* jacobian) {
+  const int n = static_cast<int>(rotations.size());
+  residual->resize(n);
+  Eigen::Vector3d t1, t2, s1, s2;
+  NormalTurns(dyad.fixed_axis, &t1, &t2);
+  NormalTurns(dyad.moving_axis, &s1, &s2);
+  if (jacobian != nullptr) jacobian->resize(n, 5);
+  for (int j = 0; j < n; ++j) {
+    (*residual)[j] = dyad.Residual(rotations[j]);
+    if (jacobian == nullptr) continue;
+    const Eigen::Vector3d& u = dyad.fixed_axis;
+    const Eigen::Vector3d w = rotations[j] * dyad.moving_axis;
+    const double c = u.dot(w);
+    const Eigen::Vector3d toward_w = (w - c * u).normalized();
+    const Eigen::Vector3d toward_u = (u - c * w).normalized();
+    (*jacobian)(j, 0) = -toward_w.dot(t1);
+    (*jacobian)(j, 1) = -toward_w.dot(t2);
+    (*jacobian)(j, 2) = -toward_u.dot(rotations[j] * s1);
+    (*jacobian)(j, 3) = -toward_u.dot(rotations[j] * s2);
+    (*jacobian)(j, 4) = -1.0;
+  }
+}
+
+// The dyad moved by -step in the parameters of SphericalDyadResiduals (the axes turned about
+// their current tangents and normalized; not made canonical, so the parameters stay continuous).
+SphericalDyad SphericalDyadStep(const SphericalDyad& dyad, const Eigen::VectorXd& step) {
+  Eigen::Vector3d t1, t2, s1, s2;
+  NormalTurns(dyad.fixed_axis, &t1, &t2);
+  NormalTurns(dyad.moving_axis, &s1, &s2);
+  SphericalDyad next;
+  next.fixed_axis = (dyad.fixed_axis - step[0] * t1 - step[1] * t2).normalized();
+  next.moving_axis = (dyad.moving_axis - step[2] * s1 - step[3] * s2).normalized();
+  next.angle = dyad.angle - step[4];
+  return next;
+}
+
+}  // namespace
+
+SphericalDyad FitDyadLeastSquares(const SphericalDyad& start,
+                                  const std::vector<Eigen::Matrix3d>& rotations, int iterations) {
+  // A step that changes the cost by less than this fraction ends the fit: converged.
+  constexpr double kConverged = 1e-12;
+  const auto residuals = [&](const SphericalDyad& dyad, Eigen::VectorXd* residual,
+                             Eigen::MatrixXd* jacobian) {
+    SphericalDyadResiduals(dyad, rotations, residual, jacobian);
+    return residual->squaredNorm();
+  };
+  const SphericalDyad dyad =
+      LevenbergMarquardt(start, iterations, kConverged, residuals, SphericalDyadStep);
+  return dyad.AllFinite() ? dyad : start;
+}
+
+double DyadErrorBound(const SphericalDyad& dyad, const std::vector<Eigen::Matrix3d>& rotations,
+                      const DataPrecision& precision) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const int n = static_cast<int>(rotations.size());
+  if (n < 5) return kInf;
+  Eigen::VectorXd residual;
+  Eigen::MatrixXd jacobian;
+  SphericalDyadResiduals(dyad, rotations, &residual, &jacobian);
+  // An orientation given to alpha turns R_j v by up to alpha; rounding of unit vectors at least.
+  const Eigen::VectorXd uncertainty =
+      Eigen::VectorXd::Constant(n, PointUncertainty(DataPrecision{0.0, precision.angle}, 1.0, 1.0));
+  const Eigen::VectorXd moves = ParameterMovesNearFold(
+      jacobian, residual, uncertainty, kCurvatureStep, [&](const Eigen::VectorXd& step) {
+        Eigen::VectorXd moved;
+        SphericalDyadResiduals(SphericalDyadStep(dyad, -step), rotations, &moved, nullptr);
+        return moved;
+      });
+  if (moves.size() == 0) return kInf;
+  const double bound =
+      std::max({std::hypot(moves[0], moves[1]), std::hypot(moves[2], moves[3]), moves[4]});
+  return std::isfinite(bound) ? bound : kInf;
+}
+
 std::string ConditionNote(double condition, double relative_precision, double bound) {
   char text[256];
   std::snprintf(text, sizeof(text),

@@ -23,6 +23,7 @@
 #include "lib/precision.h"
 #include "lib/spatial_dyad.h"
 #include "lib/spatial_pose.h"
+#include "lib/spherical_dyad.h"
 
 namespace linkfit {
 
@@ -69,6 +70,16 @@ PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<Plana
 double DyadErrorBound(const SpatialDyad& dyad, const std::vector<DualQuaternion>& poses,
                       const DataPrecision& precision, double scale);
 
+// The same for a spherical RR dyad (lib/spherical_dyad.h) over the orientations of a spherical
+// motion: the residuals angle(u, R_j v) - alpha in the fixed axis' two tangent turns, the moving
+// axis' two and the cone angle, each orientation uncertain by the data's angle precision (the
+// rotations are the poses' own, whatever the centre); second order along J's weakest direction
+// near a double root, as in space. The bound is the largest turn of either axis or change of the
+// cone angle, in radians. Infinity for fewer than five orientations or when they do not
+// determine the dyad.
+double DyadErrorBound(const SphericalDyad& dyad, const std::vector<Eigen::Matrix3d>& rotations,
+                      const DataPrecision& precision);
+
 // How far apart two designs of size `size` may be and still be one (planar SameDyad, the
 // spatial dyads' merge): within the data's precision (kModelUnits point uncertainties at their
 // size, in `dimension` coordinates), within `bound` (how far the precision can move them: the
@@ -85,6 +96,12 @@ PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<Planar
 // Two unit vectors tangent to a unit plane normal (normal x the least axis, then normal x that):
 // the directions it turns in, and with the normal a right-handed frame.
 void NormalTurns(const Eigen::Vector3d& normal, Eigen::Vector3d* turn1, Eigen::Vector3d* turn2);
+
+// The same for a spherical dyad over the orientations of a spherical motion, in the parameters of
+// its DyadErrorBound (the axes' tangent turns, the cone angle): the real part of a complex root
+// pair of the five-orientation problem.
+SphericalDyad FitDyadLeastSquares(const SphericalDyad& start,
+                                  const std::vector<Eigen::Matrix3d>& rotations, int iterations);
 
 // A pose's rotation and translation, evaluated once (the fits evaluate residuals many times).
 struct SpatialFrame {

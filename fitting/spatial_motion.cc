@@ -274,25 +274,40 @@ SpatialMotionResult SolveSpatialMotion(const Task& task, const SpatialMotionOpti
 
   const bool have_pivots =
       !(task.spatial_moving_pivots.empty() && task.spatial_fixed_pivots.empty());
-  if (!have_pivots) {
-    if (std::optional<PlanarEmbedding> plane =
-            DetectPlanarMotion(poses, length, PlanarityTolerance(task, length, options))) {
-      SolvePlanar(task, options, std::move(*plane), &result);
-      return finish();
+  // One fit of the plane and one of the centre decide: planar or spherical within the data's
+  // precision, else nearly spherical (solved as spatial, and said so), else spatial. Coarse data
+  // can be both (four digits of dual quaternions: rotations about axes a few 1e-3 apart are
+  // planar within their precision): the better fit relative to its tolerance is the model,
+  // planar on a tie (measured: a spherical four-bar's five or ten orientations printed so fit
+  // the centre at least 18 times better; planar data never fit a centre).
+  const double planarity_tolerance = PlanarityTolerance(task, length, options);
+  std::optional<PlanarEmbedding> plane =
+      have_pivots ? std::nullopt : DetectPlanarMotion(poses, length, planarity_tolerance);
+  const std::optional<SphericalCenter> center =
+      have_pivots ? std::nullopt : FitSphericalCenter(poses, length);
+  const double within =
+      center ? SphericityTolerance(*center, length, task.precision, options.sphericity_tolerance)
+             : 0.0;
+  const bool spherical = center && center->sphericity <= within;
+  if (plane && !(spherical &&
+                 center->sphericity / within < plane->planarity / (planarity_tolerance * length))) {
+    SolvePlanar(task, options, std::move(*plane), &result);
+    return finish();
+  }
+  if (spherical) {
+    if (plane) {
+      result.notes.push_back(
+          "the poses also lie in one plane within the data's precision (largest deviation " +
+          Format("%.3g", plane->planarity) +
+          "), but fix one point more closely: solved as "
+          "spherical");
     }
+    SolveSphericalMotion(task, *center, options.spherical, &result);
+    return finish();
   }
   std::vector<double> weights = task.pose_weights;
   if (weights.size() != poses.size()) weights.assign(poses.size(), 1.0);
-  // One fit of the centre decides: spherical within the data's precision, else nearly spherical
-  // (solved as spatial, and said so), else spatial.
-  if (std::optional<SphericalCenter> center =
-          have_pivots ? std::nullopt : FitSphericalCenter(poses, length)) {
-    const double within =
-        SphericityTolerance(*center, length, task.precision, options.sphericity_tolerance);
-    if (center->sphericity <= within) {
-      SolveSphericalMotion(task, *center, options.spherical, &result);
-      return finish();
-    }
+  if (center) {
     if (center->sphericity <= options.nearly_spherical * length) {
       const Eigen::Vector3d& c = center->in_fixed;
       result.notes.push_back(

@@ -6,10 +6,14 @@
 #include <cmath>
 #include <complex>
 
+#include "fitting/model_choice.h"
 #include "fitting/polynomial.h"
 
 namespace linkfit {
 namespace {
+
+// Levenberg-Marquardt steps for the real part of a complex root (as the spatial solver's).
+constexpr int kComplexFitIterations = 50;
 
 using Complex = std::complex<double>;
 using Vector3c = Eigen::Vector3cd;
@@ -306,6 +310,26 @@ int SolveSphericalBurmester(const std::vector<Eigen::Matrix3d>& rotations,
   info.roots_total = 6;
   const Eigen::Matrix<Complex, 30, 6> roots = null.cast<Complex>() * eigen.eigenvectors();
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> real_roots;
+  // The real parts of complex roots that fit the orientations within the data's precision.
+  std::vector<SphericalDyad> within_precision;
+  const double fits_within =
+      kModelUnits * PointUncertainty(DataPrecision{0.0, options.precision.angle}, 1.0, 1.0);
+  const auto keep_real_part = [&](const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+    if (!(u.norm() > 0.0) || !(v.norm() > 0.0)) return;
+    const SphericalDyad raw =
+        FitDyadLeastSquares(DyadOf(u.normalized(), v.normalized(), rotations, weights), rotations,
+                            kComplexFitIterations);
+    const SphericalDyad fitted = SphericalDyad::Make(raw.fixed_axis, raw.moving_axis, raw.angle);
+    if (!fitted.AllFinite() || !(fitted.MaxResidual(rotations) <= fits_within)) return;
+    // A conjugate pair has one real part: kept once.
+    for (const SphericalDyad& kept : within_precision) {
+      if (std::abs(kept.fixed_axis.dot(fitted.fixed_axis)) > 1.0 - 1e-12 &&
+          std::abs(kept.moving_axis.dot(fitted.moving_axis)) > 1.0 - 1e-12) {
+        return;
+      }
+    }
+    within_precision.push_back(fitted);
+  };
   for (int r = 0; r < 6; ++r) {
     // The monomial vector u_i v^3: u from its largest column, v from v_a^2 v (a the largest).
     Eigen::Matrix<Complex, 3, 10> m;
@@ -321,11 +345,15 @@ int SolveSphericalBurmester(const std::vector<Eigen::Matrix3d>& rotations,
     const Vector3c v = PhaseNormalized(
         Vector3c(cubic(Monomial3(a, a, 0)), cubic(Monomial3(a, a, 1)), cubic(Monomial3(a, a, 2))));
     const double share = std::max(u.imag().cwiseAbs().maxCoeff(), v.imag().cwiseAbs().maxCoeff());
-    if (!(share < options.real_tolerance)) continue;
+    if (!(share < options.real_tolerance)) {
+      keep_real_part(u.real(), v.real());
+      continue;
+    }
     Eigen::Vector3d ur = u.real(), vr = v.real();
     const double residual = PolishRoot(bilinear, options.newton_iterations, &ur, &vr);
     if (!(residual < 1e-9) || !ur.allFinite() || !vr.allFinite()) {
       if (share > 0.0) ++info.nearly_real;
+      keep_real_part(u.real(), v.real());
       continue;
     }
     // A double root polishes twice to one dyad.
@@ -339,6 +367,16 @@ int SolveSphericalBurmester(const std::vector<Eigen::Matrix3d>& rotations,
   }
   info.roots_real = static_cast<int>(real_roots.size());
   for (const auto& [u, v] : real_roots) dyads->push_back(DyadOf(u, v, rotations, weights));
+  for (const SphericalDyad& dyad : within_precision) {
+    // Not when it is one of the real roots (a double root that also polished).
+    const bool repeat = std::any_of(dyads->begin(), dyads->end(), [&](const SphericalDyad& real) {
+      return DirectionAngle(real.fixed_axis, dyad.fixed_axis) < 1e-6 &&
+             DirectionAngle(real.moving_axis, dyad.moving_axis) < 1e-6;
+    });
+    if (repeat) continue;
+    dyads->push_back(dyad);
+    ++info.real_within_precision;
+  }
   return static_cast<int>(dyads->size());
 }
 

@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/precision.h"
 #include "lib/spherical_dyad.h"
 
 namespace linkfit {
@@ -48,15 +49,21 @@ struct SphericalBurmesterOptions {
   int newton_iterations = 8;
   // sigma_4 / sigma_1 of the centred rows below which the orientations leave a family of dyads.
   double rank_tolerance = 1e-10;
+  // The data's precision (its angle: the rotations'). Rounding can split a double root into a
+  // complex pair: the real part of a complex root, fitted to the orientations by least squares,
+  // is kept as a dyad when it misses none by more than kModelUnits (fitting/model_choice.h) times
+  // that angle (never below rounding), as the spatial solver keeps them.
+  DataPrecision precision;
 };
 
 struct SphericalBurmesterSummary {
-  int roots_total = 0;        // roots of the bilinear system, complex included (6)
-  int roots_real = 0;         // real ones among them
-  int nearly_real = 0;        // complex roots within real_tolerance that did not polish
-  double condition = 0.0;     // sigma_1 / sigma_4 of the centred rows
-  double fit_residual = 0.0;  // more than five orientations: the seed space's RMS residual
-  bool degenerate = false;    // rank-deficient: a family of dyads
+  int roots_total = 0;            // roots of the bilinear system, complex included (6)
+  int roots_real = 0;             // real ones among them
+  int nearly_real = 0;            // complex roots within real_tolerance that did not polish
+  int real_within_precision = 0;  // complex roots kept: their real parts fit within precision
+  double condition = 0.0;         // sigma_1 / sigma_4 of the centred rows
+  double fit_residual = 0.0;      // more than five orientations: the seed space's RMS residual
+  bool degenerate = false;        // rank-deficient: a family of dyads
 };
 
 // The bilinear equations of the orientations (file comment), B_k of unit Frobenius norm, and the

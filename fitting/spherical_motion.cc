@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <string>
 
+#include "fitting/model_choice.h"
 #include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
 #include "lib/text_format.h"
@@ -49,7 +50,7 @@ void AxisDyads(const Task& task, const SphericalMotion& motion, const std::vecto
                                 (moving ? "circle-axis" : "center-axis") +
                                 " cone of the four orientations");
       }
-      result->spherical_dyads.push_back(ReportSphericalDyad(dyad, motion, weights));
+      result->spherical_dyads.push_back(ReportSphericalDyad(dyad, motion, weights, task.precision));
     }
   }
 }
@@ -62,15 +63,12 @@ SphericalMotion TaskSphericalMotion(const Task& task, const SphericalCenter& cen
 }
 
 bool SameSphericalDyad(const SphericalDyad& a, const SphericalDyad& b, double tolerance) {
-  const double same =
-      std::max((a.fixed_axis - b.fixed_axis).norm(), (a.moving_axis - b.moving_axis).norm());
-  const double flipped =
-      std::max((a.fixed_axis + b.fixed_axis).norm(), (a.moving_axis + b.moving_axis).norm());
-  return std::min(same, flipped) <= tolerance && std::abs(a.angle - b.angle) <= tolerance;
+  return SphericalDyadDistance(a, b) <= tolerance;
 }
 
 SphericalDyadReport ReportSphericalDyad(const SphericalDyad& dyad, const SphericalMotion& motion,
-                                        const std::vector<double>& weights) {
+                                        const std::vector<double>& weights,
+                                        const DataPrecision& precision) {
   SphericalDyadReport report;
   report.dyad = dyad;
   double worst = 0.0, sum = 0.0, total = 0.0;
@@ -85,6 +83,7 @@ SphericalDyadReport ReportSphericalDyad(const SphericalDyad& dyad, const Spheric
   if (motion.rotations.size() > 5 && total > 0.0) {
     report.rms_residual = motion.length * std::sqrt(sum / total);
   }
+  report.error_bound = DyadErrorBound(dyad, motion.rotations, precision);
   return report;
 }
 
@@ -216,8 +215,10 @@ void SolveSphericalMotion(const Task& task, const SphericalCenter& center,
   } else {
     std::vector<SphericalDyad> dyads;
     SphericalBurmesterSummary summary;
-    SphericalSeeds(motion.rotations, weights, options.burmester, n == 5 ? 0 : options.seed_subsets,
-                   &dyads, &summary);
+    SphericalBurmesterOptions burmester = options.burmester;
+    burmester.precision = task.precision;
+    SphericalSeeds(motion.rotations, weights, burmester, n == 5 ? 0 : options.seed_subsets, &dyads,
+                   &summary);
     result->method = n == 5 ? "exact" : "least-squares";
     result->roots_total = summary.roots_total;
     result->roots_real = summary.roots_real;
@@ -234,8 +235,14 @@ void SolveSphericalMotion(const Task& task, const SphericalCenter& center,
                               " complex roots are nearly real: ill-conditioned near a double "
                               "root, where rounding can turn two real dyads into a complex pair");
     }
+    if (summary.real_within_precision > 0) {
+      result->notes.push_back(std::to_string(summary.real_within_precision) +
+                              " complex roots are real within the data's precision (rounding "
+                              "turns two nearby dyads into a complex pair): their real parts, "
+                              "fitted to the orientations, fit them within it and are listed");
+    }
     for (const SphericalDyad& dyad : dyads) {
-      result->spherical_dyads.push_back(ReportSphericalDyad(dyad, motion, weights));
+      result->spherical_dyads.push_back(ReportSphericalDyad(dyad, motion, weights, task.precision));
     }
     std::stable_sort(result->spherical_dyads.begin(), result->spherical_dyads.end(),
                      [](const SphericalDyadReport& a, const SphericalDyadReport& b) {

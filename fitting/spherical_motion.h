@@ -47,13 +47,14 @@ int SphericalSeeds(const std::vector<Eigen::Matrix3d>& rotations,
                    int subsets, std::vector<SphericalDyad>* seeds,
                    SphericalBurmesterSummary* summary = nullptr);
 
-// Whether two dyads are one: their axes (either sign) and angles within `tolerance` radians.
+// Whether two dyads are one: SphericalDyadDistance (lib/spherical_dyad.h) within `tolerance`.
 bool SameSphericalDyad(const SphericalDyad& a, const SphericalDyad& b, double tolerance);
 
 // The report of a dyad over the motion: max_residual (and for more than five orientations the
-// weighted RMS) in length units (L times the angle).
+// weighted RMS) in length units (L times the angle), and its error bound at the data's precision.
 SphericalDyadReport ReportSphericalDyad(const SphericalDyad& dyad, const SphericalMotion& motion,
-                                        const std::vector<double>& weights);
+                                        const std::vector<double>& weights,
+                                        const DataPrecision& precision);
 
 // The four-bar of dyads i and j (both inputs tried, the better kept), judged against the task's
 // constraints (input_rotates_fully, grashof, min_transmission_angle_deg).

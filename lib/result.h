@@ -149,6 +149,10 @@ struct SphericalDyadReport {
   // Least squares: the weighted RMS of the same, and the seed's before the refinement.
   std::optional<double> rms_residual;
   std::optional<double> seed_rms_residual;
+  // How far the data's angle precision can move the dyad, radians (fitting/model_choice.h
+  // DyadErrorBound: either axis' turn or the cone angle's change); infinity when the orientations
+  // do not determine it (fewer than five).
+  std::optional<double> error_bound;
 };
 
 struct SpatialMotionResult {

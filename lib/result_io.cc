@@ -40,14 +40,15 @@ void PutPoint3(Json* object, const std::string& key, const Eigen::Vector3d& poin
   }
 }
 
-// "error_bound": how far the data's precision can move the dyad, or a note when the data do not
-// determine it at their precision.
+// "error_bound" (or `key`): how far the data's precision can move the dyad, or a note when the
+// data do not determine it at their precision.
 void PutErrorBound(
     Json* object, const std::optional<double>& error_bound,
-    const char* undetermined = "the poses do not determine this dyad at the data's precision") {
+    const char* undetermined = "the poses do not determine this dyad at the data's precision",
+    const char* key = "error_bound") {
   if (!error_bound) return;
   if (std::isfinite(*error_bound)) {
-    PutNumber(object, "error_bound", *error_bound);
+    PutNumber(object, key, *error_bound);
   } else {
     (*object)["error_bound_note"] = undetermined;
   }
@@ -172,6 +173,11 @@ Json SphericalDyadToJson(const SphericalDyadReport& report) {
   PutPoint3(&object, "moving_axis", report.dyad.moving_axis);
   PutNumber(&object, "angle_deg", report.dyad.angle * 180.0 / M_PI);
   PutNumber(&object, "max_residual", report.max_residual);
+  if (report.error_bound) {
+    PutErrorBound(&object, *report.error_bound * 180.0 / M_PI,
+                  "the orientations do not determine this dyad at the data's precision",
+                  "error_bound_deg");
+  }
   PutLeastSquares(&object, report.rms_residual, report.seed_rms_residual);
   return object;
 }

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace linkfit {
 
@@ -27,6 +28,20 @@ SphericalDyad SphericalDyad::Make(const Eigen::Vector3d& fixed_axis,
     dyad.moving_axis = -dyad.moving_axis;
   }
   return dyad;
+}
+
+double SphericalDyadDistance(const SphericalDyad& a, const SphericalDyad& b) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const double fixed_sign : {1.0, -1.0}) {
+    for (const double moving_sign : {1.0, -1.0}) {
+      // One axis turned over makes the cone angle pi - alpha; both keep it.
+      const double angle = fixed_sign * moving_sign > 0.0 ? b.angle : M_PI - b.angle;
+      best = std::min(best, std::max({DirectionAngle(a.fixed_axis, fixed_sign * b.fixed_axis),
+                                      DirectionAngle(a.moving_axis, moving_sign * b.moving_axis),
+                                      std::abs(a.angle - angle)}));
+    }
+  }
+  return best;
 }
 
 double SphericalDyad::MaxResidual(const std::vector<Eigen::Matrix3d>& rotations) const {

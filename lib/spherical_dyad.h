@@ -40,6 +40,12 @@ struct SphericalDyad {
   bool AllFinite() const;
 };
 
+// How far apart two spherical dyads are: the largest of the angles between their fixed axes and
+// between their moving axes and the difference of their cone angles (radians), the least over
+// the four sign forms of one dyad (file comment), so that a dyad near alpha = pi/2, whose
+// canonical form may flip an axis, is near itself.
+double SphericalDyadDistance(const SphericalDyad& a, const SphericalDyad& b);
+
 // A spherical motion in its centre frames: the task's poses (R_j, d_j) with R_j p + d_j = P.
 // A body point p + y (E) is at P + R_j y (Sigma).
 struct SphericalMotion {

@@ -268,7 +268,7 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
     SphericalDyad dyad = seed.dyad;
     RefineSphericalDyad(motion.rotations, weights, task.pose_exact, &dyad,
                         options.spherical_refiner);
-    SphericalDyadReport report = ReportSphericalDyad(dyad, motion, weights);
+    SphericalDyadReport report = ReportSphericalDyad(dyad, motion, weights, task.precision);
     report.seed_rms_residual = seed.rms_residual;
     bool repeat = false;
     for (SphericalDyadReport& kept : refined) {
@@ -300,7 +300,7 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
             return SameSphericalDyad(kept.dyad, dyad, kSameSphericalOptimum);
           });
       if (repeat) continue;
-      refined.push_back(ReportSphericalDyad(dyad, motion, weights));
+      refined.push_back(ReportSphericalDyad(dyad, motion, weights, task.precision));
       ++added;
     }
     std::stable_sort(refined.begin(), refined.end(), by_fit);

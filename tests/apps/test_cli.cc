@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "lib/spherical_dyad.h"
+
 namespace {
 
 // The five distinct planar poses of a minimal motion task, as JSON objects.
@@ -587,20 +589,32 @@ TEST_F(CliTest, SolvesAndDrawsTheBundledSphericalFourBar) {
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(result["center"][k].get<double>(), (std::vector<double>{1.2, -0.5, 0.8})[k], 1e-5);
   }
-  // The generating dyads (fixed axis, moving axis, angle in degrees).
+  // The generating dyads (fixed axis, moving axis, angle in degrees), each within the error bound
+  // its listed dyad states (six digits: a few thousandths of a degree).
   const double planted[2][7] = {
       {-0.386329, 0.686501, -0.616008, -0.891556, 0.382512, -0.242514, 40.8505},
       {0.272805, 0.454243, 0.84808, -0.539467, 0.520343, 0.661981, 49.4127}};
+  const auto axis = [](const nlohmann::json& json) {
+    return Eigen::Vector3d(json[0].get<double>(), json[1].get<double>(), json[2].get<double>());
+  };
   std::vector<int> found;
   for (const auto& expected : planted) {
     for (size_t i = 0; i < result["dyads"].size(); ++i) {
       const nlohmann::json& dyad = result["dyads"][i];
       EXPECT_EQ(dyad["type"], "RR");
-      bool same = std::abs(dyad["angle_deg"].get<double>() - expected[6]) <= 1e-3;
-      for (int k = 0; k < 3; ++k) {
-        same &= std::abs(dyad["fixed_axis"][k].get<double>() - expected[k]) <= 1e-4 &&
-                std::abs(dyad["moving_axis"][k].get<double>() - expected[3 + k]) <= 1e-4;
-      }
+      ASSERT_TRUE(dyad.contains("error_bound_deg")) << dyad;
+      const double bound = dyad["error_bound_deg"].get<double>();
+      EXPECT_LT(bound, 0.01);
+      const double fixed_deg =
+          linkfit::DirectionAngle(axis(dyad["fixed_axis"]),
+                                  Eigen::Vector3d(expected[0], expected[1], expected[2])) *
+          180.0 / M_PI;
+      const double moving_deg =
+          linkfit::DirectionAngle(axis(dyad["moving_axis"]),
+                                  Eigen::Vector3d(expected[3], expected[4], expected[5])) *
+          180.0 / M_PI;
+      const bool same = std::abs(dyad["angle_deg"].get<double>() - expected[6]) <= bound &&
+                        fixed_deg <= bound && moving_deg <= bound;
       if (same) found.push_back(static_cast<int>(i));
     }
   }

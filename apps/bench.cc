@@ -731,7 +731,8 @@ void RunRefine(int tasks, uint64_t seed) {
 
 // Spherical least squares, balanced against thorough (file comment): `tasks` random spherical
 // four-bars, `count` orientations each turned by noise `noise` (radians), about a centre away
-// from both frames' origins.
+// from both frames' origins (tests/support/random_spherical.h RandomSphericalPoses, as linkfit
+// bench's spherical motion rows).
 void RunSphericalRow(int tasks, int count, double noise, uint64_t seed) {
   using linkfit::SpatialMotionResult;
   using linkfit::SphericalDyad;
@@ -763,10 +764,9 @@ void RunSphericalRow(int tasks, int count, double noise, uint64_t seed) {
   linkfit::SphericalDyadRefinerOptions converged;
   converged.max_iterations = 1000;
   for (int t = 0; t < tasks; ++t) {
-    linkfit::testing::SphericalTask drawn = linkfit::testing::RandomSphericalTask(rng, count);
-    linkfit::testing::JitterRotations(rng, noise, &drawn.rotations);
-    linkfit::Task task = linkfit::SpatialMotionTask(linkfit::testing::PosesAboutCenter(
-        drawn.rotations, Eigen::Vector3d(0.3, -0.2, 0.5), Eigen::Vector3d(1.0, 2.0, -1.0)));
+    const linkfit::testing::SphericalPosesTask drawn =
+        linkfit::testing::RandomSphericalPoses(rng, count, noise);
+    linkfit::Task task = linkfit::SpatialMotionTask(drawn.poses);
     task.effort = linkfit::Effort::kBalanced;
     auto begin = std::chrono::steady_clock::now();
     const SpatialMotionResult balanced = linkfit::SolveSpatialTask(task);

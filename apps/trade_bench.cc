@@ -15,14 +15,17 @@
 #include "apps/constrained_bench.h"
 #include "apps/extremes_bench.h"
 #include "apps/percentile.h"
+#include "fitting/spherical_motion.h"
 #include "lib/design_constraints.h"
 #include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
+#include "lib/spherical_four_bar.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_function.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
+#include "tests/support/random_spherical.h"
 
 namespace linkfit {
 namespace {
@@ -221,6 +224,49 @@ TradeOutcome RunFunction(std::mt19937_64& rng, Effort effort, int count, double 
   return outcome;
 }
 
+// ---- spherical motion ----
+
+// Orientations of a random spherical four-bar about a centre off both frames' origins
+// (tests/support/random_spherical.h RandomSphericalPoses), each turned by noise sigma radians,
+// given as spatial poses and solved as `linkfit solve` would: the result must say "spherical"
+// (else the task is a miss, error inf). Error: noise 0, the best spherical four-bar's pose error
+// in L (no circuit or branch defect; minimal data: the largest, else the RMS), as for planar
+// motion; noisy, that against the generating four-bar's own on the same poses. The noise is on
+// the rotations only: the poses still fix the centre, so the motion stays spherical.
+TradeOutcome RunSpherical(std::mt19937_64& rng, Effort effort, int count, double noise) {
+  const testing::SphericalPosesTask generated = testing::RandomSphericalPoses(rng, count, noise);
+  const Task task = SpatialMotionTask(generated.poses, effort);
+  TradeOutcome outcome;
+  const auto begin = std::chrono::steady_clock::now();
+  const SpatialMotionResult result = SolveSpatialTask(task);
+  outcome.ms = MillisecondsSince(begin);
+  if (result.model != "spherical" || !result.spherical) return outcome;
+  // Minimal data: the largest pose error (no RMS is reported); more: the RMS pose error.
+  double best = kInfinity;
+  for (const MechanismReport& mechanism : result.spherical_mechanisms) {
+    const std::optional<double>& error =
+        mechanism.rms_pose_error ? mechanism.rms_pose_error : mechanism.max_pose_error;
+    if (error && OnOneBranch(mechanism.defects)) best = std::min(best, *error);
+  }
+  if (noise == 0.0) {
+    outcome.error = best / result.scale;
+    return outcome;
+  }
+  // The generating four-bar on the same noisy poses, about the centre the solver found, measured
+  // the same way (fitting/spherical_motion.cc AnalyzeSphericalPair).
+  const SphericalMotion motion = TaskSphericalMotion(task, *result.spherical, result.scale);
+  const SphericalFourBarAnalysis analysis = AnalyzeSphericalFourBar(generated.four_bar, motion);
+  if (!analysis.max_pose_error) return outcome;  // no reference (not seen: the noise is small)
+  double sum = 0.0;
+  for (const FourBarLocation& location : analysis.locations) {
+    sum += location.pose_error * location.pose_error;
+  }
+  const double reference =
+      count > 5 ? std::sqrt(sum / analysis.locations.size()) : *analysis.max_pose_error;
+  outcome.error = reference > 0.0 ? best / reference : kInfinity;
+  return outcome;
+}
+
 // ---- the table ----
 
 struct Sizes {
@@ -250,6 +296,7 @@ TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Ef
                           std::mt19937_64& rng) {
   if (family == "planar motion") return RunPlanar(rng, effort, items, noise);
   if (family == "spatial motion") return RunSpatial(rng, effort, items, noise);
+  if (family == "spherical motion") return RunSpherical(rng, effort, items, noise);
   if (family == "function abs") return RunFunction(rng, effort, items, noise, false);
   if (family == "function rel") return RunFunction(rng, effort, items, noise, true);
   return RunPath(rng, effort, items, noise, family == "untimed path");
@@ -310,6 +357,11 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
     run_family("spatial motion", count, count == 7, "spatial exact", "spatial least squares",
                kExactTolerance);
   }
+  // Spherical motion: noise in radians of each orientation, errors in L.
+  for (const int count : {5, 10, 20}) {
+    run_family("spherical motion", count, count == 5, "spherical exact", "spherical least squares",
+               kExactTolerance);
+  }
   for (const int count : {5, 10, 20}) {
     run_family("timed path", count, count == 5, "path exact", "path least squares",
                kExactTolerance);
@@ -356,6 +408,8 @@ const char* PathColor(const std::string& path) {
                                                             {"planar least squares", "#1f77b4"},
                                                             {"spatial exact", "#d62728"},
                                                             {"spatial least squares", "#d62728"},
+                                                            {"spherical exact", "#ff7f0e"},
+                                                            {"spherical least squares", "#ff7f0e"},
                                                             {"path exact", "#2ca02c"},
                                                             {"path least squares", "#2ca02c"},
                                                             {"path free timing", "#9467bd"},
@@ -505,16 +559,23 @@ std::string TradeSvg(const std::vector<TradeRow>& rows) {
   }
   // Legend: colour = solver path, marker = effort level, number = poses or points per task.
   double y = kPanelTop + kPanelHeight + 62;
-  const std::pair<const char*, const char*> paths[] = {{"planar motion", "planar exact"},
-                                                       {"spatial motion", "spatial exact"},
-                                                       {"timed path", "path exact"},
-                                                       {"path, free timing", "path free timing"}};
+  const std::pair<const char*, const char*> paths[] = {
+      {"planar motion", "planar exact"},         {"spatial motion", "spatial exact"},
+      {"spherical motion", "spherical exact"},   {"timed path", "path exact"},
+      {"path, free timing", "path free timing"}, {"function", "function exact"}};
+  // An entry for each family the table has.
+  const auto in_table = [&](const std::string& color) {
+    return std::any_of(rows.begin(), rows.end(),
+                       [&](const TradeRow& row) { return PathColor(row.path) == color; });
+  };
   double x = kPanelLeft;
   for (const auto& [label, path] : paths) {
+    const char* color = PathColor(path);
+    if (!in_table(color)) continue;
     svg << "<line x1=\"" << x << "\" y1=\"" << y - 4 << "\" x2=\"" << x + 20 << "\" y2=\"" << y - 4
-        << "\" stroke=\"" << PathColor(path) << "\" stroke-width=\"3\"/>\n"
+        << "\" stroke=\"" << color << "\" stroke-width=\"3\"/>\n"
         << "<text x=\"" << x + 26 << "\" y=\"" << y << "\">" << label << "</text>\n";
-    x += 200;
+    x += 180;
   }
   y += 24;
   x = kPanelLeft;
@@ -530,6 +591,10 @@ std::string TradeSvg(const std::vector<TradeRow>& rows) {
       << "Error: exact data in L (best four-bar's pose or point error; spatial: generating dyads' "
          "nearest match); noisy data divided by the generating mechanism's own error. Values "
          "beyond an axis are drawn on its edge.</text>\n";
+  y += 14;
+  svg << "<text x=\"" << kPanelLeft << "\" y=\"" << y << "\" font-size=\"10\" fill=\"#555\">"
+      << "Noise: sigma / L (positions, and L times the angles); spherical motion and function "
+         "generation: sigma in radians (orientations, output angles).</text>\n";
   svg << "</svg>\n";
   return svg.str();
 }

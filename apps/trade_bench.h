@@ -5,18 +5,21 @@
 // Families: planar motion (5, 10, 50, 200 poses from a random four-bar), spatial motion (7, 10,
 // 30 poses of a random 5-SS platform), timed path (5, 10, 20 points of a random crank-driven
 // four-bar, prescribed timing; 10 and 20 also with free timing); noise 0, 1e-3 L and 1e-2 L
-// (positions, and L times the angles); function generation (3 and 12 absolute pairs, 5 and 12
-// relative pairs of a random four-bar, noise in radians of the output angle, errors in radians).
-// Each task is solved end to end (SolvePlanarTask, SolveSpatialTask, SolvePathTask) at each effort
-// level; minimal data are solved exactly.
+// (positions, and L times the angles); spherical motion (5, 10, 20 orientations of a random
+// spherical four-bar, as spatial poses about a centre off both frames' origins, noise in radians
+// of each orientation; the poses still fix the centre); function generation (3 and 12 absolute
+// pairs, 5 and 12 relative pairs of a random four-bar, noise in radians of the output angle,
+// errors in radians). Each task is solved end to end (SolvePlanarTask, SolveSpatialTask,
+// SolvePathTask, SolveFunctionTask) at each effort level; minimal data are solved exactly.
 //
-// Final error: noise 0, in units of L: the best four-bar's pose or point error (planar and path:
-// RMS over the task, the largest for minimal data; only four-bars without a circuit or branch
-// defect count), or for spatial tasks the largest over the five generating dyads of the RMS
-// residual of the returned dyad nearest it. With noise, the same measure divided by the
-// generating mechanism's own on the same noisy data (below 1: the fit beats the truth, as a
-// least-squares optimum should). Success: the generating mechanism, or a better one, is found:
-// error <= 1e-9 (exact data; free timing 1e-6), or <= 1.10 with noise.
+// Final error: noise 0, in units of L: the best four-bar's pose or point error (planar, spherical
+// and path: RMS over the task, the largest for minimal data; only four-bars without a circuit or
+// branch defect count; a spherical task whose result is not spherical is a miss), or for spatial
+// tasks the largest over the five generating dyads of the RMS residual of the returned dyad
+// nearest it. With noise, the same measure divided by the generating mechanism's own on the same
+// noisy data (below 1: the fit beats the truth, as a least-squares optimum should). Success: the
+// generating mechanism, or a better one, is found: error <= 1e-9 (exact data; free timing 1e-6),
+// or <= 1.10 with noise.
 #ifndef LINKFIT_APPS_TRADE_BENCH_H_
 #define LINKFIT_APPS_TRADE_BENCH_H_
 
@@ -55,9 +58,9 @@ struct BenchOptions {
 // One cell of the trade table: a task family at one noise level, solved by one solver path at
 // one effort level.
 struct TradeRow {
-  std::string family;  // "planar motion", "spatial motion", "timed path"
+  std::string family;  // "planar motion", "spatial motion", "spherical motion", "timed path", ...
   int items = 0;       // poses or points per task
-  double noise = 0.0;  // sigma / L
+  double noise = 0.0;  // sigma / L (spherical motion, function generation: radians)
   std::string path;    // the solver path, e.g. "planar least squares"
   std::string effort;  // "exact" (minimal data) | "fast" | "balanced" | "thorough"
   int tasks = 0;
@@ -72,10 +75,11 @@ struct TradeOutcome {
   double error = std::numeric_limits<double>::infinity();
 };
 
-// Draws the next task of a family ("planar motion", "spatial motion", "timed path", "untimed
-// path") with `items` poses or points and noise sigma / L from `rng`, and solves it at `effort`
-// (minimal data: exactly, whatever the effort). The same state of `rng` gives the same task at
-// every effort level.
+// Draws the next task of a family ("planar motion", "spatial motion", "spherical motion", "timed
+// path", "untimed path", "function abs", "function rel") with `items` poses, points or pairs and
+// noise sigma / L (radians for spherical motion and function generation) from `rng`, and solves
+// it at `effort` (minimal data: exactly, whatever the effort). The same state of `rng` gives the
+// same task at every effort level.
 TradeOutcome RunTradeTask(const std::string& family, int items, double noise, Effort effort,
                           std::mt19937_64& rng);
 

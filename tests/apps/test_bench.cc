@@ -1,7 +1,8 @@
 // `linkfit bench`: the extremes sweep must find no wrong and no non-finite answer, the planar /
-// spatial switch must not flap, the trade table must come out as CSV and SVG, on the trade's
-// tasks a higher effort level must never be worse than a lower one, and the constrained families
-// must come out as CSV (their targets are measured by the bench, not here).
+// spatial switch must not flap, the trade table must come out as CSV and SVG, its spherical rows
+// must solve exact data, on the trade's tasks a higher effort level must never be worse than a
+// lower one, and the constrained families must come out as CSV (their targets are measured by
+// the bench, not here).
 #include <sys/wait.h>
 
 #include <cmath>
@@ -158,6 +159,33 @@ TEST(TradeBench, FamilyRunsOnlyItsRows) {
   }
   options.family = "rounded";  // an extremes family: no trade rows
   EXPECT_TRUE(RunTradeBench(options, nullptr).empty());
+}
+
+// The spherical motion rows, quick: on exact data the exact solver of five orientations and every
+// effort level of ten orientations find the generating four-bar (or one as good) in every task,
+// each result recognised as spherical (a task solved otherwise counts as a miss). Not twenty
+// orientations: drawing such a task takes about 0.1 s (SphericalFourBarRotations' spacing).
+TEST(TradeBench, SphericalMotionSolvesExactData) {
+  BenchOptions options;
+  options.quick = true;
+  std::vector<TradeRow> rows;
+  for (const char* family : {"spherical motion:5", "spherical motion:10"}) {
+    options.family = family;
+    const std::vector<TradeRow> part = RunTradeBench(options, nullptr);
+    rows.insert(rows.end(), part.begin(), part.end());
+  }
+  ASSERT_EQ(rows.size(), 3u + 3u * 3u);  // three noise levels: exact, or three efforts
+  for (const TradeRow& row : rows) {
+    SCOPED_TRACE(row.family + " " + std::to_string(row.items) + ", noise " +
+                 FormatNumber(row.noise) + ", " + row.effort);
+    EXPECT_EQ(row.path, row.items == 5 ? "spherical exact" : "spherical least squares");
+    EXPECT_GT(row.tasks, 0);
+    if (row.noise == 0.0) {
+      EXPECT_EQ(row.success_share, 1.0) << "worst error " << row.worst_error << " L";
+    } else {
+      EXPECT_TRUE(std::isfinite(row.median_error)) << row.median_error;
+    }
+  }
 }
 
 // Effort levels compared like for like: each task of a trade family (trade_bench.h: the same

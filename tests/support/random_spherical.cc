@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace linkfit::testing {
 
@@ -106,6 +107,17 @@ std::vector<DualQuaternion> PosesAboutCenter(const std::vector<Eigen::Matrix3d>&
         rotation, center_in_fixed - rotation * center_in_moving));
   }
   return poses;
+}
+
+SphericalPosesTask RandomSphericalPoses(std::mt19937_64& rng, int count, double sigma) {
+  SphericalTask drawn = RandomSphericalTask(rng, count);
+  if (sigma > 0.0) JitterRotations(rng, sigma, &drawn.rotations);
+  SphericalPosesTask task;
+  task.four_bar = drawn.four_bar;
+  task.rotations = std::move(drawn.rotations);
+  task.poses = PosesAboutCenter(task.rotations, Eigen::Vector3d(0.3, -0.2, 0.5),
+                                Eigen::Vector3d(1.0, 2.0, -1.0));
+  return task;
 }
 
 }  // namespace linkfit::testing

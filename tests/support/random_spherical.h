@@ -48,6 +48,18 @@ std::vector<DualQuaternion> PosesAboutCenter(const std::vector<Eigen::Matrix3d>&
                                              const Eigen::Vector3d& center_in_moving,
                                              const Eigen::Vector3d& center_in_fixed);
 
+// The benchmarks' spherical tasks (linkfit_bench --only spherical; linkfit bench's spherical
+// motion rows): a RandomSphericalTask of `count` orientations, each turned by noise `sigma`
+// radians (JitterRotations; none for sigma 0), as spatial poses about a centre off both frames'
+// origins, p = (0.3, -0.2, 0.5) in E and P = (1, 2, -1) in Sigma (PosesAboutCenter). The noise is
+// on the rotations only: the poses still fix the centre, to rounding.
+struct SphericalPosesTask {
+  SphericalFourBar four_bar;               // the generating four-bar
+  std::vector<Eigen::Matrix3d> rotations;  // its rotations, with the noise
+  std::vector<DualQuaternion> poses;       // their poses about the centre
+};
+SphericalPosesTask RandomSphericalPoses(std::mt19937_64& rng, int count, double sigma);
+
 }  // namespace linkfit::testing
 
 #endif  // LINKFIT_TESTS_SUPPORT_RANDOM_SPHERICAL_H_

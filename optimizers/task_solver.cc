@@ -255,7 +255,28 @@ void AddExactPoseNotes(const Task& task, double exact_tolerance, SpatialMotionRe
   }
 }
 
+// Spherical dyads ordered by fit (weighted RMS residual), best first.
+void SortByFit(std::vector<SphericalDyadReport>* dyads) {
+  std::stable_sort(dyads->begin(), dyads->end(),
+                   [](const SphericalDyadReport& a, const SphericalDyadReport& b) {
+                     return a.rms_residual.value_or(0.0) < b.rms_residual.value_or(0.0);
+                   });
+}
+
 }  // namespace
+
+void SolveSphericalSeedsFast(const Task& task, const TaskSolverOptions& options,
+                             SpatialMotionResult* result) {
+  const SphericalMotion motion = TaskSphericalMotion(task, *result->spherical, result->scale);
+  SortByFit(&result->spherical_dyads);
+  const int seeds = static_cast<int>(result->spherical_dyads.size());
+  if (seeds > options.max_dyads) {
+    result->spherical_dyads.resize(options.max_dyads);
+    result->notes.push_back(std::to_string(seeds - options.max_dyads) +
+                            " more seed dyads with larger residuals were found and dropped");
+  }
+  BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);
+}
 
 void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                            SpatialMotionResult* result) {
@@ -263,6 +284,46 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
   const SphericalMotion motion = TaskSphericalMotion(task, *result->spherical, result->scale);
   std::vector<double> weights = task.pose_weights;
   if (weights.size() != motion.rotations.size()) weights.assign(motion.rotations.size(), 1.0);
+  // The fast level's answer, kept below: its best-ranked four-bars' seed dyads join the refined
+  // ones, so that balanced and thorough list every four-bar fast ranks first and never answer
+  // worse (refining each dyad on its own cone residual can lose a four-bar that fits better);
+  // not those that miss an exact orientation, which every refined dyad meets.
+  SpatialMotionResult fast = *result;
+  SolveSphericalSeedsFast(task, options, &fast);
+  // Fast's refined_mechanisms best-ranked four-bars and its best-fitting defect-free one (near
+  // ties in fit rank by transmission angle, so it may rank below them).
+  std::vector<int> chosen;
+  const int fast_count = static_cast<int>(fast.spherical_mechanisms.size());
+  for (int k = 0; k < std::min(options.refined_mechanisms, fast_count); ++k) chosen.push_back(k);
+  int best_fit = -1;
+  for (int k = 0; k < fast_count; ++k) {
+    const MechanismReport& mechanism = fast.spherical_mechanisms[k];
+    if (!mechanism.rms_pose_error || HasKinematicDefect(mechanism.defects)) continue;
+    if (best_fit < 0 ||
+        *mechanism.rms_pose_error < *fast.spherical_mechanisms[best_fit].rms_pose_error) {
+      best_fit = k;
+    }
+  }
+  if (best_fit >= options.refined_mechanisms) chosen.push_back(best_fit);
+  std::vector<SphericalDyadReport> fast_best;
+  for (const int k : chosen) {
+    const MechanismReport& mechanism = fast.spherical_mechanisms[k];
+    for (const int index : {mechanism.input_dyad, mechanism.output_dyad}) {
+      const SphericalDyadReport& seed = fast.spherical_dyads[index];
+      // Not a seed that misses an exact orientation: the refined dyads meet them.
+      bool misses_exact = false;
+      for (size_t j = 0; j < task.pose_exact.size() && j < motion.rotations.size(); ++j) {
+        misses_exact |= task.pose_exact[j] && !(std::abs(seed.dyad.Residual(motion.rotations[j])) <=
+                                                options.spherical_refiner.exact_tolerance);
+      }
+      if (misses_exact) continue;
+      const bool listed =
+          std::any_of(fast_best.begin(), fast_best.end(), [&](const SphericalDyadReport& kept) {
+            return SameSphericalDyad(kept.dyad, seed.dyad, kSameSphericalOptimum);
+          });
+      if (!listed) fast_best.push_back(seed);
+    }
+  }
   std::vector<SphericalDyadReport> refined;
   for (const SphericalDyadReport& seed : result->spherical_dyads) {
     SphericalDyad dyad = seed.dyad;
@@ -279,10 +340,7 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
     if (!repeat) refined.push_back(report);
   }
   // The best-fitting dyads make the four-bars.
-  const auto by_fit = [](const SphericalDyadReport& a, const SphericalDyadReport& b) {
-    return a.rms_residual.value_or(0.0) < b.rms_residual.value_or(0.0);
-  };
-  std::stable_sort(refined.begin(), refined.end(), by_fit);
+  SortByFit(&refined);
   if (static_cast<int>(refined.size()) > options.max_dyads) refined.resize(options.max_dyads);
   if (task.effort == Effort::kThorough) {
     // The search's optima join balanced's dyads, none of which is dropped or changed for them:
@@ -303,13 +361,29 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
       refined.push_back(ReportSphericalDyad(dyad, motion, weights, task.precision));
       ++added;
     }
-    std::stable_sort(refined.begin(), refined.end(), by_fit);
+    SortByFit(&refined);
     result->notes.push_back("search (thorough): NLopt " + summary.algorithm +
                             " over the moving axis, " + std::to_string(summary.evaluations) +
                             " evaluations, " + std::to_string(summary.optima) + " local optima, " +
                             std::to_string(found.size()) + " distinct after the polish, " +
                             std::to_string(added) + " new");
     result->search_seconds = summary.seconds;
+  }
+  int kept_seeds = 0;
+  for (const SphericalDyadReport& seed : fast_best) {
+    const bool listed =
+        std::any_of(refined.begin(), refined.end(), [&](const SphericalDyadReport& kept) {
+          return SameSphericalDyad(kept.dyad, seed.dyad, kSameSphericalOptimum);
+        });
+    if (listed) continue;
+    refined.push_back(seed);
+    ++kept_seeds;
+  }
+  if (kept_seeds > 0) {
+    result->notes.push_back(
+        std::to_string(kept_seeds) +
+        " seed dyads (unrefined: no before_refinement) are kept for the four-bars the fast level "
+        "ranks first, so that no four-bar it finds is lost to the refinement");
   }
   result->spherical_dyads = refined;
   BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);
@@ -320,7 +394,7 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options) {
   // Spherical seeds that will be refined make their four-bars after the refinement only.
   SpatialMotionOptions spatial = options.spatial;
-  spatial.spherical.seed_mechanisms = task.effort == Effort::kFast;
+  spatial.spherical.seed_mechanisms = false;
   SpatialMotionResult result = SolveSpatialMotion(task, spatial);
   if (result.model == "planar" && result.planar && result.plane && result.plane->poses.size() > 5) {
     // Planar data beyond five poses: the approximate planar synthesis, in the plane.
@@ -352,9 +426,12 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
     result.refine_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
-  if (result.model == "spherical" && result.method == "least-squares" &&
-      task.effort != Effort::kFast) {
-    RefineSphericalResult(task, options, &result);
+  if (result.model == "spherical" && result.method == "least-squares") {
+    if (task.effort == Effort::kFast) {
+      SolveSphericalSeedsFast(task, options, &result);
+    } else {
+      RefineSphericalResult(task, options, &result);
+    }
   }
   PlatformMotionOptions platform = options.spatial.platform;
   if (result.method == "least-squares") {

@@ -98,11 +98,19 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
 // (RefineSphericalResult), unless effort is fast.
 SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& options = {});
 
+// Effort fast on a spherical least-squares result: its seed dyads, the max_dyads best-fitting
+// kept (a note counts the rest), and their four-bars, at most reported_mechanisms listed.
+void SolveSphericalSeedsFast(const Task& task, const TaskSolverOptions& options,
+                             SpatialMotionResult* result);
+
 // Refines every seed dyad of a spherical least-squares result on its cone residual
 // (spherical_dyad_refiner.h), drops repeats, keeps the max_dyads best-fitting and rebuilds the
 // four-bars. Effort thorough adds the distinct optima of the search (SearchSphericalDyads, up to
 // spherical_search.polish_count) to those max_dyads, dropping none of them, and says what the
-// search did in a note; its time is search_seconds.
+// search did in a note; its time is search_seconds. The seed dyads of the refined_mechanisms
+// four-bars the fast level (SolveSphericalSeedsFast) ranks first are kept too, unrefined (those
+// that meet every exact orientation), so that balanced never answers worse than fast, nor
+// thorough than balanced.
 void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                            SpatialMotionResult* result);
 

@@ -412,31 +412,6 @@ void Descend(const Objective& objective, const std::vector<double>& lower,
   }
 }
 
-// Runs `optimizer` from x, swallowing NLopt's exceptions (roundoff_limited, forced_stop and
-// plain failures): the run's best point is what counts.
-void Optimize(nlopt::opt& optimizer, std::vector<double> x) {
-  double value = 0.0;
-  try {
-    optimizer.optimize(x, value);
-  } catch (const std::runtime_error&) {
-  } catch (const std::invalid_argument&) {
-  }
-}
-
-nlopt::algorithm NloptAlgorithm(GlobalAlgorithm algorithm) {
-  switch (algorithm) {
-    case GlobalAlgorithm::kCrs2:
-      return nlopt::GN_CRS2_LM;
-    case GlobalAlgorithm::kMlsl:
-      return nlopt::G_MLSL_LDS;
-    case GlobalAlgorithm::kIsres:
-      return nlopt::GN_ISRES;
-    case GlobalAlgorithm::kDirect:
-      return nlopt::GN_DIRECT_L;
-  }
-  return nlopt::GN_CRS2_LM;
-}
-
 // The dyad's scale in the scaled frames: the larger of L (1) and its pivots' and line points'
 // distances from the frame origins.
 double DyadScale(const PlanarDyad& dyad) {
@@ -544,7 +519,7 @@ std::vector<PlanarDyad> SearchType(const ScaledTask& task, DyadType type,
     local.set_maxeval(kMlslLocalEvaluations);
     optimizer.set_local_optimizer(local);
   }
-  Optimize(optimizer, x);
+  RunNlopt(optimizer, x);
   *evaluations += global.evaluations;
   if (global.evaluations == 0) return {};
 
@@ -602,6 +577,29 @@ void Validate(const std::vector<PlanarPose>& poses, const std::vector<double>& w
 }
 
 }  // namespace
+
+void RunNlopt(nlopt::opt& optimizer, std::vector<double> x) {
+  double value = 0.0;
+  try {
+    optimizer.optimize(x, value);
+  } catch (const std::runtime_error&) {
+  } catch (const std::invalid_argument&) {
+  }
+}
+
+nlopt::algorithm NloptAlgorithm(GlobalAlgorithm algorithm) {
+  switch (algorithm) {
+    case GlobalAlgorithm::kCrs2:
+      return nlopt::GN_CRS2_LM;
+    case GlobalAlgorithm::kMlsl:
+      return nlopt::G_MLSL_LDS;
+    case GlobalAlgorithm::kIsres:
+      return nlopt::GN_ISRES;
+    case GlobalAlgorithm::kDirect:
+      return nlopt::GN_DIRECT_L;
+  }
+  return nlopt::GN_CRS2_LM;
+}
 
 const char* GlobalAlgorithmName(GlobalAlgorithm algorithm) {
   switch (algorithm) {

@@ -21,6 +21,7 @@
 #define LINKFIT_OPTIMIZERS_GLOBAL_SEARCH_H_
 
 #include <cstdint>
+#include <nlopt.hpp>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ enum class GlobalAlgorithm {
 };
 
 const char* GlobalAlgorithmName(GlobalAlgorithm algorithm);  // "crs2", "mlsl", "isres", "direct"
+// The NLopt algorithm of each (shared by the planar and spherical searches).
+nlopt::algorithm NloptAlgorithm(GlobalAlgorithm algorithm);
+// Runs `optimizer` from x, swallowing NLopt's exceptions (roundoff_limited, forced_stop and
+// plain failures): the run's best point is what counts.
+void RunNlopt(nlopt::opt& optimizer, std::vector<double> x);
 
 struct GlobalSearchOptions {
   GlobalAlgorithm algorithm = GlobalAlgorithm::kCrs2;  // NLopt algorithm

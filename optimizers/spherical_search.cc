@@ -314,31 +314,6 @@ void Descend(const Objective& objective, int max_evaluations, Clock::time_point 
   }
 }
 
-// Runs `optimizer` from x, swallowing NLopt's exceptions (roundoff_limited, forced_stop and
-// plain failures): the run's best point is what counts.
-void Optimize(nlopt::opt& optimizer, std::vector<double> x) {
-  double value = 0.0;
-  try {
-    optimizer.optimize(x, value);
-  } catch (const std::runtime_error&) {
-  } catch (const std::invalid_argument&) {
-  }
-}
-
-nlopt::algorithm NloptAlgorithm(GlobalAlgorithm algorithm) {
-  switch (algorithm) {
-    case GlobalAlgorithm::kCrs2:
-      return nlopt::GN_CRS2_LM;
-    case GlobalAlgorithm::kMlsl:
-      return nlopt::G_MLSL_LDS;
-    case GlobalAlgorithm::kIsres:
-      return nlopt::GN_ISRES;
-    case GlobalAlgorithm::kDirect:
-      return nlopt::GN_DIRECT_L;
-  }
-  return nlopt::GN_CRS2_LM;
-}
-
 double SecondsLeft(Clock::time_point deadline) {
   return std::chrono::duration<double>(deadline - Clock::now()).count();
 }
@@ -377,7 +352,7 @@ std::vector<SphericalDyad> SearchOptima(const Objective& objective,
       local.set_maxeval(kMlslLocalEvaluations);
       optimizer.set_local_optimizer(local);
     }
-    Optimize(optimizer, {0.5, M_PI});
+    RunNlopt(optimizer, {0.5, M_PI});
   }
   report->evaluations += global.evaluations;
   if (global.evaluations == 0) return {};

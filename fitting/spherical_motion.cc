@@ -183,6 +183,7 @@ void SolveSphericalMotion(const Task& task, const SphericalCenter& center,
                           const SphericalMotionOptions& options, SpatialMotionResult* result) {
   result->model = "spherical";
   result->spherical = center;
+  result->constraints = task.constraints;
   const SphericalMotion motion = TaskSphericalMotion(task, center, result->scale);
   const std::vector<double> weights = TaskWeights(task);
   const int n = static_cast<int>(motion.rotations.size());

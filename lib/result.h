@@ -185,6 +185,8 @@ struct SpatialMotionResult {
   double analysis_seconds = 0.0;  // of solve_seconds, the platform's tracing
   DataPrecision precision;        // the data precision assumed (the task's)
   bool closed = false;            // the task's last pose repeated the first (dropped)
+  // Model "spherical": the task's design constraints its four-bars were judged by, echoed.
+  DesignConstraints constraints;
 };
 
 // A four-bar for a path task (timed points), in the first point's configuration

@@ -397,12 +397,16 @@ void PutPrecision(Json* root, const DataPrecision& precision, bool closed) {
 }
 
 // "constraints": the design constraints the result was judged by (lib/design_constraints.h),
-// the task's and the defaults in force, which "defaults" names.
-void PutConstraints(Json* root, const DesignConstraints& constraints, double scale) {
+// the task's and the defaults in force, which "defaults" names. `lengths` false (spherical
+// four-bars, whose links are angles): only the class and transmission constraints.
+void PutConstraints(Json* root, const DesignConstraints& constraints, double scale,
+                    bool lengths = true) {
   Json object;
   Json defaults = Json::array();
-  PutNumber(&object, "max_link_length", MaxLinkLength(constraints, scale));
-  if (!constraints.max_link_length) defaults.push_back("max_link_length");
+  if (lengths) {
+    PutNumber(&object, "max_link_length", MaxLinkLength(constraints, scale));
+    if (!constraints.max_link_length) defaults.push_back("max_link_length");
+  }
   if (constraints.min_link_length) {
     PutNumber(&object, "min_link_length", *constraints.min_link_length);
   }
@@ -451,6 +455,7 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   root["dyads"] = Json::array();
   root["mechanisms"] = Json::array();
   if (result.model == "spherical") {
+    PutConstraints(&root, result.constraints, result.scale, false);
     for (const SphericalDyadReport& dyad : result.spherical_dyads) {
       root["dyads"].push_back(SphericalDyadToJson(dyad));
     }

@@ -586,6 +586,10 @@ TEST_F(CliTest, SolvesAndDrawsTheBundledSphericalFourBar) {
   EXPECT_EQ(result["model"], "spherical");
   EXPECT_EQ(result["method"], "exact");
   EXPECT_EQ(result["roots"]["total"], 6);
+  // The constraints the four-bars were judged by: the default transmission angle, no lengths
+  // (a spherical four-bar's links are angles).
+  EXPECT_EQ(result["constraints"], nlohmann::json::parse(R"({"min_transmission_angle_deg": 30.0,
+                                      "defaults": ["min_transmission_angle_deg"]})"));
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(result["center"][k].get<double>(), (std::vector<double>{1.2, -0.5, 0.8})[k], 1e-5);
   }

@@ -284,46 +284,11 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
   const SphericalMotion motion = TaskSphericalMotion(task, *result->spherical, result->scale);
   std::vector<double> weights = task.pose_weights;
   if (weights.size() != motion.rotations.size()) weights.assign(motion.rotations.size(), 1.0);
-  // The fast level's answer, kept below: its best-ranked four-bars' seed dyads join the refined
-  // ones, so that balanced and thorough list every four-bar fast ranks first and never answer
-  // worse (refining each dyad on its own cone residual can lose a four-bar that fits better);
-  // not those that miss an exact orientation, which every refined dyad meets.
+  // The fast level's answer: where its four-bars fit better than the refined dyads' (refining
+  // each dyad on its own cone residual can lose a four-bar that fits better), their seed dyads
+  // join the refined ones below, so that balanced and thorough never answer worse.
   SpatialMotionResult fast = *result;
   SolveSphericalSeedsFast(task, options, &fast);
-  // Fast's refined_mechanisms best-ranked four-bars and its best-fitting defect-free one (near
-  // ties in fit rank by transmission angle, so it may rank below them).
-  std::vector<int> chosen;
-  const int fast_count = static_cast<int>(fast.spherical_mechanisms.size());
-  for (int k = 0; k < std::min(options.refined_mechanisms, fast_count); ++k) chosen.push_back(k);
-  int best_fit = -1;
-  for (int k = 0; k < fast_count; ++k) {
-    const MechanismReport& mechanism = fast.spherical_mechanisms[k];
-    if (!mechanism.rms_pose_error || HasKinematicDefect(mechanism.defects)) continue;
-    if (best_fit < 0 ||
-        *mechanism.rms_pose_error < *fast.spherical_mechanisms[best_fit].rms_pose_error) {
-      best_fit = k;
-    }
-  }
-  if (best_fit >= options.refined_mechanisms) chosen.push_back(best_fit);
-  std::vector<SphericalDyadReport> fast_best;
-  for (const int k : chosen) {
-    const MechanismReport& mechanism = fast.spherical_mechanisms[k];
-    for (const int index : {mechanism.input_dyad, mechanism.output_dyad}) {
-      const SphericalDyadReport& seed = fast.spherical_dyads[index];
-      // Not a seed that misses an exact orientation: the refined dyads meet them.
-      bool misses_exact = false;
-      for (size_t j = 0; j < task.pose_exact.size() && j < motion.rotations.size(); ++j) {
-        misses_exact |= task.pose_exact[j] && !(std::abs(seed.dyad.Residual(motion.rotations[j])) <=
-                                                options.spherical_refiner.exact_tolerance);
-      }
-      if (misses_exact) continue;
-      const bool listed =
-          std::any_of(fast_best.begin(), fast_best.end(), [&](const SphericalDyadReport& kept) {
-            return SameSphericalDyad(kept.dyad, seed.dyad, kSameSphericalOptimum);
-          });
-      if (!listed) fast_best.push_back(seed);
-    }
-  }
   std::vector<SphericalDyadReport> refined;
   for (const SphericalDyadReport& seed : result->spherical_dyads) {
     SphericalDyad dyad = seed.dyad;
@@ -342,6 +307,61 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
   // The best-fitting dyads make the four-bars.
   SortByFit(&refined);
   if (static_cast<int>(refined.size()) > options.max_dyads) refined.resize(options.max_dyads);
+  // Fast's refined_mechanisms best-ranked four-bars and its best-fitting defect-free one (near
+  // ties in fit rank by transmission angle, so it may rank below them): those that are
+  // defect-free and fit the poses better than every defect-free four-bar of the refined dyads
+  // keep their seed dyads (a seed near its refined optimum is not listed beside it otherwise).
+  SpatialMotionResult refined_only = *result;
+  refined_only.spherical_dyads = refined;
+  BuildSphericalMechanisms(task, motion, &refined_only);
+  const auto defect_free_fit = [](const MechanismReport& mechanism) {
+    return mechanism.rms_pose_error && !HasKinematicDefect(mechanism.defects)
+               ? *mechanism.rms_pose_error
+               : std::numeric_limits<double>::infinity();
+  };
+  double refined_best = std::numeric_limits<double>::infinity();
+  for (const MechanismReport& mechanism : refined_only.spherical_mechanisms) {
+    refined_best = std::min(refined_best, defect_free_fit(mechanism));
+  }
+  const int fast_count = static_cast<int>(fast.spherical_mechanisms.size());
+  std::vector<int> chosen;
+  for (int k = 0; k < std::min(options.refined_mechanisms, fast_count); ++k) chosen.push_back(k);
+  int best_fit = -1;
+  for (int k = 0; k < fast_count; ++k) {
+    const double fit = defect_free_fit(fast.spherical_mechanisms[k]);
+    if (fit < std::numeric_limits<double>::infinity() &&
+        (best_fit < 0 || fit < defect_free_fit(fast.spherical_mechanisms[best_fit]))) {
+      best_fit = k;
+    }
+  }
+  if (best_fit >= options.refined_mechanisms) chosen.push_back(best_fit);
+  int kept_seeds = 0;
+  for (const int k : chosen) {
+    const MechanismReport& mechanism = fast.spherical_mechanisms[k];
+    if (!(defect_free_fit(mechanism) < refined_best)) continue;
+    for (const int index : {mechanism.input_dyad, mechanism.output_dyad}) {
+      const SphericalDyadReport& seed = fast.spherical_dyads[index];
+      // Not a seed that misses an exact orientation: the refined dyads meet them.
+      bool misses_exact = false;
+      for (size_t j = 0; j < task.pose_exact.size() && j < motion.rotations.size(); ++j) {
+        misses_exact |= task.pose_exact[j] && !(std::abs(seed.dyad.Residual(motion.rotations[j])) <=
+                                                options.spherical_refiner.exact_tolerance);
+      }
+      const bool listed =
+          std::any_of(refined.begin(), refined.end(), [&](const SphericalDyadReport& kept) {
+            return SameSphericalDyad(kept.dyad, seed.dyad, kSameSphericalOptimum);
+          });
+      if (misses_exact || listed) continue;
+      refined.push_back(seed);
+      ++kept_seeds;
+    }
+  }
+  if (kept_seeds > 0) {
+    result->notes.push_back(
+        std::to_string(kept_seeds) +
+        " seed dyads (unrefined: no before_refinement) are kept for four-bars of the fast level "
+        "that fit the poses better than those of the refined dyads");
+  }
   if (task.effort == Effort::kThorough) {
     // The search's optima join balanced's dyads, none of which is dropped or changed for them:
     // thorough lists every dyad and four-bar balanced lists, so it never fits worse.
@@ -368,22 +388,6 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                             std::to_string(found.size()) + " distinct after the polish, " +
                             std::to_string(added) + " new");
     result->search_seconds = summary.seconds;
-  }
-  int kept_seeds = 0;
-  for (const SphericalDyadReport& seed : fast_best) {
-    const bool listed =
-        std::any_of(refined.begin(), refined.end(), [&](const SphericalDyadReport& kept) {
-          return SameSphericalDyad(kept.dyad, seed.dyad, kSameSphericalOptimum);
-        });
-    if (listed) continue;
-    refined.push_back(seed);
-    ++kept_seeds;
-  }
-  if (kept_seeds > 0) {
-    result->notes.push_back(
-        std::to_string(kept_seeds) +
-        " seed dyads (unrefined: no before_refinement) are kept for the four-bars the fast level "
-        "ranks first, so that no four-bar it finds is lost to the refinement");
   }
   result->spherical_dyads = refined;
   BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);

@@ -107,10 +107,11 @@ void SolveSphericalSeedsFast(const Task& task, const TaskSolverOptions& options,
 // (spherical_dyad_refiner.h), drops repeats, keeps the max_dyads best-fitting and rebuilds the
 // four-bars. Effort thorough adds the distinct optima of the search (SearchSphericalDyads, up to
 // spherical_search.polish_count) to those max_dyads, dropping none of them, and says what the
-// search did in a note; its time is search_seconds. The seed dyads of the refined_mechanisms
-// four-bars the fast level (SolveSphericalSeedsFast) ranks first are kept too, unrefined (those
-// that meet every exact orientation), so that balanced never answers worse than fast, nor
-// thorough than balanced.
+// search did in a note; its time is search_seconds. Of the fast level's (SolveSphericalSeedsFast)
+// refined_mechanisms first-ranked four-bars and its best-fitting defect-free one, those that are
+// defect-free and fit better than every defect-free four-bar of the refined dyads keep their seed
+// dyads too, unrefined (when they meet every exact orientation), so that balanced never answers
+// worse than fast, nor thorough than balanced.
 void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                            SpatialMotionResult* result);
 

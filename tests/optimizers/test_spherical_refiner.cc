@@ -115,11 +115,11 @@ double BestFourBar(const SpatialMotionResult& result) {
   return best;
 }
 
-// A higher effort never answers worse: balanced keeps the seed dyads of fast's best-ranked
-// four-bars beside the refined ones (each refined on its own cone residual, which alone lost a
-// better four-bar in 12-20 of 24 noisy tasks of linkfit bench), thorough adds the search's. Fast
-// lists at most max_dyads seeds and reported_mechanisms four-bars (and the best of each group
-// beyond them, RankMechanisms).
+// A higher effort never answers worse: balanced keeps the seed dyads of fast's four-bars that fit
+// better than the refined dyads' beside the refined ones (each refined on its own cone residual,
+// which alone lost a better four-bar in 12-20 of 24 noisy tasks of linkfit bench), thorough adds
+// the search's. Fast lists at most max_dyads seeds and reported_mechanisms four-bars (and the best
+// of each group beyond them, RankMechanisms).
 TEST(SphericalRefiner, HigherEffortNeverAnswersWorse) {
   std::mt19937_64 rng(1724);
   const TaskSolverOptions options;

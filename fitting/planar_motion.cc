@@ -47,26 +47,12 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   const PlanarDyad& input = swap ? b : a;
   const PlanarDyad& output = swap ? a : b;
   mechanism.type = ClassifyFourBar(input.type, output.type);
-  mechanism.max_pose_error = chosen.max_pose_error;
+  TakeAnalysis(chosen, swap ? a_drives : b_drives, poses.size() > 5, &mechanism);
   if (!mechanism.max_pose_error) {
     mechanism.pose_error_note = "the mechanism does not assemble at the first task pose";
   }
   mechanism.grashof = GrashofType(input, output, length);
-  mechanism.defects = chosen.defects;
-  mechanism.input_rotates_fully = chosen.input_rotates_fully;
-  mechanism.output_rotates_fully = (swap ? a_drives : b_drives).input_rotates_fully;
-  mechanism.transmission_min_deg = chosen.transmission_min_deg;
-  mechanism.transmission_max_deg = chosen.transmission_max_deg;
-  mechanism.transmission_note = chosen.transmission_note;
   mechanism.cycle = chosen.cycle;
-  if (poses.size() > 5 && mechanism.max_pose_error) {
-    // Least squares: the RMS of the pose errors (each at its nearest configuration).
-    double sum = 0.0;
-    for (const FourBarLocation& location : chosen.locations) {
-      sum += location.pose_error * location.pose_error;
-    }
-    mechanism.rms_pose_error = std::sqrt(sum / static_cast<double>(chosen.locations.size()));
-  }
   return mechanism;
 }
 

@@ -4,9 +4,11 @@
 #ifndef LINKFIT_FITTING_PLANAR_MOTION_H_
 #define LINKFIT_FITTING_PLANAR_MOTION_H_
 
+#include <cmath>
 #include <functional>
 
 #include "fitting/planar_burmester.h"
+#include "lib/four_bar_motion.h"
 #include "lib/result.h"
 #include "lib/task.h"
 
@@ -69,6 +71,30 @@ void JudgeMechanism(const DesignConstraints& constraints, const std::vector<Dyad
 // poses.
 void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result,
                      const std::function<bool(int, int)>& paired = {});
+
+// The parts of a four-bar's report that its analysis gives (planar FourBarAnalysis, spherical
+// SphericalFourBarAnalysis): from `chosen`, the analysis of its input, the largest pose error,
+// the defects, the input's full rotation and the transmission angle; from `other`, that of the
+// other dyad driving, the output's full rotation; with `least_squares` (more than five poses),
+// the RMS of the pose errors (each at its nearest configuration).
+template <typename Analysis>
+void TakeAnalysis(const Analysis& chosen, const Analysis& other, bool least_squares,
+                  MechanismReport* mechanism) {
+  mechanism->max_pose_error = chosen.max_pose_error;
+  mechanism->defects = chosen.defects;
+  mechanism->input_rotates_fully = chosen.input_rotates_fully;
+  mechanism->output_rotates_fully = other.input_rotates_fully;
+  mechanism->transmission_min_deg = chosen.transmission_min_deg;
+  mechanism->transmission_max_deg = chosen.transmission_max_deg;
+  mechanism->transmission_note = chosen.transmission_note;
+  if (least_squares && mechanism->max_pose_error) {
+    double sum = 0.0;
+    for (const FourBarLocation& location : chosen.locations) {
+      sum += location.pose_error * location.pose_error;
+    }
+    mechanism->rms_pose_error = std::sqrt(sum / static_cast<double>(chosen.locations.size()));
+  }
+}
 
 // The analysis of the four-bar of dyads i and j of `dyads` (both inputs tried, the better kept).
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,

@@ -13,8 +13,11 @@
 namespace linkfit {
 namespace {
 
-// Levenberg-Marquardt steps for the real part of a complex root (as the spatial solver's).
+// Levenberg-Marquardt steps for the real part of a complex root (as the spatial solver's), and
+// how near (SphericalDyadDistance, radians) two fitted real parts, or a real part and a real
+// root, are one dyad.
 constexpr int kComplexFitIterations = 50;
+constexpr double kSameRealPart = 1e-6;
 
 using Complex = std::complex<double>;
 using Vector3c = Eigen::Vector3cd;
@@ -331,10 +334,7 @@ int SolveSphericalBurmester(const std::vector<Eigen::Matrix3d>& rotations,
     if (!fitted.AllFinite() || !(fitted.MaxResidual(rotations) <= fits_within)) return;
     // A conjugate pair has one real part: kept once.
     for (const SphericalDyad& kept : within_precision) {
-      if (std::abs(kept.fixed_axis.dot(fitted.fixed_axis)) > 1.0 - 1e-12 &&
-          std::abs(kept.moving_axis.dot(fitted.moving_axis)) > 1.0 - 1e-12) {
-        return;
-      }
+      if (SphericalDyadDistance(kept, fitted) < kSameRealPart) return;
     }
     within_precision.push_back(fitted);
   };
@@ -378,8 +378,7 @@ int SolveSphericalBurmester(const std::vector<Eigen::Matrix3d>& rotations,
   for (const SphericalDyad& dyad : within_precision) {
     // Not when it is one of the real roots (a double root that also polished).
     const bool repeat = std::any_of(dyads->begin(), dyads->end(), [&](const SphericalDyad& real) {
-      return DirectionAngle(real.fixed_axis, dyad.fixed_axis) < 1e-6 &&
-             DirectionAngle(real.moving_axis, dyad.moving_axis) < 1e-6;
+      return SphericalDyadDistance(real, dyad) < kSameRealPart;
     });
     if (repeat) continue;
     dyads->push_back(dyad);

@@ -132,26 +132,13 @@ MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dya
   mechanism.type = FourBarType::k4R;
   mechanism.input_dyad = swap ? j : i;
   mechanism.output_dyad = swap ? i : j;
-  mechanism.max_pose_error = chosen.max_pose_error;
+  TakeAnalysis(chosen, swap ? a_analysis : b_analysis, motion.rotations.size() > 5, &mechanism);
   if (!mechanism.max_pose_error) {
     mechanism.pose_error_note = four_bar.valid
                                     ? "the mechanism does not assemble at the first task pose"
                                     : four_bar.invalid_note;
   }
   if (four_bar.valid) mechanism.grashof = SphericalGrashofType(four_bar);
-  mechanism.defects = chosen.defects;
-  mechanism.input_rotates_fully = chosen.input_rotates_fully;
-  mechanism.output_rotates_fully = (swap ? a_analysis : b_analysis).input_rotates_fully;
-  mechanism.transmission_min_deg = chosen.transmission_min_deg;
-  mechanism.transmission_max_deg = chosen.transmission_max_deg;
-  mechanism.transmission_note = chosen.transmission_note;
-  if (motion.rotations.size() > 5 && mechanism.max_pose_error) {
-    double sum = 0.0;
-    for (const FourBarLocation& location : chosen.locations) {
-      sum += location.pose_error * location.pose_error;
-    }
-    mechanism.rms_pose_error = std::sqrt(sum / static_cast<double>(chosen.locations.size()));
-  }
   FourBarClass kind;
   kind.type = mechanism.type;
   kind.grashof = mechanism.grashof;

@@ -311,9 +311,11 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
   // ties in fit rank by transmission angle, so it may rank below them): those that are
   // defect-free and fit the poses better than every defect-free four-bar of the refined dyads
   // keep their seed dyads (a seed near its refined optimum is not listed beside it otherwise).
+  // Bounded as the answer is (the best fit of each defect group stays listed): when no seed is
+  // kept and no search runs, it is the answer.
   SpatialMotionResult refined_only = *result;
   refined_only.spherical_dyads = refined;
-  BuildSphericalMechanisms(task, motion, &refined_only);
+  BuildSphericalMechanisms(task, motion, &refined_only, options.reported_mechanisms);
   const auto defect_free_fit = [](const MechanismReport& mechanism) {
     return mechanism.rms_pose_error && !HasKinematicDefect(mechanism.defects)
                ? *mechanism.rms_pose_error
@@ -389,8 +391,12 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
                             std::to_string(added) + " new");
     result->search_seconds = summary.seconds;
   }
-  result->spherical_dyads = refined;
-  BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);
+  if (kept_seeds == 0 && task.effort != Effort::kThorough) {
+    *result = std::move(refined_only);
+  } else {
+    result->spherical_dyads = refined;
+    BuildSphericalMechanisms(task, motion, result, options.reported_mechanisms);
+  }
   result->refine_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -307,12 +307,8 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
   // The best-fitting dyads make the four-bars.
   SortByFit(&refined);
   if (static_cast<int>(refined.size()) > options.max_dyads) refined.resize(options.max_dyads);
-  // Fast's refined_mechanisms best-ranked four-bars and its best-fitting defect-free one (near
-  // ties in fit rank by transmission angle, so it may rank below them): those that are
-  // defect-free and fit the poses better than every defect-free four-bar of the refined dyads
-  // keep their seed dyads (a seed near its refined optimum is not listed beside it otherwise).
-  // Bounded as the answer is (the best fit of each defect group stays listed): when no seed is
-  // kept and no search runs, it is the answer.
+  // The refined dyads' four-bars, bounded as the answer is (the best fit of each defect group
+  // stays listed): when no seed is kept and no search runs, they are the answer.
   SpatialMotionResult refined_only = *result;
   refined_only.spherical_dyads = refined;
   BuildSphericalMechanisms(task, motion, &refined_only, options.reported_mechanisms);
@@ -325,6 +321,10 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
   for (const MechanismReport& mechanism : refined_only.spherical_mechanisms) {
     refined_best = std::min(refined_best, defect_free_fit(mechanism));
   }
+  // Fast's refined_mechanisms best-ranked four-bars and its best-fitting defect-free one (near
+  // ties in fit rank by transmission angle, so it may rank below them): those that are
+  // defect-free and fit the poses better than every defect-free four-bar of the refined dyads
+  // keep their seed dyads (a seed near its refined optimum is not listed beside it otherwise).
   const int fast_count = static_cast<int>(fast.spherical_mechanisms.size());
   std::vector<int> chosen;
   for (int k = 0; k < std::min(options.refined_mechanisms, fast_count); ++k) chosen.push_back(k);

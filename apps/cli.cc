@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cstdio>
 #include <exception>
 #include <filesystem>
@@ -18,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/output_file.h"
 #include "apps/parallel.h"
 #include "apps/picture.h"
 #include "apps/trade_bench.h"
@@ -31,6 +33,10 @@ namespace {
 constexpr int kExitOk = 0;
 constexpr int kExitInternal = 1;
 constexpr int kExitBadInput = 2;
+
+// The largest index an option takes (--mechanism, --platform), and the most threads of --jobs.
+constexpr long long kMaxIndex = 1000000000;
+constexpr long long kMaxJobs = 1024;
 
 constexpr const char* kDescription =
     "linkfit - kinematic synthesis of linkages.\n"
@@ -90,11 +96,32 @@ constexpr const char* kSolveFooter =
     "quaternions and unknown fields are\n"
     "errors (exit 2).";
 
-// Bad output path: like bad input, exit 2.
-class OutputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+// A whole-number option from `minimum` to `maximum`, refused in one line naming the value (CLI11's
+// own range check prints its bounds as floating point, hundreds of digits long).
+CLI::Validator WholeNumber(long long minimum, long long maximum) {
+  return CLI::Validator(
+      [minimum, maximum](std::string& value) -> std::string {
+        const auto range = [&]() {
+          return "from " + std::to_string(minimum) + " to " + std::to_string(maximum);
+        };
+        std::string shown = value.substr(0, 40);
+        for (char& c : shown) {
+          if (c < 0x20 || c >= 0x7f) c = '?';
+        }
+        if (shown.size() < value.size()) shown += "...";
+        long long number = 0;
+        const char* end = value.data() + value.size();
+        const auto [stop, error] = std::from_chars(value.data(), end, number);
+        if (value.empty() || stop != end || error == std::errc::invalid_argument) {
+          return "expected a whole number " + range() + ", got '" + shown + "'";
+        }
+        if (error == std::errc::result_out_of_range || number < minimum || number > maximum) {
+          return "expected a whole number " + range() + ", got " + shown;
+        }
+        return std::string();
+      },
+      "INT");
+}
 
 // Prints "linkfit: <kind>: <message>" on one line of stderr.
 void PrintError(const std::string& kind, const std::string& message) {
@@ -109,77 +136,6 @@ bool IsJsonLines(const std::string& path) {
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return extension == ".jsonl";
-}
-
-// A result written through a temporary file, next to `path` (or in the temporary directory for
-// standard output: "" or "-"), that Commit moves into place (or copies to standard output), so a
-// reader never sees a partial result and a failure leaves no file behind.
-class AtomicOutput {
- public:
-  explicit AtomicOutput(const std::string& path)
-      : path_(path), to_stdout_(path.empty() || path == "-") {
-    const std::string pid = std::to_string(::getpid());
-    if (to_stdout_) {
-      temporary_ = std::filesystem::temp_directory_path() / ("linkfit-result." + pid);
-    } else {
-      const std::filesystem::path target(path);
-      temporary_ = target.parent_path() / ("." + target.filename().string() + ".tmp." + pid);
-    }
-    file_.open(temporary_, std::ios::binary | std::ios::trunc);
-    if (!file_) Fail();
-  }
-  ~AtomicOutput() {
-    if (committed_) return;
-    file_.close();
-    std::error_code ignored;
-    std::filesystem::remove(temporary_, ignored);
-  }
-  std::ostream& stream() { return file_; }
-  // Throws when writing failed so far.
-  void Check() {
-    if (!file_) Fail();
-  }
-  void Commit() {
-    file_.close();
-    Check();
-    if (to_stdout_) {
-      std::ifstream in(temporary_, std::ios::binary);
-      std::cout << in.rdbuf() << std::flush;
-      if (!std::cout) throw std::runtime_error("cannot write to standard output");
-      return;  // the destructor removes the temporary file
-    }
-    std::error_code error;
-    std::filesystem::rename(temporary_, path_, error);
-    if (error) throw OutputError(path_ + ": cannot write file (" + error.message() + ")");
-    committed_ = true;
-  }
-
- private:
-  [[noreturn]] void Fail() const {
-    throw OutputError((to_stdout_ ? temporary_.string() : path_) + ": cannot write file");
-  }
-  std::string path_;
-  bool to_stdout_;
-  std::filesystem::path temporary_;
-  std::ofstream file_;
-  bool committed_ = false;
-};
-
-// Writes `text` to `path` through AtomicOutput.
-void WriteFileAtomically(const std::string& path, const std::string& text) {
-  AtomicOutput output(path);
-  output.stream() << text;
-  output.Commit();
-}
-
-// A result to standard output ("" or "-") or, atomically, to a file.
-void WriteResult(const std::string& path, const std::string& text) {
-  if (path.empty() || path == "-") {
-    std::cout << text << std::flush;
-    if (!std::cout) throw std::runtime_error("cannot write to standard output");
-  } else {
-    WriteFileAtomically(path, text);
-  }
 }
 
 struct SolveOutputs {
@@ -257,18 +213,15 @@ class LineReader {
   size_t count_ = 0;
 };
 
-// `linkfit solve TASKS.jsonl`: the lines are read in chunks; each chunk is parsed, solved and
-// written on `jobs` threads, in input order, to an AtomicOutput, which becomes the result file
-// (or is copied to stdout) only when every line is solved: bad input on any line (the first by
-// position) leaves no result. Memory holds one chunk, whatever the file's length.
-int SolveBatch(const std::string& task_path, const SolveOutputs& outputs, unsigned jobs) {
+// The lines of a .jsonl batch, read in chunks of kChunkTasks non-blank lines: `chunk(lines,
+// sources)` is called for each. Memory holds one chunk, whatever the file's length.
+template <typename Chunk>
+size_t ForEachChunk(const std::string& task_path, const Chunk& chunk) {
   constexpr size_t kChunkTasks = 4096;
   constexpr size_t kMaxLineBytes = size_t{256} << 20;
   LineReader reader(task_path, kMaxLineBytes);
-  AtomicOutput out(outputs.result_path);
-  std::vector<std::string> lines, sources, texts;
-  std::vector<std::exception_ptr> errors;
-  size_t solved = 0;
+  std::vector<std::string> lines, sources;
+  size_t count = 0;
   bool more = true;
   while (more) {
     lines.clear();
@@ -280,55 +233,97 @@ int SolveBatch(const std::string& task_path, const SolveOutputs& outputs, unsign
       lines.push_back(line);
       sources.push_back(task_path + ":" + std::to_string(number));
     }
-    texts.assign(lines.size(), std::string());
-    errors.assign(lines.size(), nullptr);
-    ParallelFor(lines.size(), jobs, [&](size_t i) {
-      try {
-        Task task = ParseTask(lines[i], sources[i]);
-        ApplyOverrides(outputs, task_path, &task);
-        texts[i] = ResultToJson(SolveTask(task), -1) + "\n";
-      } catch (...) {
-        errors[i] = std::current_exception();
-      }
-    });
-    for (const std::exception_ptr& error : errors) {
-      if (error) std::rethrow_exception(error);
-    }
-    for (const std::string& text : texts) out.stream() << text;
-    out.Check();
-    solved += lines.size();
+    if (!lines.empty()) chunk(lines, sources);
+    count += lines.size();
   }
-  if (solved == 0) throw InputError(task_path + ": empty file, expected a task");
-  out.Commit();
-  return kExitOk;
+  if (count == 0) throw InputError(task_path + ": empty file, expected a task");
+  return count;
 }
 
-// `linkfit solve`: every task is read and validated before anything is solved or written; a
+// Runs work(i) for the lines of a chunk on `jobs` threads; the first error by position is
+// rethrown once all have run.
+template <typename Work>
+void RunChunk(size_t count, unsigned jobs, const Work& work) {
+  std::vector<std::exception_ptr> errors(count);
+  ParallelFor(count, jobs, [&](size_t i) {
+    try {
+      work(i);
+    } catch (...) {
+      errors[i] = std::current_exception();
+    }
+  });
+  for (const std::exception_ptr& error : errors) {
+    if (error) std::rethrow_exception(error);
+  }
+}
+
+// `linkfit solve TASKS.jsonl`: every line is read and validated first (a bad line anywhere is
+// reported before anything is solved), then read again in chunks, each chunk solved on `jobs`
+// threads and written in input order to `out`, which the caller commits once every line is
+// solved. A stream (a FIFO, standard input) cannot be read twice: its lines are validated as
+// they are solved.
+void SolveBatch(const std::string& task_path, const SolveOutputs& options, unsigned jobs,
+                OutputFile* out) {
+  std::error_code error;
+  if (std::filesystem::is_regular_file(task_path, error)) {
+    ForEachChunk(task_path, [&](const std::vector<std::string>& lines,
+                                const std::vector<std::string>& sources) {
+      RunChunk(lines.size(), jobs, [&](size_t i) {
+        Task task = ParseTask(lines[i], sources[i]);
+        ApplyOverrides(options, task_path, &task);
+      });
+    });
+  }
+  std::vector<std::string> texts;
+  ForEachChunk(task_path,
+               [&](const std::vector<std::string>& lines, const std::vector<std::string>& sources) {
+                 texts.assign(lines.size(), std::string());
+                 RunChunk(lines.size(), jobs, [&](size_t i) {
+                   Task task = ParseTask(lines[i], sources[i]);
+                   ApplyOverrides(options, task_path, &task);
+                   texts[i] = ResultToJson(SolveTask(task), -1) + "\n";
+                 });
+                 for (const std::string& text : texts) out->Write(text);
+               });
+}
+
+// `linkfit solve`: the outputs are checked and prepared first, the task read and validated,
+// solved, every picture rendered, and only then is anything written (apps/output_file.h); a
 // .jsonl batch streams (SolveBatch).
-int Solve(const std::string& task_path, const SolveOutputs& outputs) {
+int Solve(const std::string& task_path, const SolveOutputs& options) {
   const bool batch = IsJsonLines(task_path);
-  if (batch && (!outputs.svg_path.empty() || !outputs.animate_path.empty())) {
+  if (batch && (!options.svg_path.empty() || !options.animate_path.empty())) {
     throw InputError(task_path + ": --svg and --animate draw one task; a .jsonl file holds many");
   }
+  OutputSet outputs;
+  outputs.AddInput(task_path);
+  OutputFile& result_file = outputs.Add(options.result_path, "-o");
+  OutputFile* svg_file =
+      options.svg_path.empty() ? nullptr : &outputs.Add(options.svg_path, "--svg");
+  OutputFile* animation_file =
+      options.animate_path.empty() ? nullptr : &outputs.Add(options.animate_path, "--animate");
   if (batch) {
-    return SolveBatch(task_path, outputs, ThreadCount(outputs.jobs));
+    SolveBatch(task_path, options, ThreadCount(options.jobs), &result_file);
+    outputs.CommitAll();
+    return kExitOk;
   }
   const std::vector<Task> tasks = ReadTaskFile(task_path);
   const int indent = 2;
   std::string text;
   std::vector<TaskResult> results;
   for (Task task : tasks) {
-    ApplyOverrides(outputs, task_path, &task);
+    ApplyOverrides(options, task_path, &task);
     results.push_back(SolveTask(task));
     text += ResultToJson(results.back(), indent) + "\n";
   }
+  result_file.Write(text);
   // Everything is rendered before anything is written.
-  std::string svg, animation;
-  if (!outputs.svg_path.empty() || !outputs.animate_path.empty()) {
+  if (svg_file != nullptr || animation_file != nullptr) {
     const std::string title = std::filesystem::path(task_path).filename().string();
     std::string why;
+    std::string svg;
     const auto* spatial = std::get_if<SpatialMotionResult>(&results[0]);
-    if (spatial != nullptr && spatial->model == "spherical" && outputs.animate_path.empty()) {
+    if (spatial != nullptr && spatial->model == "spherical" && animation_file == nullptr) {
       svg = RenderSphericalSvg(*SphericalTaskPicture(title, tasks[0], *spatial, 12));
     } else if (!TaskPicture(title, tasks[0], results[0], 1, &why)) {
       throw InputError(task_path + ": " + why);
@@ -336,24 +331,23 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
     const auto picture_of = [&](size_t panels) {
       return *TaskPicture(title, tasks[0], results[0], panels, &why);
     };
-    if (!outputs.svg_path.empty() && svg.empty()) svg = RenderSvg(picture_of(12));
-    if (!outputs.animate_path.empty()) {
+    if (svg_file != nullptr) svg_file->Write(svg.empty() ? RenderSvg(picture_of(12)) : svg);
+    if (animation_file != nullptr) {
       const Picture picture = picture_of(64);
-      const size_t index = static_cast<size_t>(outputs.animate_index - 1);
+      const size_t index = static_cast<size_t>(options.animate_index - 1);
       if (index >= picture.mechanisms.size()) {
-        throw InputError(task_path + ": --mechanism " + std::to_string(outputs.animate_index) +
+        throw InputError(task_path + ": --mechanism " + std::to_string(options.animate_index) +
                          ": the result lists " + std::to_string(picture.mechanisms.size()) +
                          " mechanisms");
       }
-      std::string extension = std::filesystem::path(outputs.animate_path).extension().string();
+      std::string extension = std::filesystem::path(options.animate_path).extension().string();
       std::transform(extension.begin(), extension.end(), extension.begin(),
                      [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      animation = RenderAnimation(picture, index, extension == ".html" || extension == ".htm");
+      animation_file->Write(
+          RenderAnimation(picture, index, extension == ".html" || extension == ".htm"));
     }
   }
-  WriteResult(outputs.result_path, text);
-  if (!svg.empty()) WriteFileAtomically(outputs.svg_path, svg);
-  if (!animation.empty()) WriteFileAtomically(outputs.animate_path, animation);
+  outputs.CommitAll();
   return kExitOk;
 }
 
@@ -362,6 +356,10 @@ int Solve(const std::string& task_path, const SolveOutputs& outputs) {
 // after in the result.
 int Refine(const std::string& task_path, const std::string& design_path,
            const std::string& result_path, int mechanism_index) {
+  OutputSet outputs;
+  outputs.AddInput(task_path);
+  outputs.AddInput(design_path);
+  OutputFile& result_file = outputs.Add(result_path, "-o");
   const std::vector<Task> tasks = ReadTaskFile(task_path);
   if (tasks.size() != 1) throw InputError(task_path + ": refine takes one task, not a batch");
   const Task& task = tasks[0];
@@ -371,8 +369,8 @@ int Refine(const std::string& task_path, const std::string& design_path,
   choice.task_source = task_path;
   choice.design_source = design_path;
   choice.mechanism_item = design_path + ": --mechanism " + std::to_string(mechanism_index);
-  const std::string text = ResultToJson(RefineTask(task, design, choice), 2) + "\n";
-  WriteResult(result_path, text);
+  result_file.Write(ResultToJson(RefineTask(task, design, choice), 2) + "\n");
+  outputs.CommitAll();
   return kExitOk;
 }
 
@@ -398,7 +396,7 @@ int Run(int argc, char** argv) {
   solve
       ->add_option("--mechanism", outputs.animate_index,
                    "which listed mechanism --animate shows (1 = the first, the best ranked)")
-      ->check(CLI::PositiveNumber);
+      ->check(WholeNumber(1, kMaxIndex));
   solve
       ->add_option("--effort", outputs.effort,
                    "more poses than the minimum: fast (algebraic seeds), balanced (seeds refined "
@@ -407,16 +405,16 @@ int Run(int argc, char** argv) {
       ->check(CLI::IsMember({"fast", "balanced", "thorough"}));
   solve
       ->add_option("--jobs", outputs.jobs,
-                   "a .jsonl batch: solve on this many threads (default: every core); results "
-                   "keep the input order")
-      ->check(CLI::PositiveNumber);
+                   "a .jsonl batch: solve on this many threads (1 to 1024; 0 or by default: "
+                   "every core); results keep the input order")
+      ->check(WholeNumber(0, kMaxJobs));
   solve
       ->add_option("--platform", outputs.platform,
                    "spatial motion: the five dyads (indices in the result) to build the platform "
                    "from, e.g. --platform 0,1,2,3,5")
       ->delimiter(',')
       ->expected(5)
-      ->check(CLI::NonNegativeNumber);
+      ->check(WholeNumber(0, kMaxIndex));
 
   std::string refine_task, design_path, refine_output;
   int refine_index = 1;
@@ -441,7 +439,7 @@ int Run(int argc, char** argv) {
       ->add_option("--mechanism", refine_index,
                    "which mechanism (spatial: platform) of the design to refine (1 = the first "
                    "listed)")
-      ->check(CLI::PositiveNumber);
+      ->check(WholeNumber(1, kMaxIndex));
 
   BenchOptions bench_options;
   bool trade_only = false, extremes_only = false, constrained_only = false;
@@ -455,7 +453,8 @@ int Run(int argc, char** argv) {
   bench->add_option("-o,--output-dir", bench_options.output_dir,
                     "directory for trade.csv, trade.svg, extremes.csv and constrained.csv "
                     "(default: .)");
-  bench->add_option("--seed", bench_options.seed, "seed of the random task families");
+  bench->add_option("--seed", bench_options.seed, "seed of the random task families")
+      ->check(WholeNumber(0, std::numeric_limits<long long>::max()));
   CLI::Option* trade_flag =
       bench->add_flag("--trade-only", trade_only, "only the speed/accuracy trade");
   CLI::Option* extremes_flag =
@@ -467,7 +466,7 @@ int Run(int argc, char** argv) {
   bench
       ->add_option("--constrained-tasks", bench_options.constrained_tasks,
                    "tasks per random constrained family (default 40, quick 3)")
-      ->check(CLI::PositiveNumber);
+      ->check(WholeNumber(1, 1000000));
   bench->add_option("--wrong-dir", bench_options.wrong_dir,
                     "write the task files the extremes sweep answered wrongly (or with a note), "
                     "and those of the constrained families a target missed, here");
@@ -504,6 +503,8 @@ int RunCli(int argc, char** argv) {
   // and Jacobian evaluation failed" when a refinement steps onto a stationary configuration,
   // which the refiners handle). stderr belongs to the error contract: one line for bad input.
   FLAGS_minloglevel = google::GLOG_FATAL;
+  // An interrupted run removes its temporary files and exits 128 + the signal.
+  InstallSignalCleanup();
   try {
     return Run(argc, argv);
   } catch (const InputError& error) {

@@ -14,6 +14,7 @@
 #include <random>
 #include <sstream>
 
+#include "apps/output_file.h"
 #include "apps/percentile.h"
 #include "fitting/model_choice.h"
 #include "fitting/planar_motion.h"
@@ -677,7 +678,7 @@ std::vector<ConstrainedRow> RunConstrainedBench(const BenchOptions& options, std
         std::filesystem::create_directories(options.wrong_dir, error);
         const std::string path = options.wrong_dir + "/constrained_" + FileName(family.name) + "-" +
                                  std::to_string(t) + ".json";
-        std::ofstream(path) << text << "\n";
+        WriteOutputFile(path, "--wrong-dir", text + "\n");
       }
     }
     const char* efforts[] = {"balanced", "thorough"};

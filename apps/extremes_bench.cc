@@ -9,6 +9,7 @@
 #include <random>
 #include <sstream>
 
+#include "apps/output_file.h"
 #include "fitting/model_choice.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
@@ -573,10 +574,7 @@ class Sweep {
     const std::string path = wrong_dir_ + "/" + name + "-" + std::to_string(task) + suffix;
     for (const auto& [suffix, text] :
          {std::pair{".json", verdict.task_text}, std::pair{".expected.txt", verdict.expected}}) {
-      if (std::FILE* file = std::fopen((path + suffix).c_str(), "w")) {
-        std::fputs(text.c_str(), file);
-        std::fclose(file);
-      }
+      WriteOutputFile(path + suffix, "--wrong-dir", text);
     }
   }
 

@@ -14,6 +14,7 @@
 
 #include "apps/constrained_bench.h"
 #include "apps/extremes_bench.h"
+#include "apps/output_file.h"
 #include "apps/percentile.h"
 #include "fitting/spherical_motion.h"
 #include "lib/design_constraints.h"
@@ -604,33 +605,30 @@ int RunBench(const BenchOptions& options) {
   std::error_code error;
   fs::create_directories(options.output_dir, error);
   if (!fs::is_directory(options.output_dir)) {
-    std::fprintf(stderr, "linkfit: error: %s: cannot create the output directory\n",
-                 options.output_dir.c_str());
-    return 2;
+    throw OutputError("-o " + options.output_dir + ": cannot create the output directory" +
+                      (error ? " (" + error.message() + ")" : std::string()));
   }
-  auto write = [&](const std::string& name, const std::string& text) {
-    const fs::path path = fs::path(options.output_dir) / name;
-    std::ofstream file(path);
-    file << text;
-    file.close();
-    if (!file) {
-      std::fprintf(stderr, "linkfit: error: %s: cannot write\n", path.string().c_str());
-      return false;
-    }
-    std::printf("written to %s\n", path.string().c_str());
-    return true;
+  // Every table of the run is prepared first and written at the end (apps/output_file.h).
+  OutputSet outputs;
+  const auto add = [&](const std::string& name) -> OutputFile& {
+    return outputs.Add((fs::path(options.output_dir) / name).string(), "-o");
   };
+  OutputFile* trade_csv = options.trade ? &add("trade.csv") : nullptr;
+  OutputFile* trade_svg = options.trade ? &add("trade.svg") : nullptr;
+  OutputFile* extremes_csv = options.extremes ? &add("extremes.csv") : nullptr;
+  OutputFile* constrained_csv = options.constrained ? &add("constrained.csv") : nullptr;
   if (options.trade) {
     const std::vector<TradeRow> rows = RunTradeBench(options, stdout);
-    if (!write("trade.csv", TradeCsv(rows)) || !write("trade.svg", TradeSvg(rows))) return 2;
+    trade_csv->Write(TradeCsv(rows));
+    trade_svg->Write(TradeSvg(rows));
   }
-  if (options.extremes) {
-    const std::vector<ExtremeRow> rows = RunExtremesBench(options, stdout);
-    if (!write("extremes.csv", ExtremesCsv(rows))) return 2;
-  }
+  if (options.extremes) extremes_csv->Write(ExtremesCsv(RunExtremesBench(options, stdout)));
   if (options.constrained) {
-    const std::vector<ConstrainedRow> rows = RunConstrainedBench(options, stdout);
-    if (!write("constrained.csv", ConstrainedCsv(rows))) return 2;
+    constrained_csv->Write(ConstrainedCsv(RunConstrainedBench(options, stdout)));
+  }
+  outputs.CommitAll();
+  for (const OutputFile* file : {trade_csv, trade_svg, extremes_csv, constrained_csv}) {
+    if (file != nullptr) std::printf("written to %s\n", file->path().c_str());
   }
   return 0;
 }

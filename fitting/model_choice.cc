@@ -66,11 +66,11 @@ Eigen::VectorXd ParameterMovesQr(const Eigen::MatrixXd& jacobian,
   if (!(std::abs(packed(p - 1, p - 1)) > 1e-12 * std::abs(packed(0, 0)))) {
     return Eigen::VectorXd();
   }
-  // R^-1 Q1^T: Q^T applied to the identity's first p rows, then the triangular solve.
-  Eigen::MatrixXd q1t = Eigen::MatrixXd::Identity(jacobian.rows(), jacobian.rows());
-  q1t.applyOnTheLeft(qr.householderQ().transpose());
+  // R^-1 Q1^T, with Q1 = Q [I_p; 0] the thin factor (n x p: memory and time linear in the
+  // number of poses; the full Q is n x n), then the triangular solve.
+  const Eigen::MatrixXd q1 = qr.householderQ() * Eigen::MatrixXd::Identity(jacobian.rows(), p);
   const Eigen::MatrixXd pseudo_inverse_permuted =
-      packed.topLeftCorner(p, p).triangularView<Eigen::Upper>().solve(q1t.topRows(p));
+      packed.topLeftCorner(p, p).triangularView<Eigen::Upper>().solve(q1.transpose());
   const Eigen::MatrixXd pseudo_inverse = qr.colsPermutation() * pseudo_inverse_permuted;
   return pseudo_inverse.cwiseAbs() * uncertainty;
 }

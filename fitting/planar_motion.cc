@@ -34,7 +34,8 @@ double ConditionErrorBound(double condition, double relative_precision,
 }
 
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
-                                const std::vector<PlanarPose>& poses, double length) {
+                                const std::vector<PlanarPose>& poses, double length,
+                                const std::vector<bool>& exact) {
   const PlanarDyad& a = dyads[i].dyad;
   const PlanarDyad& b = dyads[j].dyad;
   const FourBarAnalysis a_drives = AnalyzeFourBar(a, b, poses, length);
@@ -53,6 +54,29 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   }
   mechanism.grashof = GrashofType(input, output, length);
   mechanism.cycle = chosen.cycle;
+  if (!poses.empty()) {
+    std::vector<Eigen::Vector2d> joints;
+    for (const PlanarDyad* dyad : {&input, &output}) {
+      if (dyad->type != DyadType::kPR) joints.push_back(dyad->fixed_pivot);
+      if (dyad->type != DyadType::kRP) joints.push_back(poses[0].ToFixed(dyad->moving_pivot));
+    }
+    mechanism.size = JointSpread(joints);
+  }
+  if (std::find(exact.begin(), exact.end(), true) != exact.end()) {
+    if (mechanism.max_pose_error && chosen.locations.size() == poses.size()) {
+      double worst = 0.0;
+      // A pose off the first pose's circuit is reached only at the largest error's bound.
+      for (size_t k = 0; k < poses.size() && k < exact.size(); ++k) {
+        if (!exact[k]) continue;
+        const FourBarLocation& location = chosen.locations[k];
+        worst = std::max(worst, location.circuit == chosen.circuit ? location.pose_error
+                                                                   : *mechanism.max_pose_error);
+      }
+      mechanism.exact_pose_error = worst;
+    }
+    mechanism.misses_exact = !(mechanism.exact_pose_error &&
+                               *mechanism.exact_pose_error <= kExactPoseTolerance * length);
+  }
   return mechanism;
 }
 
@@ -277,6 +301,8 @@ RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit)
   key.within_precision = mechanism.max_pose_error && *mechanism.max_pose_error <= precision_fit;
   key.parameters = FourBarParameters(mechanism.type);
   key.violates = !mechanism.violates.empty();
+  key.misses_exact = mechanism.misses_exact;
+  key.size = mechanism.size;
   key.fit = mechanism.rms_pose_error ? mechanism.rms_pose_error : mechanism.max_pose_error;
   // Not assembling at the first pose, it cannot be driven through the poses at all.
   key.defect_level = mechanism.max_pose_error ? DefectLevel(mechanism.defects) : 2;
@@ -292,23 +318,118 @@ int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>
       bound, mechanisms);
 }
 
+namespace {
+
+// Above this many poses, BuildMechanisms ranks the dyad pairs on this many spread poses first
+// and analyses on every pose only the best of them: the analysis costs a pose assembly per pose,
+// pair and input (about 2 us), and 90 of them at 100,000 poses took 18 s.
+constexpr size_t kScreenPoses = 2000;
+// Of the screened pairs, those analysed on every pose: the first this many of the ranking,
+// the first kScreenKeptPerLevel of each effort level, and the best fit of each level and of each
+// group of the ranking rule.
+constexpr int kScreenKept = 12;
+constexpr int kScreenKeptPerLevel = 4;
+
+}  // namespace
+
 void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result,
-                     const std::function<bool(int, int)>& paired) {
+                     const std::function<int(int, int)>& levels) {
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PlanarPose>& poses = task.planar_poses;
-  result->mechanisms.clear();
+  const double precision_fit = PoseFitTolerance(task.precision, length);
+  std::vector<std::pair<int, int>> pairs;
   for (size_t i = 0; i < result->dyads.size(); ++i) {
     for (size_t j = i + 1; j < result->dyads.size(); ++j) {
-      if (paired && !paired(static_cast<int>(i), static_cast<int>(j))) continue;
-      MechanismReport mechanism =
-          AnalyzeDyadPair(result->dyads, static_cast<int>(i), static_cast<int>(j), poses, length);
-      JudgeMechanism(task.constraints, result->dyads, length, &mechanism);
-      result->mechanisms.push_back(mechanism);
+      if (levels && levels(static_cast<int>(i), static_cast<int>(j)) == 0) continue;
+      pairs.emplace_back(static_cast<int>(i), static_cast<int>(j));
     }
   }
-  RankMechanisms(PoseFitTolerance(task.precision, length), -1, &result->mechanisms);
+  const auto analyse = [&](int i, int j, const std::vector<PlanarPose>& on,
+                           const std::vector<bool>& exact) {
+    MechanismReport mechanism = AnalyzeDyadPair(result->dyads, i, j, on, length, exact);
+    JudgeMechanism(task.constraints, result->dyads, length, &mechanism);
+    return mechanism;
+  };
+  result->mechanisms.clear();
+  if (poses.size() <= kScreenPoses || pairs.size() <= static_cast<size_t>(kScreenKept)) {
+    for (const auto& [i, j] : pairs) {
+      result->mechanisms.push_back(analyse(i, j, poses, task.pose_exact));
+    }
+  } else {
+    // Screening: every pair on the spread poses, ranked; the kept ones on every pose.
+    std::vector<PlanarPose> screen_poses;
+    std::vector<bool> screen_exact;
+    for (const size_t j : SpreadIndices(poses.size(), kScreenPoses, task.pose_exact)) {
+      screen_poses.push_back(poses[j]);
+      screen_exact.push_back(j < task.pose_exact.size() && task.pose_exact[j]);
+    }
+    std::vector<MechanismReport> screened;
+    for (const auto& [i, j] : pairs) screened.push_back(analyse(i, j, screen_poses, screen_exact));
+    std::vector<RankKey> keys;
+    for (const MechanismReport& mechanism : screened) {
+      keys.push_back(MechanismRankKey(mechanism, precision_fit));
+    }
+    const std::vector<int> order = RankOrder(keys);
+    std::vector<bool> keep(screened.size(), false);
+    std::vector<RankKey> ranked_keys;
+    for (const int index : order) ranked_keys.push_back(keys[index]);
+    for (const int position : ListedWithinBound(ranked_keys, kScreenKept)) {
+      keep[order[position]] = true;
+    }
+    const int level_count = levels ? 3 : 1;
+    for (int level = 0; level < level_count; ++level) {
+      int taken = 0;
+      int best_fit = -1;
+      for (const int index : order) {
+        const auto& [i, j] = pairs[index];
+        if (levels && !(levels(i, j) >> level & 1)) continue;
+        if (taken < kScreenKeptPerLevel) {
+          keep[index] = true;
+          ++taken;
+        }
+        const auto fit = [&](int k) {
+          return screened[k].rms_pose_error.value_or(
+              screened[k].max_pose_error.value_or(std::numeric_limits<double>::infinity()));
+        };
+        if (best_fit < 0 || fit(index) < fit(best_fit)) best_fit = index;
+      }
+      if (best_fit >= 0) keep[best_fit] = true;
+    }
+    int kept = 0;
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      if (!keep[k]) continue;
+      ++kept;
+      result->mechanisms.push_back(
+          analyse(pairs[k].first, pairs[k].second, poses, task.pose_exact));
+    }
+    result->notes.push_back(
+        std::to_string(poses.size()) + " poses: the four-bars of " + std::to_string(pairs.size()) +
+        " dyad pairs were ranked on " + std::to_string(screen_poses.size()) +
+        " spread poses first, and the best " + std::to_string(kept) + " analysed on every pose");
+  }
+  RankMechanisms(precision_fit, -1, &result->mechanisms);
   result->analysis_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+std::vector<size_t> SpreadIndices(size_t count, size_t wanted, const std::vector<bool>& exact) {
+  std::vector<size_t> chosen;
+  if (count == 0) return chosen;
+  if (wanted < 2 || wanted >= count) {
+    for (size_t j = 0; j < count; ++j) chosen.push_back(j);
+    return chosen;
+  }
+  for (size_t k = 0; k < wanted; ++k) {
+    chosen.push_back(
+        static_cast<size_t>(std::llround(static_cast<double>(k) * static_cast<double>(count - 1) /
+                                         static_cast<double>(wanted - 1))));
+  }
+  for (size_t j = 0; j < count && j < exact.size(); ++j) {
+    if (exact[j]) chosen.push_back(j);
+  }
+  std::sort(chosen.begin(), chosen.end());
+  chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+  return chosen;
 }
 
 std::vector<std::vector<int>> SpreadSubsets(int count, int subsets, int size) {
@@ -330,8 +451,28 @@ std::vector<std::vector<int>> SpreadSubsets(int count, int subsets, int size) {
   return out;
 }
 
+std::vector<std::vector<int>> SeedSubsets(int count, int subsets, const std::vector<bool>& exact) {
+  std::vector<int> exact_indices, others;
+  for (int j = 0; j < count; ++j) {
+    (j < static_cast<int>(exact.size()) && exact[j] ? exact_indices : others).push_back(j);
+  }
+  if (exact_indices.empty()) return SpreadSubsets(count, subsets);
+  const int free = 5 - static_cast<int>(exact_indices.size());
+  const std::vector<int>& drawn = free > 0 ? others : exact_indices;
+  std::vector<std::vector<int>> out;
+  if (free == 0) return {exact_indices};
+  for (const std::vector<int>& subset :
+       SpreadSubsets(static_cast<int>(drawn.size()), subsets, free > 0 ? free : 5)) {
+    std::vector<int> chosen = free > 0 ? exact_indices : std::vector<int>();
+    for (const int k : subset) chosen.push_back(drawn[k]);
+    std::sort(chosen.begin(), chosen.end());
+    out.push_back(chosen);
+  }
+  return out;
+}
+
 int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
-                int subsets, std::vector<PlanarDyad>* seeds) {
+                int subsets, std::vector<PlanarDyad>* seeds, const std::vector<bool>& exact) {
   seeds->clear();
   const double length = CharacteristicLength(poses);
   const auto add = [&](const std::vector<PlanarDyad>& found) {
@@ -350,7 +491,8 @@ int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptio
   SolvePlanarBurmester(poses, options, &found);
   add(found);
   if (poses.size() > 5) {
-    for (const std::vector<int>& subset : SpreadSubsets(static_cast<int>(poses.size()), subsets)) {
+    for (const std::vector<int>& subset :
+         SeedSubsets(static_cast<int>(poses.size()), subsets, exact)) {
       std::vector<PlanarPose> chosen;
       for (int index : subset) chosen.push_back(poses[index]);
       SolvePlanarBurmester(chosen, options, &found);

@@ -38,15 +38,26 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
 
 // Seeds for more than five poses: the dyads of the algebraic least-squares fit (three smallest
 // singular vectors) and of exact five-pose solves of up to `subsets` spread-out subsets of the
-// poses, so that one bad pose does not spoil every seed. Repeated dyads are dropped. Returns
-// the count.
+// poses, so that one bad pose does not spoil every seed. With poses marked `exact` (one flag per
+// pose, or empty), every subset holds them (up to five; more: subsets of them alone), so that
+// the subsets' dyads pass through them. Repeated dyads are dropped. Returns the count.
 int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
-                int subsets, std::vector<PlanarDyad>* seeds);
+                int subsets, std::vector<PlanarDyad>* seeds, const std::vector<bool>& exact = {});
+
+// The five-pose subsets PlanarSeeds solves: SpreadSubsets of the poses, or with exact poses,
+// each the exact ones and a spread subset of the others (more than five exact: SpreadSubsets of
+// the exact ones). Indices into the poses, each subset sorted.
+std::vector<std::vector<int>> SeedSubsets(int count, int subsets, const std::vector<bool>& exact);
 
 // The five-pose subsets PlanarSeeds solves (other solvers: subsets of `size`): subset k takes the
 // poses at positions round((i + k / subsets) n / size) modulo n, i < size, so that consecutive
 // subsets shift through the task; repeated subsets and those with a repeated position are left out.
 std::vector<std::vector<int>> SpreadSubsets(int count, int subsets, int size = 5);
+
+// `wanted` indices spread evenly over [0, count), the first and the last among them, and every
+// index `exact` marks, in order and once each (all indices when `wanted` >= count): the items a
+// solver screens a long task on (BuildMechanisms; free-timing paths).
+std::vector<size_t> SpreadIndices(size_t count, size_t wanted, const std::vector<bool>& exact);
 
 // Whether two dyads are one: of a type, and their pivots, radii and lines within the data's
 // precision (kModelUnits point uncertainties at their size), within `bound` (how far the data's
@@ -65,12 +76,15 @@ double PoseFitTolerance(const DataPrecision& precision, double length);
 void JudgeMechanism(const DesignConstraints& constraints, const std::vector<DyadReport>& dyads,
                     double length, MechanismReport* mechanism);
 
-// Every four-bar made of two of result->dyads (of those pairs i < j that `paired` accepts, when
-// given), each analysed under both inputs (the better kept), judged (JudgeMechanism), those of
-// the same two dyads listed once, and ranked (RankMechanisms). The poses are the task's planar
-// poses.
+// Every four-bar made of two of result->dyads (of those pairs i < j whose `levels` mask is not
+// 0, when given: bit k set when both dyads are among effort level k's), each analysed under both
+// inputs (the better kept), judged (JudgeMechanism; misses of the task's exact poses too), those
+// of the same two dyads listed once, and ranked (RankMechanisms). The poses are the task's
+// planar poses. Above 2000 poses the pairs are ranked on 2000 spread poses (and the exact ones)
+// first, and only the best-ranked (the first 12, the first 4 and the best fit of each level, the
+// best of each group of the ranking rule) are analysed on every pose and listed, with a note.
 void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result,
-                     const std::function<bool(int, int)>& paired = {});
+                     const std::function<int(int, int)>& levels = {});
 
 // The parts of a four-bar's report that its analysis gives (planar FourBarAnalysis, spherical
 // SphericalFourBarAnalysis): from `chosen`, the analysis of its input, the largest pose error,
@@ -96,9 +110,16 @@ void TakeAnalysis(const Analysis& chosen, const Analysis& other, bool least_squa
   }
 }
 
+// How near a least-squares four-bar or dyad must come to a pose marked exact, times L (README,
+// "Task file": such poses are met to 1e-9 L).
+constexpr double kExactPoseTolerance = 1e-9;
+
 // The analysis of the four-bar of dyads i and j of `dyads` (both inputs tried, the better kept).
+// With `exact` (one flag per pose), its largest error at the exact poses and whether it misses
+// them (MechanismReport::exact_pose_error, misses_exact).
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
-                                const std::vector<PlanarPose>& poses, double length);
+                                const std::vector<PlanarPose>& poses, double length,
+                                const std::vector<bool>& exact = {});
 
 // A mechanism's key in the ranking rule (lib/design_constraints.h): the fit is the RMS pose
 // error for least squares, else the largest; within the data's precision when its largest pose

@@ -118,6 +118,12 @@ int SphericalSeeds(const std::vector<Eigen::Matrix3d>& rotations,
   return static_cast<int>(seeds->size());
 }
 
+// Above this many orientations, BuildSphericalMechanisms ranks the dyad pairs on this many
+// spread orientations first and analyses on every one only the best kScreenKept (and the best
+// of each group): as planar four-bars (fitting/planar_motion.cc BuildMechanisms).
+constexpr size_t kScreenOrientations = 2000;
+constexpr int kScreenKept = 12;
+
 MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dyads, int i, int j,
                                      const SphericalMotion& motion,
                                      const DesignConstraints& constraints) {
@@ -153,14 +159,54 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
   const auto start = std::chrono::steady_clock::now();
   result->spherical_mechanisms.clear();
   const int count = static_cast<int>(result->spherical_dyads.size());
+  const double precision_fit = PoseFitTolerance(task.precision, motion.length);
+  std::vector<std::pair<int, int>> pairs;
   for (int i = 0; i < count; ++i) {
-    for (int j = i + 1; j < count; ++j) {
+    for (int j = i + 1; j < count; ++j) pairs.emplace_back(i, j);
+  }
+  const size_t orientations = motion.rotations.size();
+  if (orientations <= kScreenOrientations || pairs.size() <= static_cast<size_t>(kScreenKept)) {
+    for (const auto& [i, j] : pairs) {
       result->spherical_mechanisms.push_back(
           AnalyzeSphericalPair(result->spherical_dyads, i, j, motion, task.constraints));
     }
+  } else {
+    // As planar four-bars (BuildMechanisms): every pair ranked on spread orientations first, the
+    // best analysed on every orientation.
+    SphericalMotion screen = motion;
+    screen.rotations.clear();
+    screen.translations.clear();
+    for (const size_t k : SpreadIndices(orientations, kScreenOrientations, task.pose_exact)) {
+      screen.rotations.push_back(motion.rotations[k]);
+      if (k < motion.translations.size()) screen.translations.push_back(motion.translations[k]);
+    }
+    std::vector<RankKey> keys;
+    for (const auto& [i, j] : pairs) {
+      keys.push_back(MechanismRankKey(
+          AnalyzeSphericalPair(result->spherical_dyads, i, j, screen, task.constraints),
+          precision_fit));
+    }
+    const std::vector<int> order = RankOrder(keys);
+    std::vector<RankKey> ranked;
+    for (const int index : order) ranked.push_back(keys[index]);
+    std::vector<bool> keep(pairs.size(), false);
+    for (const int position : ListedWithinBound(ranked, std::max(bound, kScreenKept))) {
+      keep[order[position]] = true;
+    }
+    int kept = 0;
+    for (size_t k = 0; k < pairs.size(); ++k) {
+      if (!keep[k]) continue;
+      ++kept;
+      result->spherical_mechanisms.push_back(AnalyzeSphericalPair(
+          result->spherical_dyads, pairs[k].first, pairs[k].second, motion, task.constraints));
+    }
+    result->notes.push_back(std::to_string(orientations) + " orientations: the four-bars of " +
+                            std::to_string(pairs.size()) + " dyad pairs were ranked on " +
+                            std::to_string(screen.rotations.size()) +
+                            " spread orientations first, and the best " + std::to_string(kept) +
+                            " analysed on every orientation");
   }
-  const int dropped = RankMechanisms(PoseFitTolerance(task.precision, motion.length), bound,
-                                     &result->spherical_mechanisms);
+  const int dropped = RankMechanisms(precision_fit, bound, &result->spherical_mechanisms);
   if (dropped > 0) result->notes.push_back(DroppedNote(dropped));
   result->analysis_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <tuple>
 
 #include "lib/path_motion.h"
 
@@ -65,9 +66,10 @@ double FitOf(const RankKey& key) {
   return key.fit && std::isfinite(*key.fit) ? *key.fit : std::numeric_limits<double>::infinity();
 }
 
-// A key's group in the rule: keeping or violating, then DefectLevel.
-std::pair<bool, int> GroupOf(const RankKey& key) {
-  return std::make_pair(key.violates, key.defect_level);
+// A key's group in the rule: meeting the exact items or not, keeping the constraints or
+// violating them, then DefectLevel.
+std::tuple<bool, bool, int> GroupOf(const RankKey& key) {
+  return std::make_tuple(key.misses_exact, key.violates, key.defect_level);
 }
 
 }  // namespace
@@ -218,20 +220,49 @@ int FourBarParameters(FourBarType type) {
   }
 }
 
+double JointSpread(const std::vector<Eigen::Vector2d>& joints) {
+  double spread = 0.0;
+  for (size_t i = 0; i < joints.size(); ++i) {
+    for (size_t j = i + 1; j < joints.size(); ++j) spread += (joints[i] - joints[j]).norm();
+  }
+  return spread;
+}
+
 std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  // Fits within this share of each other are equal to rounding.
+  constexpr double kFitRounding = 1e-9;
   std::vector<int> order(keys.size());
   std::iota(order.begin(), order.end(), 0);
   const auto fit = [&](int i) { return FitOf(keys[i]); };
   const auto group = [&](int i) { return GroupOf(keys[i]); };
+  const auto size = [&](int i) { return keys[i].size.value_or(kInfinity); };
+  const bool sized = std::all_of(keys.begin(), keys.end(),
+                                 [](const RankKey& key) { return key.size.has_value(); });
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     if (group(a) != group(b)) return group(a) < group(b);
     if (keys[a].within_precision != keys[b].within_precision) return keys[a].within_precision;
     if (keys[a].within_precision && keys[a].parameters != keys[b].parameters) {
       return keys[a].parameters < keys[b].parameters;
     }
+    // Within the data's precision, fits say nothing: the smaller first.
+    if (sized && keys[a].within_precision) return size(a) < size(b);
     return fit(a) < fit(b);
   });
+  // Runs of fits equal to rounding (each within kFitRounding of the one before): the smaller
+  // first.
+  for (size_t begin = 0; sized && begin < order.size();) {
+    size_t end = begin + 1;
+    while (end < order.size() && group(order[end]) == group(order[begin]) &&
+           !keys[order[end]].within_precision && !keys[order[begin]].within_precision &&
+           std::isfinite(fit(order[end])) &&
+           fit(order[end]) - fit(order[end - 1]) <= kFitRounding * fit(order[end])) {
+      ++end;
+    }
+    std::stable_sort(order.begin() + begin, order.begin() + end,
+                     [&](int a, int b) { return size(a) < size(b); });
+    begin = end;
+  }
   // Runs of ties: those within the precision of one group and model, or from the first of a
   // run every later one of the group whose fit is within kNearTieRatio of it.
   size_t begin = 0;

@@ -131,22 +131,37 @@ int DefectLevel(const std::vector<std::string>& defects);
 // any class of their kind; "change-point" counts as Grashof).
 bool GrashofClassKeeps(const std::string& required, const std::string& grashof);
 
-// The ranking rule of every result (README, "Ranking"): those keeping every constraint before
-// those violating one; within each, defect-free, then those whose only defect is the
-// transmission angle, then those with a kinematic defect (DefectLevel). Within each of those:
-// first those that meet the task within the data's precision, the simplest model first (fewest
-// parameters: a slider where the data cannot tell it from a circle), then by the worst
-// transmission angle; then the others by fit (smaller first; absent last), fits within
-// kNearTieRatio of the first of their run by the worst transmission angle. Transmission angles
-// within kTransmissionTie of each other are a tie, the better fit first; absent ones last.
+// The ranking rule of every result (README, "Ranking"): those meeting the task's exact items
+// before those that miss one; then those keeping every constraint before those violating one;
+// within each, defect-free, then those whose only defect is the transmission angle, then those with
+// a kinematic defect (DefectLevel). Within each of those: first those that meet the task within the
+// data's precision, the simplest model first (fewest parameters: a slider where the data cannot
+// tell it from a circle), then by the worst transmission angle; then the others by fit (smaller
+// first; absent last), fits within kNearTieRatio of the first of their run by the worst
+// transmission angle. Transmission angles within kTransmissionTie of each other are a tie, the
+// better fit first (within the data's precision, and for fits equal to rounding, the smaller size
+// first); absent ones last.
 struct RankKey {
+  // Misses an item the task marks exact (a pose or point) by more than the promised 1e-9 L:
+  // listed after every one that meets them, whatever its fit.
+  bool misses_exact = false;
   bool violates = false;
   int defect_level = 0;  // DefectLevel; 2 also for a four-bar without a fit (not driven through)
   std::optional<double> fit;
   bool within_precision = false;  // its largest error is within the data's precision
   int parameters = 0;             // FourBarParameters
   std::optional<double> transmission_min_deg;
+  // The mechanism's size (JointSpread), the last tie-break: between fits equal to rounding (the
+  // timed cognates of one curve, a design found twice) or all within the data's precision, the
+  // smaller first, so that the order does not depend on rounding, nor on where the data's origin
+  // is. Absent: the fit's order stands.
+  std::optional<double> size;
 };
+
+// The sum of the distances between every two of `joints` (a mechanism's pivots, pins and
+// coupler point in one configuration): its size, which no move or turn of the data changes and
+// which tells apart designs that share their largest extent (timed cognates share the output).
+double JointSpread(const std::vector<Eigen::Vector2d>& joints);
 
 // The parameters of a four-bar's dyads (RR 5, PR and RP 4): its model's complexity.
 int FourBarParameters(FourBarType type);

@@ -236,7 +236,7 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
   const int parameters =
       design_parameters + (free_timing ? static_cast<int>(points.size()) - 1 : 0);
   const int rows = 2 * static_cast<int>(points.size());
-  if (rows < parameters || points.size() != input_angles.size() ||
+  if (rows < parameters || points.size() != input_angles.size() || points.size() < 2 ||
       four_bar.input.type != DyadType::kRR || !(length > 0.0)) {
     return unbounded;
   }
@@ -256,7 +256,7 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
   // Central differences: a step of 1e-6 L balances truncation and rounding (errors ~1e-12).
   const double step = 1e-6 * length;
   Eigen::VectorXd plus, minus;
-  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(rows, parameters);
+  Eigen::MatrixXd jacobian = Eigen::MatrixXd::Zero(rows, design_parameters);
   for (int i = 0; i < design_parameters; ++i) {
     // The line angle in radians: a step of 1e-6.
     const double h = !rr && i == 6 ? 1e-6 : step;
@@ -273,26 +273,54 @@ double PathFourBarErrorBound(const PathFourBar& four_bar,
   // coupler point's speed along its path (the first angle is the reference: its alpha moves
   // every other point's angle, counted at each of them).
   // Free timing: the angles are parameters, their speed columns of J.
+  // Point j's configuration depends on its own angle alone (its turn from the first point, on
+  // the first point's assembly), so its speed comes from the first point and j alone: linear
+  // in the points, not quadratic.
   Eigen::VectorXd uncertainty = Eigen::VectorXd::Constant(rows, precision.length);
+  std::vector<Eigen::Vector2d> speeds(points.size(), Eigen::Vector2d::Zero());
   for (size_t j = 1; j < points.size() && (free_timing || precision.angle > 0.0); ++j) {
-    std::vector<double> angles = input_angles;
-    angles[j] += 1e-6;
-    if (!CouplerCoordinates(four_bar, points, angles, length, &plus)) return unbounded;
-    angles[j] = input_angles[j] - 1e-6;
-    if (!CouplerCoordinates(four_bar, points, angles, length, &minus)) return unbounded;
-    const Eigen::Vector2d speed = (plus - minus).segment<2>(2 * j) / 2e-6;
-    if (free_timing) {
-      jacobian.block<2, 1>(2 * j, design_parameters + static_cast<int>(j) - 1) = speed;
-    } else {
-      uncertainty.segment<2>(2 * j) += 2.0 * precision.angle * speed.cwiseAbs();
-    }
+    const std::vector<Eigen::Vector2d> pair = {points[0], points[j]};
+    std::vector<double> angles = {input_angles[0], input_angles[j] + 1e-6};
+    if (!CouplerCoordinates(four_bar, pair, angles, length, &plus)) return unbounded;
+    angles[1] = input_angles[j] - 1e-6;
+    if (!CouplerCoordinates(four_bar, pair, angles, length, &minus)) return unbounded;
+    speeds[j] = (plus - minus).segment<2>(2) / 2e-6;
+    if (!free_timing) uncertainty.segment<2>(2 * j) += 2.0 * precision.angle * speeds[j].cwiseAbs();
   }
   uncertainty = uncertainty.cwiseMax(4.0 * std::numeric_limits<double>::epsilon() * length);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian, Eigen::ComputeThinU | Eigen::ComputeThinV);
-  const Eigen::VectorXd& sigma = svd.singularValues();
-  if (!(sigma[parameters - 1] > 1e-12 * sigma[0])) return unbounded;
-  const Eigen::MatrixXd pseudo_inverse =
-      svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+  // The design parameters' rows of J^+. Prescribed timing: from the thin SVD of J (2n x 10).
+  // Free timing, J = [D S] with S's column j nonzero only in point j's rows (its speed s_j):
+  // the angles are eliminated exactly (a Schur complement), each point's rows projected off its
+  // speed, P_j = I - s_j s_j^T / |s_j|^2, and the rows are M^-1 [D_j^T P_j]_j with
+  // M = sum_j D_j^T P_j D_j -- the same rows as the SVD's of J, in time and memory linear in
+  // the points (the SVD of the 2n x (n + 9) matrix is cubic).
+  Eigen::MatrixXd pseudo_inverse;
+  if (!free_timing) {
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(jacobian,
+                                                Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd& sigma = svd.singularValues();
+    if (!(sigma[design_parameters - 1] > 1e-12 * sigma[0])) return unbounded;
+    pseudo_inverse = svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+  } else {
+    double largest_speed = 0.0;
+    for (const Eigen::Vector2d& speed : speeds)
+      largest_speed = std::max(largest_speed, speed.norm());
+    Eigen::MatrixXd projected = jacobian.leftCols(design_parameters);  // rows P_j D_j
+    for (size_t j = 1; j < points.size(); ++j) {
+      const Eigen::Vector2d& speed = speeds[j];
+      if (!(speed.norm() > 1e-12 * largest_speed)) return unbounded;
+      const Eigen::Matrix2d projector =
+          Eigen::Matrix2d::Identity() - speed * speed.transpose() / speed.squaredNorm();
+      projected.middleRows<2>(2 * static_cast<Eigen::Index>(j)) =
+          projector * projected.middleRows<2>(2 * static_cast<Eigen::Index>(j)).eval();
+    }
+    // P_j is a projector: D^T P D = (P D)^T (P D), and M^-1 (P D)^T gives the rows.
+    const Eigen::JacobiSVD<Eigen::MatrixXd> svd(projected,
+                                                Eigen::ComputeThinU | Eigen::ComputeThinV);
+    const Eigen::VectorXd& sigma = svd.singularValues();
+    if (!(sigma[design_parameters - 1] > 1e-12 * sigma[0])) return unbounded;
+    pseudo_inverse = svd.matrixV() * sigma.cwiseInverse().asDiagonal() * svd.matrixU().transpose();
+  }
   const Eigen::VectorXd moves = pseudo_inverse.cwiseAbs() * uncertainty;
   const double size = PathFourBarSize(four_bar, points, length);
   // The points' pairs: B, A, F or M, then (RR) M or (PR, RP) the line angle, then R.

@@ -69,6 +69,14 @@ struct MechanismReport {
   // refinement (absent when not refined).
   std::optional<double> rms_pose_error;
   std::optional<double> seed_max_pose_error;
+  // Least squares with poses marked exact: the largest pose error at them, and whether it is
+  // more than the promised kExactPoseTolerance L (such a four-bar is ranked after every one
+  // that meets them).
+  std::optional<double> exact_pose_error;
+  bool misses_exact = false;
+  // Its joints' spread at the first pose (lib/design_constraints.h JointSpread): the ranking's
+  // last tie-break.
+  std::optional<double> size;
 };
 
 struct PlanarMotionResult {

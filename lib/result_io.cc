@@ -195,6 +195,7 @@ Json MechanismToJson(const MechanismReport& report) {
         report.pose_error_note.empty() ? "not computed" : report.pose_error_note;
   }
   if (report.rms_pose_error) PutNumber(&object, "rms_pose_error", *report.rms_pose_error);
+  if (report.exact_pose_error) PutNumber(&object, "exact_pose_error", *report.exact_pose_error);
   if (report.seed_max_pose_error) {
     Json seed;
     PutNumber(&seed, "max_pose_error", *report.seed_max_pose_error);

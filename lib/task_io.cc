@@ -9,6 +9,7 @@
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
@@ -37,6 +38,9 @@ constexpr double kRoundingUnits = 16.0;
 constexpr size_t kMaxFileBytes = size_t{256} << 20;
 
 constexpr double kDegree = M_PI / 180.0;
+constexpr double kPi = M_PI;
+// How far from the poses a given pivot may lie, times L (TaskParser::CheckPivotReach).
+constexpr double kMaxPivotReach = 1e8;
 
 // Keeps a message on one printable ASCII line and bounded in length.
 std::string Sanitize(const std::string& text, size_t max_length) {
@@ -580,6 +584,9 @@ class TaskParser {
         ParsePlanarPoses(poses, &task);
         task.moving_pivots = Pivots<2>(root, "moving_pivots");
         task.fixed_pivots = Pivots<2>(root, "fixed_pivots");
+        std::vector<Eigen::Vector2d> origins;
+        for (const PlanarPose& pose : task.planar_poses) origins.push_back(pose.origin_in_fixed);
+        CheckPivotReach(task.moving_pivots, task.fixed_pivots, origins, task.scale);
         if (task.planar_poses.size() >= 5 &&
             !(task.moving_pivots.empty() && task.fixed_pivots.empty())) {
           Fail(task.moving_pivots.empty() ? "fixed_pivots" : "moving_pivots",
@@ -589,6 +596,9 @@ class TaskParser {
         ParseSpatialPoses(poses, &task);
         task.spatial_moving_pivots = Pivots<3>(root, "moving_pivots");
         task.spatial_fixed_pivots = Pivots<3>(root, "fixed_pivots");
+        std::vector<Eigen::Vector3d> origins;
+        for (const DualQuaternion& pose : task.spatial_poses) origins.push_back(pose.Translation());
+        CheckPivotReach(task.spatial_moving_pivots, task.spatial_fixed_pivots, origins, task.scale);
         const size_t count = task.spatial_poses.size();
         if ((count < 4 || count >= 7) &&
             !(task.spatial_moving_pivots.empty() && task.spatial_fixed_pivots.empty())) {
@@ -795,6 +805,36 @@ class TaskParser {
     for (size_t i = 0; i < value.size(); ++i)
       pivots.push_back(Vector<N>(value[i], IndexItem(key, i)));
     return pivots;
+  }
+
+  // Pivots the task gives (moving ones in E, from its origin; fixed ones in Sigma, from the pose
+  // origins' centroid) within kMaxPivotReach L: farther, a pivot's circle (or sphere) through its
+  // positions is lost in the rounding of its coordinates, and at 1e200 its squares overflow
+  // (a pivot that far runs on a line: a slider, which pivots do not ask for).
+  template <typename Vec>
+  void CheckPivotReach(const std::vector<Vec>& moving, const std::vector<Vec>& fixed,
+                       const std::vector<Vec>& origins, const std::optional<double>& scale) const {
+    if (moving.empty() && fixed.empty()) return;
+    Vec centroid = Vec::Zero();
+    for (const Vec& origin : origins) centroid += origin / static_cast<double>(origins.size());
+    double sum = 0.0;
+    for (const Vec& origin : origins) sum += (origin - centroid).squaredNorm();
+    const double length = scale ? *scale : std::sqrt(sum / static_cast<double>(origins.size()));
+    if (!(length > 0.0) || !std::isfinite(length)) return;  // the poses' own checks say why
+    for (const bool in_moving : {true, false}) {
+      const std::vector<Vec>& pivots = in_moving ? moving : fixed;
+      for (size_t i = 0; i < pivots.size(); ++i) {
+        const double reach =
+            (in_moving ? pivots[i] : Vec(pivots[i] - centroid)).stableNorm() / length;
+        if (reach <= kMaxPivotReach) continue;
+        char text[160];
+        std::snprintf(text, sizeof(text),
+                      "%.3g L from %s, farther than %.0e L: its circle through the poses is lost "
+                      "in rounding (a pivot that far runs on a line, a slider)",
+                      reach, in_moving ? "the moving frame's origin" : "the poses", kMaxPivotReach);
+        Fail(IndexItem(in_moving ? "moving_pivots" : "fixed_pivots", i), text);
+      }
+    }
   }
 
   // Axes through a spherical motion's centre: non-zero directions [x, y, z].
@@ -1446,17 +1486,33 @@ class TaskParser {
         task);
     // Two pairs at one input angle (modulo a turn, within precision) ask one four-bar for two
     // outputs there, or repeat a pair: no four-bar is determined by them.
-    const std::string list = samples ? "function" : "pairs";
-    for (size_t i = 0; i < task->pairs.size(); ++i) {
-      for (size_t j = 0; j < i; ++j) {
-        if (std::abs(WrapAngle(task->pairs[i].input - task->pairs[j].input)) <=
-            2.0 * task->precision.angle) {
-          Fail(samples ? "function" : IndexItem("pairs", i),
-               "the same input angle as " +
-                   (samples ? "another precision point" : IndexItem("pairs", j)) +
-                   " (each input angle gives one output)");
-        }
+    // Sorted by their angle on the circle, a pair within the tolerance of another is within it
+    // of its neighbour (time n log n: comparing every two took 50 s for 100,000 pairs); the
+    // pair named is the first in the list that repeats an earlier one.
+    const size_t count = task->pairs.size();
+    std::vector<std::pair<double, size_t>> on_circle;
+    on_circle.reserve(count);
+    for (size_t i = 0; i < count; ++i) {
+      const double angle = WrapAngle(task->pairs[i].input);
+      on_circle.emplace_back(angle < 0.0 ? angle + 2.0 * kPi : angle, i);
+    }
+    std::sort(on_circle.begin(), on_circle.end());
+    size_t repeat = count, repeated = count;
+    for (size_t k = 0; k < count && count > 1; ++k) {
+      const auto& [a, i] = on_circle[k];
+      const auto& [b, j] = on_circle[(k + 1) % count];
+      const double apart = k + 1 < count ? b - a : b + 2.0 * kPi - a;
+      if (!(apart <= 2.0 * task->precision.angle)) continue;
+      if (std::max(i, j) < repeat) {
+        repeat = std::max(i, j);
+        repeated = std::min(i, j);
       }
+    }
+    if (repeat < count) {
+      Fail(samples ? "function" : IndexItem("pairs", repeat),
+           "the same input angle as " +
+               (samples ? "another precision point" : IndexItem("pairs", repeated)) +
+               " (each input angle gives one output)");
     }
   }
 
@@ -1695,25 +1751,42 @@ PlanarDesign ParseDesign(const std::string& json_text, const std::string& source
 
 namespace {
 
-// The whole file, read in bounded chunks (a device such as /dev/zero cannot exhaust memory).
+// The whole file. A regular file larger than the limit is refused unread (its size is known); a
+// stream (a FIFO, a device such as /dev/zero) is read in chunks and refused as soon as it
+// passes the limit. The chunks are joined once at the end, so memory peaks at the text's size
+// plus one chunk, not at the doubled capacity of a growing string.
 std::string ReadText(const std::string& path, const char* what) {
+  const std::string limit =
+      "file too large (more than " + std::to_string(kMaxFileBytes >> 20) + " MiB)";
   std::error_code error;
-  if (std::filesystem::is_directory(path, error)) {
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (std::filesystem::is_directory(status)) {
     throw InputError(path + ": is a directory, not a " + what + " file");
+  }
+  if (std::filesystem::is_regular_file(status)) {
+    const auto size = std::filesystem::file_size(path, error);
+    if (!error && size > kMaxFileBytes) throw InputError(path + ": " + limit);
   }
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open file");
-  std::string text;
-  std::vector<char> chunk(1 << 20);
+  std::vector<std::string> chunks;
+  size_t total = 0;
+  constexpr size_t kChunk = size_t{1} << 20;
   while (file) {
+    std::string chunk(kChunk, '\0');
     file.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
-    text.append(chunk.data(), static_cast<size_t>(file.gcount()));
-    if (text.size() > kMaxFileBytes) {
-      throw InputError(path + ": file too large (more than " + std::to_string(kMaxFileBytes >> 20) +
-                       " MiB)");
-    }
+    chunk.resize(static_cast<size_t>(file.gcount()));
+    total += chunk.size();
+    if (total > kMaxFileBytes) throw InputError(path + ": " + limit);
+    if (!chunk.empty()) chunks.push_back(std::move(chunk));
   }
   if (file.bad()) throw InputError(path + ": cannot read file");
+  std::string text;
+  text.reserve(total);
+  for (std::string& chunk : chunks) {
+    text += chunk;
+    std::string().swap(chunk);
+  }
   if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw InputError(path + ": empty file, expected a " + what);
   }

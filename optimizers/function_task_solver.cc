@@ -227,6 +227,10 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
     key.within_precision = report.max_angle_error && *report.max_angle_error <= pass;
     key.parameters = FourBarParameters(FourBarType::k4R);
     key.transmission_min_deg = report.transmission_min_deg;
+    if (report.first) {
+      key.size = JointSpread({report.first->input_pivot, report.first->input_moving,
+                              report.first->output_pivot, report.first->output_moving});
+    }
     return key;
   };
   const int dropped = RankReports<FunctionMechanismReport>(

@@ -31,13 +31,11 @@ constexpr double kGradientTolerance = 1e-16;
 constexpr double kExactWeight = 1e3;
 // The projection onto the exact points: relative step to stop.
 constexpr double kProjectionTolerance = 1e-20;
-// Free timing: weight of the penalty on a total crank travel beyond one turn.
-constexpr double kTurnPenaltyWeight = 1e4;
+// Free timing: the windowed solves of one Solve (see there), at most.
+constexpr int kWindowRounds = 8;
 // A crank or RR output radius beyond this (times L) is reported: on noisy points the cost can
 // keep falling toward a slider, which a crank-driven RR four-bar only approaches.
 constexpr double kRunawayRadius = 1e3;
-// Stride of the dynamic automatic differentiation (free timing).
-constexpr int kDynamicStride = 4;
 
 // The coupler's turn theta about the crank pin that closes the output dyad, from
 // p cos(theta) + q sin(theta) = k:
@@ -67,7 +65,7 @@ bool SolveTurn(const T& p, const T& q, const T& k, double sign, T* cos_theta, T*
 //                   (n . u) cos + (perp n . u) sin = h - n . A
 //   e = sqrt(w_j) (P_j + R(theta_j) (c - A) - R_j + s_j)
 // (s_j = 0 but for exact points: the shift of the method of multipliers). Prescribed timing:
-// t_j is data; free timing: t_j = delta_1 + ... + delta_j, the step blocks after the first six.
+// t_j is data; free timing: t_j is point j's own parameter block, after the first six.
 class PathPointResidual {
  public:
   PathPointResidual(DyadType output_type, double sign, const Eigen::Vector2d& target,
@@ -88,8 +86,7 @@ class PathPointResidual {
                     coupler_point, T(turn_), residual);
   }
 
-  // Free timing: the six blocks above, then the turn t_j (the sum of this point's steps,
-  // FreeTimingPointCost).
+  // Free timing: the six blocks above, then the turn t_j, a parameter of its own.
   template <typename T>
   bool operator()(const T* crank_pivot, const T* crank_pin, const T* output_point,
                   const T* output_second, const T* output_scalar, const T* coupler_point,
@@ -152,11 +149,11 @@ class PathPointResidual {
     return SolveTurn(p, q, k, sign_, cos_theta, sin_theta);
   }
 
-  // `steps` = 0: the fixed-size function of the first overload; otherwise FreeTimingPointCost
-  // with `steps` step blocks of size 1.
+  // The function of the first overload (prescribed turn), or with `free_turn` of the second
+  // (the turn a parameter block of size 1).
   static ceres::CostFunction* Create(DyadType output_type, double sign,
                                      const Eigen::Vector2d& target, double sqrt_weight, double turn,
-                                     const Eigen::Vector2d& shift, int steps);
+                                     const Eigen::Vector2d& shift, bool free_turn);
 
  private:
   DyadType output_type_;
@@ -167,60 +164,15 @@ class PathPointResidual {
   Eigen::Vector2d shift_;
 };
 
-// Free timing, point j: PathPointResidual with t_j = delta_1 + ... + delta_j. Every step moves
-// the residual alike (d e / d delta_k = d e / d t_j), so the residual and its derivative in t_j
-// are evaluated once, by automatic differentiation over the six blocks and t_j, and that
-// column is copied to each step's block. (Differentiating in every step, as a dynamic
-// automatic differentiation does, computes the same column j times: its passes took most of
-// a free-timing refinement of 20 points; the values are the same to the bit.)
-class FreeTimingPointCost : public ceres::CostFunction {
- public:
-  FreeTimingPointCost(PathPointResidual* functor, int steps) : steps_(steps), cost_(functor) {
-    for (int size : {2, 2, 2, 2, 1, 2}) mutable_parameter_block_sizes()->push_back(size);
-    for (int k = 0; k < steps; ++k) mutable_parameter_block_sizes()->push_back(1);
-    set_num_residuals(2);
-  }
-
-  bool Evaluate(double const* const* parameters, double* residuals,
-                double** jacobians) const override {
-    double turn = 0.0;
-    for (int k = 0; k < steps_; ++k) turn += parameters[6 + k][0];
-    const double* blocks[7] = {parameters[0], parameters[1], parameters[2], parameters[3],
-                               parameters[4], parameters[5], &turn};
-    if (jacobians == nullptr) return cost_.Evaluate(blocks, residuals, nullptr);
-    bool any_step = false;
-    for (int k = 0; k < steps_; ++k) any_step = any_step || jacobians[6 + k] != nullptr;
-    double turn_jacobian[2];
-    double* block_jacobians[7] = {jacobians[0],
-                                  jacobians[1],
-                                  jacobians[2],
-                                  jacobians[3],
-                                  jacobians[4],
-                                  jacobians[5],
-                                  any_step ? turn_jacobian : nullptr};
-    if (!cost_.Evaluate(blocks, residuals, block_jacobians)) return false;
-    for (int k = 0; k < steps_; ++k) {
-      if (jacobians[6 + k] == nullptr) continue;
-      jacobians[6 + k][0] = turn_jacobian[0];
-      jacobians[6 + k][1] = turn_jacobian[1];
-    }
-    return true;
-  }
-
- private:
-  int steps_;
-  ceres::AutoDiffCostFunction<PathPointResidual, 2, 2, 2, 2, 2, 1, 2, 1> cost_;
-};
-
 ceres::CostFunction* PathPointResidual::Create(DyadType output_type, double sign,
                                                const Eigen::Vector2d& target, double sqrt_weight,
                                                double turn, const Eigen::Vector2d& shift,
-                                               int steps) {
+                                               bool free_turn) {
   auto* functor = new PathPointResidual(output_type, sign, target, sqrt_weight, turn, shift);
-  if (steps == 0) {
+  if (!free_turn) {
     return new ceres::AutoDiffCostFunction<PathPointResidual, 2, 2, 2, 2, 2, 1, 2>(functor);
   }
-  return new FreeTimingPointCost(functor, steps);
+  return new ceres::AutoDiffCostFunction<PathPointResidual, 2, 2, 2, 2, 2, 1, 2, 1>(functor);
 }
 
 // The coupler's turn at the first point, which the first-point convention makes 0 (the
@@ -252,34 +204,6 @@ class GaugeResidual {
 
  private:
   PathPointResidual assembly_;
-};
-
-// Free timing, the crank's total travel within one turn (direction d = +1 or -1):
-//   e = sqrt(mu) max(0, d (delta_1 + ... + delta_{n-1}) - 2 pi).
-class TurnLimitResidual {
- public:
-  TurnLimitResidual(double direction, int steps) : direction_(direction), steps_(steps) {}
-
-  template <typename T>
-  bool operator()(T const* const* steps, T* residual) const {
-    T total(0.0);
-    for (int k = 0; k < steps_; ++k) total += steps[k][0];
-    const T excess = direction_ * total - T(2.0 * kPi);
-    residual[0] = excess > T(0.0) ? T(std::sqrt(kTurnPenaltyWeight) * excess) : T(0.0);
-    return true;
-  }
-
-  static ceres::CostFunction* Create(double direction, int steps) {
-    auto* cost = new ceres::DynamicAutoDiffCostFunction<TurnLimitResidual, kDynamicStride>(
-        new TurnLimitResidual(direction, steps));
-    for (int k = 0; k < steps; ++k) cost->AddParameterBlock(1);
-    cost->SetNumResiduals(1);
-    return cost;
-  }
-
- private:
-  double direction_;
-  int steps_;
 };
 
 // The design bounds of a path four-bar (design_bounds.h), blocks as PathPointResidual's:
@@ -376,14 +300,12 @@ struct State {
   double crank_pin[2] = {0.0, 0.0};
   DyadBlocks output;
   double coupler_point[2] = {0.0, 0.0};
-  std::vector<double> steps;  // free timing: delta_1 .. delta_{n-1}
+  std::vector<double> turns;  // free timing: t_1 .. t_{n-1} (t_0 = 0), monotonic
 };
 
 double Turn(const ScaledTask& task, const State& state, size_t j) {
-  if (state.steps.empty()) return task.turns[j];
-  double turn = 0.0;
-  for (size_t k = 0; k < j; ++k) turn += state.steps[k];
-  return turn;
+  if (state.turns.empty()) return task.turns[j];
+  return j == 0 ? 0.0 : state.turns[j - 1];
 }
 
 // Coupler pose of the assembly `sign` at turn 0 (the first point), or nothing.
@@ -442,65 +364,129 @@ double TransmissionShortfall(const ScaledTask& task, const State& state, double 
 
 // One Levenberg-Marquardt solve, point weights `weights` (points of weight 0 left out: they
 // need not assemble), shifts `shifts`.
+//
+// Free timing: each point's turn t_j is a parameter of its own (point j's residual alone holds
+// it), which Ceres eliminates in its Schur complement: time and memory linear in the points
+// (written as steps t_j - t_{j-1}, every residual held every earlier step, a dense triangle of
+// the Jacobian that made 2000 points take minutes). Every turn stays within one turn of the first
+// point's, ahead of it (0 <= d t_j <= 2 pi). A solve whose turns come out of order is redone
+// keeping the order by box bounds: each turn within the window halfway to its neighbours'
+// turns; a turn the optimum would move past its window stops at its edge, and the windows are
+// then re-centred and the solve repeated (at most kWindowRounds times, all within the options'
+// iterations).
 void Solve(const ScaledTask& task, double sign, const std::vector<double>& weights,
            const std::vector<Eigen::Vector2d>& shifts, const ceres::Solver::Options& options,
            State* state, int* iterations, std::string* message) {
-  ceres::Problem problem;
-  problem.AddResidualBlock(
-      PathBoundsResidual::Create(state->output.type, &task.bounds, &task.bounds_weight), nullptr,
-      state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
-      state->output.scalar, state->coupler_point);
-  for (const double turn : task.transmission_turns) {
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<PathTransmissionResidual, 1, 2, 2, 2, 2, 1>(
-            new PathTransmissionResidual(state->output.type, sign, turn, task.transmission_sin_min,
-                                         &task.bounds_weight)),
-        nullptr, state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
-        state->output.scalar);
-  }
-  const bool free_timing = !state->steps.empty();
+  const bool free_timing = !state->turns.empty();
   const double direction =
       free_timing && Turn(task, *state, task.points.size() - 1) < 0.0 ? -1.0 : 1.0;
-  for (size_t j = 0; j < task.points.size(); ++j) {
-    if (weights[j] == 0.0) continue;  // left out (the projection onto the exact points)
-    std::vector<double*> blocks = {state->crank_pivot,   state->crank_pin,
-                                   state->output.point,  state->output.second,
-                                   state->output.scalar, state->coupler_point};
-    const int steps = free_timing ? static_cast<int>(j) : 0;
-    for (int k = 0; k < steps; ++k) blocks.push_back(&state->steps[k]);
+  int budget = options.max_num_iterations;  // shared by the windowed rounds
+  const State start = *state;
+  // Round 0: the turns free within [0, 2 pi] of the first point's: at an optimum the ordering
+  // rarely binds, and when the turns come out in order they are the constrained optimum too.
+  // Otherwise the windowed rounds, from the start.
+  for (int round = 0; round <= (free_timing ? kWindowRounds : 0); ++round) {
+    const bool windowed = round > 0;
+    ceres::Problem problem;
     problem.AddResidualBlock(
-        PathPointResidual::Create(state->output.type, sign, task.points[j], std::sqrt(weights[j]),
-                                  task.turns[j], shifts[j], steps),
-        nullptr, blocks);
-  }
-  problem.AddResidualBlock(GaugeResidual::Create(state->output.type, sign), nullptr,
-                           state->crank_pivot, state->crank_pin, state->output.point,
-                           state->output.second, state->output.scalar);
-  if (state->output.type != DyadType::kRR) {
-    problem.SetManifold(state->output.second, UnitCircle());
-  }
-  if (free_timing) {
-    std::vector<double*> blocks;
-    for (double& step : state->steps) {
-      blocks.push_back(&step);
-      problem.SetParameterLowerBound(&step, 0, direction > 0.0 ? 0.0 : -2.0 * kPi);
-      problem.SetParameterUpperBound(&step, 0, direction > 0.0 ? 2.0 * kPi : 0.0);
+        PathBoundsResidual::Create(state->output.type, &task.bounds, &task.bounds_weight), nullptr,
+        state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
+        state->output.scalar, state->coupler_point);
+    for (const double turn : task.transmission_turns) {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<PathTransmissionResidual, 1, 2, 2, 2, 2, 1>(
+              new PathTransmissionResidual(state->output.type, sign, turn,
+                                           task.transmission_sin_min, &task.bounds_weight)),
+          nullptr, state->crank_pivot, state->crank_pin, state->output.point, state->output.second,
+          state->output.scalar);
     }
-    problem.AddResidualBlock(TurnLimitResidual::Create(direction, static_cast<int>(blocks.size())),
-                             nullptr, blocks);
+    // The window of each free turn (in the direction of travel d: d t grows with j).
+    const size_t count = task.points.size();
+    std::vector<double> low(count, 0.0), high(count, 0.0);
+    for (size_t j = 1; free_timing && j < count; ++j) {
+      const double t = direction * state->turns[j - 1];
+      const double before = j == 1 || !windowed ? 0.0 : 0.5 * (direction * state->turns[j - 2] + t);
+      const double after =
+          j + 1 == count || !windowed ? 2.0 * kPi : 0.5 * (t + direction * state->turns[j]);
+      low[j] = direction > 0.0 ? before : -after;
+      high[j] = direction > 0.0 ? after : -before;
+    }
+    for (size_t j = 0; j < count; ++j) {
+      if (weights[j] == 0.0) continue;  // left out (the projection onto the exact points)
+      const bool free_turn = free_timing && j > 0;
+      std::vector<double*> blocks = {state->crank_pivot,   state->crank_pin,
+                                     state->output.point,  state->output.second,
+                                     state->output.scalar, state->coupler_point};
+      if (free_turn) blocks.push_back(&state->turns[j - 1]);
+      problem.AddResidualBlock(
+          PathPointResidual::Create(state->output.type, sign, task.points[j], std::sqrt(weights[j]),
+                                    task.turns[j], shifts[j], free_turn),
+          nullptr, blocks);
+      if (!free_turn) continue;
+      // Bounds only on a block the problem has (Ceres aborts otherwise): a turn of a point left
+      // out is not one.
+      double* turn = &state->turns[j - 1];
+      if (!(high[j] - low[j] > 1e-12)) {
+        problem.SetParameterBlockConstant(turn);
+      } else {
+        *turn = std::clamp(*turn, low[j], high[j]);
+        problem.SetParameterLowerBound(turn, 0, low[j]);
+        problem.SetParameterUpperBound(turn, 0, high[j]);
+      }
+    }
+    problem.AddResidualBlock(GaugeResidual::Create(state->output.type, sign), nullptr,
+                             state->crank_pivot, state->crank_pin, state->output.point,
+                             state->output.second, state->output.scalar);
+    if (state->output.type != DyadType::kRR) {
+      problem.SetManifold(state->output.second, UnitCircle());
+    }
+    // A start past the crank's reach at some point cannot be evaluated: Ceres would stop at
+    // once (and say so on stderr, whatever its logging type); leave it as it is.
+    double start_cost = 0.0;
+    if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &start_cost, nullptr, nullptr,
+                          nullptr)) {
+      *message = "the start does not assemble at every point";
+      return;
+    }
+    ceres::Solver::Options solve_options = options;
+    if (free_timing) solve_options.linear_solver_type = ceres::DENSE_SCHUR;
+    solve_options.max_num_iterations = budget;
+    ceres::Solver::Summary summary;
+    ceres::Solve(solve_options, &problem, &summary);
+    const int used = summary.num_successful_steps + summary.num_unsuccessful_steps;
+    *iterations += used;
+    *message = summary.message;
+    budget -= std::max(used, 1);
+    if (budget <= 0) return;
+    if (!free_timing) return;
+    if (!windowed) {
+      // In order: every point solved for at or ahead of the one before it.
+      bool in_order = true;
+      double previous = 0.0;
+      for (size_t j = 1; j < count; ++j) {
+        if (weights[j] == 0.0) continue;
+        in_order &= direction * (state->turns[j - 1] - previous) >= 0.0;
+        previous = state->turns[j - 1];
+      }
+      if (in_order || summary.termination_type == ceres::FAILURE) return;
+      *state = start;  // out of order: the windowed rounds, which keep the order
+      budget = options.max_num_iterations;
+      continue;
+    }
+    // Another round when a turn stopped at a window's edge that is not a real limit (the first
+    // point's turn behind, one turn ahead).
+    bool at_edge = false;
+    for (size_t j = 1; free_timing && j < count && !at_edge; ++j) {
+      if (weights[j] == 0.0 || !(high[j] - low[j] > 1e-12)) continue;
+      const double t = state->turns[j - 1];
+      const double margin = 1e-9 * (high[j] - low[j]);
+      const bool at_low = t <= low[j] + margin, at_high = t >= high[j] - margin;
+      const bool real_low = direction > 0.0 ? j == 1 : j + 1 == count;
+      const bool real_high = direction > 0.0 ? j + 1 == count : j == 1;
+      at_edge = (at_low && !real_low) || (at_high && !real_high);
+    }
+    if (!at_edge || summary.termination_type == ceres::FAILURE) return;
   }
-  // A start past the crank's reach at some point cannot be evaluated: Ceres would stop at once
-  // (and say so on stderr, whatever its logging type); leave it as it is.
-  double start_cost = 0.0;
-  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &start_cost, nullptr, nullptr,
-                        nullptr)) {
-    *message = "the start does not assemble at every point";
-    return;
-  }
-  ceres::Solver::Summary summary;
-  ceres::Solve(options, &problem, &summary);
-  *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
-  *message = summary.message;
 }
 
 // A design judged as AnalyzePathFourBar judges it, in task units.
@@ -669,8 +655,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   state.output = ToBlocks(TransformDyad(four_bar->output, to_scaled, to_scaled));
   Eigen::Map<Eigen::Vector2d>(state.coupler_point) = to_scaled.Apply(four_bar->coupler_point);
   if (free_timing) {
-    for (size_t j = 1; j < points.size(); ++j)
-      state.steps.push_back(task.turns[j] - task.turns[j - 1]);
+    for (size_t j = 1; j < points.size(); ++j) state.turns.push_back(task.turns[j]);
   }
   // The first point's assembly: the configuration nearer E = Sigma (AnalyzePathFourBar's).
   double sign = 1.0;
@@ -733,7 +718,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   if (std::isfinite(worst) && worst > options.exact_tolerance) {
     std::vector<double> exact_only(points.size(), 0.0);
     for (size_t j = 0; j < points.size(); ++j) exact_only[j] = task.exact[j] ? 1.0 : 0.0;
-    // A design run far off (toward a slider) has steps below the relative tolerance: only the
+    // A design run far off (toward a slider) moves below the relative tolerance: only the
     // cost (the exact points' errors) decides here.
     ceres::Solver::Options projection_options = solver_options;
     projection_options.parameter_tolerance = kProjectionTolerance;

@@ -35,6 +35,14 @@ constexpr int kConstrainedSeedsFactor = 2;
 // Free timing: the spans of the evenly spaced timing guesses, as fractions of a turn (the
 // first is a closed curve: n points over (n - 1) / n of a turn).
 constexpr double kGuessSpans[] = {-1.0, 0.75, 0.5, 0.25};
+// Free timing on more points than this: the search runs on this many points spread along the
+// path, and the first kScreenRefined four-bars it finds are refined on every point
+// (SolveFreeTimingScreened). The search is tens of refinements, each linear in the points: 200
+// points took 10 s, 2000 minutes; the trade benchmark's untimed paths have 10 and 20 points.
+constexpr size_t kFreeTimingScreenPoints = 120;
+constexpr int kScreenRefined = 3;
+// The iterations of that refinement with the angles free, from the screened optimum.
+constexpr int kScreenFreeIterations = 100;
 // Free timing: seed four-bars refined per timing guess.
 constexpr int kFreeTimingStarts = 1;
 // Free timing: five-point subsets solved per timing guess.
@@ -171,6 +179,12 @@ RankKey PathRankKey(bool least_squares, double precision_fit, const PathMechanis
   // Not driven through every point, it cannot pass them at all.
   key.defect_level = report.max_point_error ? DefectLevel(report.defects) : 2;
   key.transmission_min_deg = report.transmission_min_deg;
+  const PathFourBar& design = report.design;
+  std::vector<Eigen::Vector2d> joints = {design.input.fixed_pivot, design.input.moving_pivot,
+                                         design.coupler_point};
+  if (design.output.type != DyadType::kPR) joints.push_back(design.output.fixed_pivot);
+  if (design.output.type != DyadType::kRP) joints.push_back(design.output.moving_pivot);
+  key.size = JointSpread(joints);
   return key;
 }
 
@@ -327,18 +341,35 @@ bool SliderAtPrecision(const PathData& data, const PathRefinerOptions& options,
       !(RelativePrecision(data.precision, data.length) > 1e-12)) {
     return false;
   }
+  // The coupler's poses with both frames' origin at the points' centroid, as the five-point
+  // solver takes them (TimedPathFourBars): a pose angle's uncertainty moves a coupler point by
+  // its distance from E's origin, which E = Sigma at the first point would put wherever the
+  // task's origin is (points 10^4 L from it made every output circle a slider that missed the
+  // points by 25).
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& point : data.points) {
+    centroid += point / static_cast<double>(data.points.size());
+  }
+  Similarity2 to_centroid;
+  to_centroid.translation = -centroid;
+  PathFourBar centred;
+  centred.input = TransformDyad(design.input, to_centroid, to_centroid);
+  centred.output = TransformDyad(design.output, to_centroid, to_centroid);
+  centred.coupler_point = design.coupler_point - centroid;
+  std::vector<Eigen::Vector2d> centred_points;
+  for (const Eigen::Vector2d& point : data.points) centred_points.push_back(point - centroid);
   const PathFourBarAnalysis analysis =
-      AnalyzePathFourBar(design, data.points, data.angles, data.length);
+      AnalyzePathFourBar(centred, centred_points, data.angles, data.length);
   if (analysis.configurations.size() != data.points.size()) return false;
   const double link = (design.coupler_point - design.input.moving_pivot).norm();
   if (!(link > 0.0)) return false;
   const DataPrecision poses = CouplerPosePrecision(data.precision, design.input.radius, link);
   PlanarDyad simpler;
-  if (!SimplerModel(design.output, analysis.configurations, poses, data.length, &simpler)) {
+  if (!SimplerModel(centred.output, analysis.configurations, poses, data.length, &simpler)) {
     return false;
   }
   PathFourBar candidate = design;
-  candidate.output = simpler;
+  candidate.output = TransformDyad(simpler, to_centroid.Inverse(), to_centroid.Inverse());
   const std::optional<PathMechanismReport> refined = RefinedReport(data, options, candidate);
   if (!refined) return false;
   PathMechanismReport report = *refined;
@@ -594,15 +625,16 @@ bool Monotonic(const std::vector<double>& angles) {
 }
 
 // Free timing, one seed: alternately refine the four-bar under the timing (prescribed) and
-// take the timing the four-bar gives the points (ProjectTiming), kAlternations times, then
-// refine with the angles free when that timing is monotonic.
+// take the timing the four-bar gives the points (ProjectTiming), `alternations` times, then
+// refine with the angles free when that timing is monotonic (at most `free_iterations`).
 void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
-                      PathMechanismReport* report) {
+                      PathMechanismReport* report, int alternations = kAlternations,
+                      int free_iterations = kFreeTimingIterations) {
   std::vector<double> angles = report->input_angles;
   const double direction = angles.back() >= angles.front() ? 1.0 : -1.0;
   PathFourBar design = report->design;
   const std::optional<double> seed_max = report->max_point_error;
-  for (int round = 0; round < kAlternations; ++round) {
+  for (int round = 0; round < alternations; ++round) {
     try {
       RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
                         options);
@@ -615,7 +647,7 @@ void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
   }
   if (Monotonic(angles)) {
     PathRefinerOptions free_options = options;
-    free_options.max_iterations = kFreeTimingIterations;
+    free_options.max_iterations = free_iterations;
     try {
       RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &angles, &design,
                         free_options);
@@ -829,6 +861,65 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   }
 }
 
+// Free timing on more than kFreeTimingScreenPoints points (a curve traced from a picture): the
+// whole search (timing guesses, subset seeds, nine-point solves, refinements: tens of
+// refinements each linear in the points) runs on kFreeTimingScreenPoints points spread along
+// the path (the first, the last and the exact ones among them). Each four-bar it lists is then
+// timed on every point (ProjectTiming), the first kScreenRefined of them (balanced, thorough)
+// refined with the angles free on every point (RefineFreeTiming), and every one re-measured and
+// re-ranked on every point.
+void SolveFreeTimingScreened(const Task& task, const PathData& data,
+                             const TaskSolverOptions& options, PathResult* result,
+                             std::vector<PathFourBar>* fits) {
+  const std::vector<size_t> picked =
+      SpreadIndices(data.points.size(), kFreeTimingScreenPoints, data.exact);
+  PathData screen = data;
+  screen.points.clear();
+  screen.weights.clear();
+  screen.exact.clear();
+  for (const size_t j : picked) {
+    screen.points.push_back(data.points[j]);
+    screen.weights.push_back(data.weights[j]);
+    screen.exact.push_back(data.exact[j]);
+  }
+  PathResult screened;
+  std::vector<PathFourBar> screened_fits;
+  SolveFreeTiming(task, screen, options, &screened, &screened_fits);
+  result->stages = screened.stages;
+  const auto stage_start = std::chrono::steady_clock::now();
+  std::vector<PathMechanismReport> candidates;
+  int refined = 0;
+  for (const PathMechanismReport& listed : screened.mechanisms) {
+    if (listed.input_angles.size() != screen.points.size()) continue;
+    const double direction = listed.input_angles.back() >= listed.input_angles.front() ? 1.0 : -1.0;
+    const std::optional<std::vector<double>> angles = ProjectTiming(listed.design, data, direction);
+    if (!angles) continue;
+    PathMechanismReport report = Report(listed.design, data, *angles);
+    report.input_angles = *angles;
+    if (!Monotonic(*angles)) report.defects.push_back("order");
+    // From the screened optimum, timed on every point: one alternation, then the angles free.
+    if (task.effort != Effort::kFast && refined < kScreenRefined) {
+      RefineFreeTiming(data, options.path_refiner, &report, 1, kScreenFreeIterations);
+      ++refined;
+    }
+    candidates.push_back(report);
+  }
+  result->stages.push_back(Stage("every point", stage_start, candidates));
+  const double tolerance = PassTolerance(data);
+  for (const PathMechanismReport& candidate : candidates) {
+    if (candidate.defects.empty() && candidate.max_point_error &&
+        *candidate.max_point_error <= tolerance) {
+      fits->push_back(candidate.design);
+    }
+  }
+  Finish(data, options.path_reported, candidates, result);
+  result->notes.push_back(
+      std::to_string(data.points.size()) + " untimed points: the four-bars were searched for on " +
+      std::to_string(screen.points.size()) +
+      " points spread along the path, then timed and measured on every point" +
+      (refined > 0 ? ", the best " + std::to_string(refined) + " refined on every point" : ""));
+}
+
 // Every four-bar that meets the points gets its first-order error bound at the data's
 // precision, or at its own largest point error where that is larger and it has no defect
 // (PathFourBarErrorBound; free timing with its fitted input angles as parameters); a note counts
@@ -1006,7 +1097,9 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   } else {
     result.method = "least-squares";
     result.effort = EffortName(task.effort);
-    if (free_timing) {
+    if (free_timing && count > static_cast<int>(kFreeTimingScreenPoints)) {
+      SolveFreeTimingScreened(task, data, options, &result, &fits);
+    } else if (free_timing) {
       SolveFreeTiming(task, data, options, &result, &fits);
       if (count < 9) {
         result.notes.push_back(

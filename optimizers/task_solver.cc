@@ -83,6 +83,18 @@ double ExactPoseMiss(const SpatialDyad& dyad, const Task& task) {
   return miss;
 }
 
+// The same for a planar dyad over the task's exact planar poses.
+double ExactPoseMiss(const PlanarDyad& dyad, const Task& task) {
+  double miss = 0.0;
+  for (size_t j = 0; j < task.planar_poses.size() && j < task.pose_exact.size(); ++j) {
+    if (!task.pose_exact[j]) continue;
+    const double residual = std::abs(dyad.Residual(task.planar_poses[j]));
+    miss = std::isfinite(residual) ? std::max(miss, residual)
+                                   : std::numeric_limits<double>::infinity();
+  }
+  return miss;
+}
+
 // A refined sphere far out in Sigma (radius) or in E (moving point) is nearly a plane: refine
 // those limits too (PS; SP as a PS dyad of the inverted motion, same exact poses) and keep the
 // best plane that beats the sphere. As in the refiner, meeting the exact poses (to
@@ -586,7 +598,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   // Seeds: the algebraic least-squares fit and exact solves of spread five-pose subsets.
   auto stage_start = std::chrono::steady_clock::now();
   std::vector<PlanarDyad> seeds;
-  PlanarSeeds(poses, options.planar.burmester, options.seed_subsets, &seeds);
+  PlanarSeeds(poses, options.planar.burmester, options.seed_subsets, &seeds, exact);
   for (const PlanarDyad& seed : seeds) {
     DyadReport report;
     report.dyad = seed;
@@ -662,7 +674,12 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   const auto keeps = [&](const DyadReport& report) {
     return DyadKeeps(task.constraints, report.dyad, length);
   };
+  // Dyads through the exact poses first (a four-bar of two of them meets those poses).
+  const auto meets_exact = [&](const DyadReport& report) {
+    return ExactPoseMiss(report.dyad, task) <= kExactPoseTolerance * length;
+  };
   const auto before = [&](const DyadReport& a, const DyadReport& b) {
+    if (meets_exact(a) != meets_exact(b)) return meets_exact(a);
     if (keeps(a) != keeps(b)) return keeps(a);
     return a.rms_residual.value_or(1e300) < b.rms_residual.value_or(1e300);
   };
@@ -710,7 +727,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   stage_start = std::chrono::steady_clock::now();
   const double precision_fit = PoseFitTolerance(task.precision, length);
   BuildMechanisms(task, length, &result,
-                  [&](int i, int j) { return (dyad_levels[i] & dyad_levels[j]) != 0; });
+                  [&](int i, int j) { return dyad_levels[i] & dyad_levels[j]; });
   std::vector<int> mechanism_levels;
   for (const MechanismReport& mechanism : result.mechanisms) {
     mechanism_levels.push_back(dyad_levels[mechanism.input_dyad] &
@@ -728,7 +745,8 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     bool answered = false;
     if (!result.mechanisms.empty()) {
       const RankKey first = MechanismRankKey(result.mechanisms.front(), precision_fit);
-      answered = !first.violates && first.defect_level == 0 && first.within_precision;
+      answered = !first.misses_exact && !first.violates && first.defect_level == 0 &&
+                 first.within_precision;
     }
     // A four-bar that breaks a constraint is refined onto the bounds too (the penalties of
     // FourBarRefinerOptions::constraints), the first refined_mechanisms of them per level: the
@@ -763,7 +781,10 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         PlanarDyad output = result.dyads[seed.output_dyad].dyad;
         const RefinerSummary summary =
             RefineFourBar(poses, weights, exact, length, &input, &output, refiner);
-        if (!onto_bounds && !(summary.final_max < seed_error)) return std::nullopt;
+        // A seed that misses an exact pose is refined for them, whatever the fit costs.
+        if (!onto_bounds && !seed.misses_exact && !(summary.final_max < seed_error)) {
+          return std::nullopt;
+        }
         const size_t listed = result.dyads.size();
         int index[2];
         int k = 0;
@@ -789,7 +810,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         // keeps them all and adds no kinematic defect.
         MechanismReport refined;
         if (index[0] != index[1]) {
-          refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length);
+          refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length, exact);
           JudgeMechanism(task.constraints, result.dyads, length, &refined);
         }
         const bool adds_defect = std::any_of(
@@ -798,11 +819,17 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
                      std::find(seed.defects.begin(), seed.defects.end(), defect) ==
                          seed.defects.end();
             });
-        const bool worse = onto_bounds ? !refined.violates.empty()
-                                       : refined.violates.size() > seed.violates.size() ||
-                                             !(*refined.max_pose_error < seed_error) ||
-                                             refined.rms_pose_error.value_or(1e300) >
-                                                 seed.rms_pose_error.value_or(1e300);
+        // Meeting the exact poses decides first: a refinement that meets them where the seed
+        // does not is better whatever its fit, one that misses them where the seed met them is
+        // worse.
+        const bool meets_exact = seed.misses_exact && !refined.misses_exact;
+        const bool worse = onto_bounds
+                               ? !refined.violates.empty() || refined.misses_exact
+                               : (refined.misses_exact && !seed.misses_exact) ||
+                                     refined.violates.size() > seed.violates.size() ||
+                                     (!meets_exact && (!(*refined.max_pose_error < seed_error) ||
+                                                       refined.rms_pose_error.value_or(1e300) >
+                                                           seed.rms_pose_error.value_or(1e300)));
         if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
           result.dyads.resize(listed);
           return std::nullopt;
@@ -942,7 +969,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
       report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
       result.dyads.push_back(report);
     }
-    MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length);
+    MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length, task.pose_exact);
     JudgeMechanism(task.constraints, result.dyads, length, &mechanism);
     result.mechanisms.push_back(mechanism);
     return result;
@@ -997,7 +1024,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
   std::vector<DyadReport> seed_dyads(2);
   seed_dyads[0].dyad = input;
   seed_dyads[1].dyad = output;
-  MechanismReport seed = AnalyzeDyadPair(seed_dyads, 0, 1, poses, length);
+  MechanismReport seed = AnalyzeDyadPair(seed_dyads, 0, 1, poses, length, task.pose_exact);
   JudgeMechanism(task.constraints, seed_dyads, length, &seed);
   const bool seed_transmission_kept = seed.max_pose_error && !has(seed, "transmission");
   if (task.constraints.given && seed_transmission_kept) {

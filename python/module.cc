@@ -1,14 +1,19 @@
 // The Python module's native part, linkfit._linkfit (python/linkfit/__init__.py wraps it): a task
 // as JSON text in, the result as JSON text out, exactly as `linkfit solve` writes it; bad input
 // raises linkfit.InputError with the CLI's one-line message. The GIL is released while solving
-// and refining.
+// and refining; solve_many takes it back every 50 ms, so Ctrl-C stops a batch.
 #include <glog/logging.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
 #include <exception>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -22,12 +27,6 @@ namespace py = pybind11;
 
 namespace linkfit {
 namespace {
-
-// One task: read (as `linkfit solve` reads a task file named `source`), solved, written.
-std::string SolveText(const std::string& text, const std::string& source) {
-  const Task task = ParseTask(text, source);
-  return ResultToJson(SolveTask(task), 2);
-}
 
 // A solved task: the result's JSON text, and what its picture is drawn from (apps/picture.h
 // TaskPictureJson, the SVG's content), made only when asked (linkfit.plot): it costs about as much
@@ -58,23 +57,64 @@ Drawn SolveDrawn(const std::string& text, const std::string& source) {
   return WithPicture(task, SolveTask(task));
 }
 
-// Every task on `threads` threads (0: the machine's), results in input order. Bad input in any
-// task raises InputError for the first such task (by position), after all have run.
+// Every task on `threads` threads (0: the machine's), results in input order. Every task is
+// read and validated first, so bad input in any task raises InputError for the first such task
+// (by position) before anything is solved. Called with the GIL held; it is released while the
+// tasks are read and solved, and taken back every 50 ms to let Python handle signals: on Ctrl-C
+// (or any signal handler that raises) no further task is started, those being solved finish,
+// and the handler's exception (KeyboardInterrupt) is raised.
 std::vector<std::string> SolveMany(const std::vector<std::string>& texts,
                                    const std::vector<std::string>& sources, int threads) {
   const size_t count = texts.size();
+  const unsigned jobs = ThreadCount(threads);
+  std::vector<Task> tasks(count);
   std::vector<std::string> results(count);
   std::vector<std::exception_ptr> errors(count);
-  ParallelFor(count, ThreadCount(threads), [&](size_t i) {
-    try {
-      results[i] = SolveText(texts[i], sources[i]);
-    } catch (...) {
-      errors[i] = std::current_exception();
+  std::atomic<bool> stop(false);
+  // Runs work(i) for every task on the pool while this thread waits for signals.
+  const auto run = [&](const auto& work) {
+    std::mutex mutex;
+    std::condition_variable finished;
+    bool done = false;
+    std::thread runner;
+    {
+      py::gil_scoped_release release;
+      runner = std::thread([&]() {
+        ParallelFor(count, jobs, [&](size_t i) {
+          if (stop.load()) return;
+          try {
+            work(i);
+          } catch (...) {
+            errors[i] = std::current_exception();
+          }
+        });
+        std::lock_guard<std::mutex> lock(mutex);
+        done = true;
+        finished.notify_all();
+      });
     }
-  });
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
-  }
+    while (true) {
+      {
+        py::gil_scoped_release release;
+        std::unique_lock<std::mutex> lock(mutex);
+        if (finished.wait_for(lock, std::chrono::milliseconds(50), [&]() { return done; })) break;
+      }
+      if (PyErr_CheckSignals() != 0) {
+        stop.store(true);
+        {
+          py::gil_scoped_release release;
+          runner.join();
+        }
+        throw py::error_already_set();
+      }
+    }
+    runner.join();
+    for (const std::exception_ptr& error : errors) {
+      if (error) std::rethrow_exception(error);
+    }
+  };
+  run([&](size_t i) { tasks[i] = ParseTask(texts[i], sources[i]); });
+  run([&](size_t i) { results[i] = ResultToJson(SolveTask(tasks[i]), 2); });
   return results;
 }
 
@@ -131,10 +171,7 @@ PYBIND11_MODULE(_linkfit, m) {
   m.def(
       "solve_many_json",
       [](const std::vector<std::string>& texts, const std::vector<std::string>& sources,
-         int threads) {
-        py::gil_scoped_release release;
-        return linkfit::SolveMany(texts, sources, threads);
-      },
+         int threads) { return linkfit::SolveMany(texts, sources, threads); },
       py::arg("texts"), py::arg("sources"), py::arg("threads") = 0,
       "Solves tasks (JSON texts) on `threads` threads (0: all cores); results in input order.");
 }

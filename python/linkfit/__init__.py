@@ -114,13 +114,53 @@ def _rows(value):
     return None
 
 
+# The most threads solve_many takes (as `linkfit solve --jobs`), and the largest index of a
+# design's mechanism.
+_MAX_THREADS = 1024
+_MAX_INDEX = 2**31 - 1
+
+
+def _whole_number(value, what, low, high):
+    """`value` as an int from `low` to `high`, else InputError naming `what` in one line."""
+    if hasattr(value, "item") and not isinstance(value, (list, tuple, dict)):
+        value = value.item()  # a numpy integer
+    if not isinstance(value, int) or isinstance(value, bool):
+        raise InputError("%s: expected a whole number from %d to %d, got %s"
+                         % (what, low, high, type(value).__name__))
+    if not low <= value <= high:
+        shown = str(value) if len(str(value)) <= 40 else str(value)[:40] + "..."
+        raise InputError("%s: expected a whole number from %d to %d, got %s"
+                         % (what, low, high, shown))
+    return value
+
+
+def _utf8(text, what):
+    """`text` (str or bytes) as a str that is valid UTF-8, else InputError naming `what`."""
+    try:
+        if isinstance(text, bytes):
+            return text.decode("utf-8")
+        text.encode("utf-8")
+        return text
+    except UnicodeError as error:
+        raise InputError("%s: not UTF-8 text (%s at position %d)"
+                         % (what, error.reason, error.start)) from None
+
+
 def _text(task, what="task"):
-    """JSON text of a task or design given as a dict (numpy arrays allowed) or JSON text."""
+    """JSON text of a task or design given as a dict (numpy arrays allowed) or JSON text; `what`
+    names it in messages."""
     if isinstance(task, (str, bytes)):
-        return task.decode() if isinstance(task, bytes) else task
+        return _utf8(task, what)
     if not isinstance(task, dict):
         raise InputError(what + ": expected a dict or a JSON string, got " + type(task).__name__)
-    task = _plain(task)
+    try:
+        return _dict_text(_plain(task), what)
+    except RecursionError:
+        raise InputError("%s: nested too deeply" % what) from None
+
+
+def _dict_text(task, what):
+    """JSON text of a task or design dict (numpy arrays already lists)."""
     poses = _rows(task.get("poses"))
     if poses is not None and all(_is_number(v) for v in poses[0]):
         if task.get("space", "planar") == "planar" and len(poses[0]) == 3:
@@ -130,7 +170,10 @@ def _text(task, what="task"):
     points = _rows(task.get("points"))
     if points is not None and all(_is_number(v) for v in points[0]):
         task["points"] = path_points(points)
-    return json.dumps(task)
+    try:
+        return json.dumps(task, allow_nan=True)
+    except (TypeError, ValueError) as error:
+        raise InputError("%s: cannot be written as JSON (%s)" % (what, error)) from None
 
 
 def solve(task):
@@ -157,16 +200,17 @@ def refine(task, design, mechanism=0):
     items and constraints hold; the errors before and after are in the result's notes and in
     each design's "before_refinement".
     """
-    if not isinstance(mechanism, int) or isinstance(mechanism, bool):
-        raise InputError("mechanism: expected an index, got " + type(mechanism).__name__)
+    mechanism = _whole_number(mechanism, "mechanism", 0, _MAX_INDEX)
     return Result(refine_drawn_json(_text(task), _text(design, "design"), mechanism))
 
 
 def solve_many(tasks, threads=0):
     """Solves a list of tasks on `threads` threads (0: every core), the GIL released; results
-    (plain dicts, without drawings) in input order. Bad input in any task raises InputError
-    naming it (tasks[i])."""
-    texts = [_text(task) for task in tasks]
+    (plain dicts, without drawings) in input order. Every task is read and validated before any
+    is solved: bad input in any task raises InputError naming it (tasks[i]) at once. Ctrl-C
+    (KeyboardInterrupt) stops the batch once the tasks being solved finish."""
+    threads = _whole_number(threads, "threads", 0, _MAX_THREADS)
+    texts = [_text(task, "tasks[%d]" % i) for i, task in enumerate(tasks)]
     sources = ["tasks[%d]" % i for i in range(len(texts))]
     return [json.loads(text) for text in solve_many_json(texts, sources, threads)]
 

@@ -451,18 +451,19 @@ std::vector<std::vector<int>> SpreadSubsets(int count, int subsets, int size) {
   return out;
 }
 
-std::vector<std::vector<int>> SeedSubsets(int count, int subsets, const std::vector<bool>& exact) {
+std::vector<std::vector<int>> SeedSubsets(int count, int subsets, const std::vector<bool>& exact,
+                                          int size) {
   std::vector<int> exact_indices, others;
   for (int j = 0; j < count; ++j) {
     (j < static_cast<int>(exact.size()) && exact[j] ? exact_indices : others).push_back(j);
   }
-  if (exact_indices.empty()) return SpreadSubsets(count, subsets);
-  const int free = 5 - static_cast<int>(exact_indices.size());
+  if (exact_indices.empty()) return SpreadSubsets(count, subsets, size);
+  const int free = size - static_cast<int>(exact_indices.size());
   const std::vector<int>& drawn = free > 0 ? others : exact_indices;
   std::vector<std::vector<int>> out;
   if (free == 0) return {exact_indices};
   for (const std::vector<int>& subset :
-       SpreadSubsets(static_cast<int>(drawn.size()), subsets, free > 0 ? free : 5)) {
+       SpreadSubsets(static_cast<int>(drawn.size()), subsets, free > 0 ? free : size)) {
     std::vector<int> chosen = free > 0 ? exact_indices : std::vector<int>();
     for (const int k : subset) chosen.push_back(drawn[k]);
     std::sort(chosen.begin(), chosen.end());

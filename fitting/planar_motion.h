@@ -44,10 +44,13 @@ PlanarMotionResult SolvePlanarMotion(const Task& task, const PlanarMotionOptions
 int PlanarSeeds(const std::vector<PlanarPose>& poses, const PlanarBurmesterOptions& options,
                 int subsets, std::vector<PlanarDyad>* seeds, const std::vector<bool>& exact = {});
 
-// The five-pose subsets PlanarSeeds solves: SpreadSubsets of the poses, or with exact poses,
-// each the exact ones and a spread subset of the others (more than five exact: SpreadSubsets of
-// the exact ones). Indices into the poses, each subset sorted.
-std::vector<std::vector<int>> SeedSubsets(int count, int subsets, const std::vector<bool>& exact);
+// The subsets of `size` items the seeds of a least-squares task are solved from (planar poses,
+// path points, spherical orientations, function pairs): SpreadSubsets of the items, or with
+// items marked exact, each the exact ones and a spread subset of the others (more exact items
+// than `size`: SpreadSubsets of the exact ones), so that every seed meets them. Indices into the
+// items, each subset sorted.
+std::vector<std::vector<int>> SeedSubsets(int count, int subsets, const std::vector<bool>& exact,
+                                          int size = 5);
 
 // The five-pose subsets PlanarSeeds solves (other solvers: subsets of `size`): subset k takes the
 // poses at positions round((i + k / subsets) n / size) modulo n, i < size, so that consecutive

@@ -214,6 +214,10 @@ struct PathMechanismReport {
   std::optional<double> transmission_min_deg;  // over the crank's sweep, first to last point
   std::optional<double> transmission_max_deg;
   std::vector<double> input_angles;  // free timing: the fitted input angles, radians
+  // Least squares with points marked exact: the largest point error at them, and whether it is
+  // more than 1e-9 L (such a four-bar is ranked after every one that meets them).
+  std::optional<double> exact_point_error;
+  bool misses_exact = false;
   // How far the data's precision can move the four-bar (lib/path_motion.h
   // PathFourBarErrorBound; infinity: the points do not determine it); absent when it does not
   // meet every point.
@@ -256,6 +260,11 @@ struct FunctionMechanismReport {
   std::string error_note;                 // why max_angle_error is absent
   // Least squares: the largest error before the refinement (absent when not refined).
   std::optional<double> seed_max_angle_error;
+  // Least squares with pairs marked exact: the largest output error at them (radians), and
+  // whether it is more than the exact tolerance (such a four-bar is ranked after every one
+  // that meets them).
+  std::optional<double> exact_angle_error;
+  bool misses_exact = false;
   // A function given as samples: the largest output error over every sample (the structural
   // error between the precision points), radians; absent when a sample's input does not
   // assemble.

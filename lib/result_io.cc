@@ -235,6 +235,7 @@ Json PathMechanismToJson(const PathMechanismReport& report) {
     PutNumber(&object, "output_line_angle_deg", design.output.LineAngleDeg());
   }
   PutPoint(&object, "coupler_point", design.coupler_point);
+  if (report.exact_point_error) PutNumber(&object, "exact_point_error", *report.exact_point_error);
   if (report.max_point_error) {
     PutNumber(&object, "max_point_error", *report.max_point_error);
   } else {
@@ -282,6 +283,9 @@ Json FunctionMechanismToJson(const FunctionMechanismReport& report) {
   // Relative angles: the cranks' directions are offset + the task's angle (from the ground line).
   PutNumber(&object, "input_offset_deg", design.input_offset * kDeg + 0.0);
   PutNumber(&object, "output_offset_deg", design.output_offset * kDeg + 0.0);
+  if (report.exact_angle_error) {
+    PutNumber(&object, "exact_angle_error_deg", *report.exact_angle_error * kDeg);
+  }
   if (report.max_angle_error) {
     PutNumber(&object, "max_angle_error_deg", *report.max_angle_error * kDeg);
   } else {

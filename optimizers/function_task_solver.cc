@@ -42,6 +42,12 @@ double AnglePassTolerance(const DataPrecision& precision) {
   return kModelUnits * std::sqrt(2.0) * precision.angle;
 }
 
+// How near a four-bar comes to a pair marked exact (radians): 1e-9, or a thousandth of the
+// data's angle precision (the refiner's exact tolerance: the pairs' own rounding).
+double ExactPairTolerance(const DataPrecision& precision) {
+  return std::max(FunctionRefinerOptions().exact_tolerance, 1e-3 * precision.angle);
+}
+
 FunctionMechanismReport Report(const Task& task, const FunctionFourBar& four_bar,
                                std::optional<double> seed_max) {
   FunctionMechanismReport report;
@@ -58,6 +64,18 @@ FunctionMechanismReport Report(const Task& task, const FunctionFourBar& four_bar
   report.transmission_max_deg = analysis.transmission_max_deg;
   if (seed_max && report.max_angle_error && *seed_max != *report.max_angle_error) {
     report.seed_max_angle_error = seed_max;
+  }
+  if (std::any_of(task.pairs.begin(), task.pairs.end(),
+                  [](const FunctionPair& pair) { return pair.exact; })) {
+    if (analysis.errors.size() == task.pairs.size()) {
+      double worst = 0.0;
+      for (size_t j = 0; j < task.pairs.size(); ++j) {
+        if (task.pairs[j].exact) worst = std::max(worst, std::abs(analysis.errors[j]));
+      }
+      report.exact_angle_error = worst;
+    }
+    report.misses_exact = !(report.exact_angle_error &&
+                            *report.exact_angle_error <= ExactPairTolerance(task.precision));
   }
   if (!task.pairs.empty()) {
     report.first =
@@ -119,9 +137,12 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
   };
   solve(task.pairs, &why);
   if (!exact) {
+    // Subsets through the pairs marked exact (SeedSubsets): their four-bars meet them.
+    std::vector<bool> exact_pairs;
+    for (const FunctionPair& pair : task.pairs) exact_pairs.push_back(pair.exact);
     for (const std::vector<int>& indices :
-         SpreadSubsets(static_cast<int>(task.pairs.size()), options.function_seed_subsets,
-                       static_cast<int>(minimum))) {
+         SeedSubsets(static_cast<int>(task.pairs.size()), options.function_seed_subsets,
+                     exact_pairs, static_cast<int>(minimum))) {
       std::vector<FunctionPair> subset;
       for (int index : indices) subset.push_back(task.pairs[index]);
       solve(subset, nullptr);
@@ -163,7 +184,7 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
     stage_start = Clock::now();
     FunctionRefinerOptions refiner = options.function_refiner;
     refiner.free_offsets = task.relative_angles;
-    refiner.exact_tolerance = std::max(refiner.exact_tolerance, 1e-3 * task.precision.angle);
+    refiner.exact_tolerance = ExactPairTolerance(task.precision);
     refiner.max_link_length = MaxLinkLength(task.constraints, d) / d;
     // With constraints given, the transmission angle is held (as for path four-bars).
     if (task.constraints.given) {
@@ -221,6 +242,7 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
   const double pass = AnglePassTolerance(task.precision);
   const auto key_of = [&](const FunctionMechanismReport& report) {
     RankKey key;
+    key.misses_exact = report.misses_exact;
     key.violates = !report.violates.empty();
     key.defect_level = report.max_angle_error ? DefectLevel(report.defects) : 2;
     key.fit = report.rms_angle_error;

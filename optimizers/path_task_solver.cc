@@ -131,6 +131,17 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
       AnalyzePathFourBar(design, data.points, angles, data.length, options);
   report.max_point_error = analysis.max_point_error;
   report.rms_point_error = analysis.rms_point_error;
+  if (std::find(data.exact.begin(), data.exact.end(), true) != data.exact.end()) {
+    if (analysis.point_errors.size() == data.points.size()) {
+      double worst = 0.0;
+      for (size_t j = 0; j < data.points.size(); ++j) {
+        if (data.exact[j]) worst = std::max(worst, analysis.point_errors[j]);
+      }
+      report.exact_point_error = worst;
+    }
+    report.misses_exact = !(report.exact_point_error &&
+                            *report.exact_point_error <= kExactPoseTolerance * data.length);
+  }
   report.error_note = analysis.error_note;
   report.defects = analysis.defects;
   report.input_rotates_fully = analysis.input_rotates_fully;
@@ -174,6 +185,7 @@ RankKey PathRankKey(bool least_squares, double precision_fit, const PathMechanis
   key.within_precision = report.max_point_error && *report.max_point_error <= precision_fit;
   key.parameters = FourBarParameters(report.type);
   key.violates = !report.violates.empty();
+  key.misses_exact = report.misses_exact;
   key.fit = least_squares ? report.rms_point_error : report.max_point_error;
   if (!report.max_point_error) key.fit.reset();
   // Not driven through every point, it cannot pass them at all.
@@ -253,7 +265,9 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
   levels.front().precision = DataPrecision();
   if (RelativePrecision(options.precision, data.length) > 1e-12) levels.push_back(options);
   const int count = static_cast<int>(data.points.size());
-  for (const std::vector<int>& subset : SpreadSubsets(count, subsets)) {
+  // Subsets through the exact points (fitting/planar_motion.h SeedSubsets): their four-bars
+  // meet them.
+  for (const std::vector<int>& subset : SeedSubsets(count, subsets, data.exact)) {
     std::vector<Eigen::Vector2d> points;
     std::vector<double> subset_angles;
     for (int index : subset) {

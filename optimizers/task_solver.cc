@@ -9,6 +9,7 @@
 #include <tuple>
 #include <type_traits>
 
+#include "fitting/exact_items.h"
 #include "fitting/model_choice.h"
 #include "lib/task_io.h"
 #include "lib/text_format.h"
@@ -280,6 +281,24 @@ void SortByFit(std::vector<SphericalDyadReport>* dyads) {
 void SolveSphericalSeedsFast(const Task& task, const TaskSolverOptions& options,
                              SpatialMotionResult* result) {
   const SphericalMotion motion = TaskSphericalMotion(task, *result->spherical, result->scale);
+  // Orientations marked exact: each seed projected onto them (fitting/exact_items.h).
+  if (std::find(task.pose_exact.begin(), task.pose_exact.end(), true) != task.pose_exact.end()) {
+    std::vector<double> weights = task.pose_weights;
+    if (weights.size() != motion.rotations.size()) weights.assign(motion.rotations.size(), 1.0);
+    int missed = 0;
+    for (SphericalDyadReport& report : result->spherical_dyads) {
+      SphericalDyad dyad = report.dyad;
+      if (ProjectOntoExactOrientations(motion.rotations, task.pose_exact, &dyad)) {
+        report = ReportSphericalDyad(dyad, motion, weights, task.precision);
+      } else {
+        ++missed;
+      }
+    }
+    if (missed > 0) {
+      result->notes.push_back(std::to_string(missed) +
+                              " seed dyads could not be moved onto the exact orientations");
+    }
+  }
   SortByFit(&result->spherical_dyads);
   const int seeds = static_cast<int>(result->spherical_dyads.size());
   if (seeds > options.max_dyads) {
@@ -447,6 +466,26 @@ SpatialMotionResult SolveSpatialTask(const Task& task, const TaskSolverOptions& 
     AddExactPoseNotes(task, options.refiner.exact_tolerance, &result);
     result.refine_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  // Fast: the algebraic seeds, each projected onto the poses marked exact
+  // (fitting/exact_items.h); balanced refines them with those poses held.
+  if (result.model == "spatial" && result.method == "least-squares" &&
+      task.effort == Effort::kFast &&
+      std::find(task.pose_exact.begin(), task.pose_exact.end(), true) != task.pose_exact.end()) {
+    int missed = 0;
+    for (SpatialDyadReport& report : result.dyads) {
+      if (!ProjectOntoExactPoses(task.spatial_poses, task.pose_exact, result.scale, &report.dyad)) {
+        ++missed;
+      }
+      report.max_residual = report.dyad.MaxResidual(task.spatial_poses);
+      report.error_bound =
+          DyadErrorBound(report.dyad, task.spatial_poses, task.precision, result.scale);
+    }
+    if (missed > 0) {
+      result.notes.push_back(std::to_string(missed) +
+                             " seed dyads could not be moved onto the exact poses");
+    }
+    SortDyadsByRadius(&result.dyads);
   }
   if (result.model == "spherical" && result.method == "least-squares") {
     if (task.effort == Effort::kFast) {

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include "tests/apps/program_run.h"
+
 #if defined(__has_feature)
 #if __has_feature(address_sanitizer)
 #define LINKFIT_UNDER_ASAN 1
@@ -83,13 +85,6 @@ std::vector<std::string> With(std::vector<std::string> items, size_t index,
   return items;
 }
 
-std::string ReadFile(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << file.rdbuf();
-  return buffer.str();
-}
-
 // `text` cut just after the first occurrence of `mark` at or after the occurrence of `after`.
 std::string CutAfter(const std::string& text, const std::string& after, const std::string& mark) {
   const size_t start = text.find(after);
@@ -121,36 +116,17 @@ class BadInputTest : public ::testing::Test {
     std::ofstream(Path(name), std::ios::binary) << text;
   }
 
-  // Runs `linkfit ARGS` in the temporary directory with fork/exec, stdout and stderr captured
-  // in files there; wait4 gives the child's own peak RSS.
+  // Runs `linkfit ARGS` in the temporary directory (tests/apps/program_run.h).
   RunResult Run(const std::vector<std::string>& args) const {
-    const std::string out_path = Path(".stdout"), err_path = Path(".stderr");
-    std::vector<std::string> strings = {LINKFIT_BINARY};
-    strings.insert(strings.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& arg : strings) argv.push_back(arg.data());
-    argv.push_back(nullptr);
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const int out = open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int err = open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (out < 0 || err < 0 || chdir(dir_.c_str()) != 0 || dup2(out, 1) < 0 || dup2(err, 2) < 0) {
-        _exit(127);
-      }
-      execv(argv[0], argv.data());
-      _exit(127);
-    }
+    linkfit::testing::ProgramOptions options;
+    options.directory = dir_;
+    const linkfit::testing::ProgramResult run =
+        linkfit::testing::RunProgram(LINKFIT_BINARY, args, options);
     RunResult result;
-    if (pid < 0) return result;
-    int raw = 0;
-    struct rusage usage {};
-    if (wait4(pid, &raw, 0, &usage) != pid) return result;
-    result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    result.max_rss_kb = usage.ru_maxrss;
-    result.out = ReadFile(out_path);
-    result.err = ReadFile(err_path);
-    std::remove(out_path.c_str());
-    std::remove(err_path.c_str());
+    result.status = run.status;
+    result.max_rss_kb = run.max_rss_kb;
+    result.out = run.out;
+    result.err = run.err;
     return result;
   }
 

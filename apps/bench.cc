@@ -45,10 +45,19 @@
 // four-bar does, where the search adds a dyad balanced lacks, and the share of generating dyads
 // whose least-squares optimum (the generating dyad refined to convergence) each lists.
 //
+// Only on request (--only scale; not part of the default run): long tasks of every kind
+// (tests/support/long_tasks.h: 1,000, 10,000 and 100,000 items, or --scale-items) at every
+// effort, each solved by the `linkfit` program beside this one in a process of its own: exit
+// status, wall time and peak resident memory (RunScale).
+//
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
 //                 [--four-tasks F] [--stage-tasks T] [--spherical-tasks K] [--seed S]
-//                 [--only planar|spatial|path|refine|stages|spherical]
+//                 [--scale-items N,N,...]
+//                 [--only planar|spatial|path|refine|stages|spherical|scale]
 #include <glog/logging.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -56,9 +65,12 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <limits>
 #include <optional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <variant>
@@ -75,6 +87,7 @@
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
+#include "tests/support/long_tasks.h"
 #include "tests/support/moved_design.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
@@ -815,6 +828,64 @@ void RunSpherical(int tasks, uint64_t seed) {
   }
 }
 
+// One run of the `linkfit` program beside this one on `task_path` (result to `result_path`):
+// its exit status, wall time and peak resident memory (wait4's ru_maxrss, kB).
+struct ProgramRun {
+  int status = -1;
+  double seconds = 0.0;
+  long max_rss_kb = 0;
+};
+
+ProgramRun RunLinkfit(const std::string& task_path, const std::string& result_path) {
+  const std::string program =
+      (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "linkfit").string();
+  ProgramRun run;
+  const auto start = std::chrono::steady_clock::now();
+  const pid_t child = fork();
+  if (child == 0) {
+    std::freopen("/dev/null", "w", stdout);
+    std::freopen("/dev/null", "w", stderr);
+    execl(program.c_str(), "linkfit", "solve", task_path.c_str(), "-o", result_path.c_str(),
+          static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  int status = 0;
+  rusage usage{};
+  if (child < 0 || wait4(child, &status, 0, &usage) != child) return run;
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  run.max_rss_kb = usage.ru_maxrss;
+  return run;
+}
+
+// Long tasks (tests/support/long_tasks.h) of every kind at every effort level, each solved by
+// the `linkfit` program in a process of its own: exit status, wall time and peak memory.
+void RunScale(const std::vector<int>& counts) {
+  std::printf(
+      "\nlong tasks: every kind and effort solved by `linkfit solve` (one process each, one "
+      "thread): exit status, wall time, peak resident memory\n");
+  std::printf("%-14s %8s %-9s %5s %9s %9s\n", "kind", "items", "effort", "exit", "seconds",
+              "peak_MB");
+  const std::filesystem::path directory =
+      std::filesystem::temp_directory_path() / ("linkfit-bench-scale." + std::to_string(getpid()));
+  std::filesystem::create_directories(directory);
+  const std::string task_path = (directory / "task.json").string();
+  const std::string result_path = (directory / "result.json").string();
+  for (const int count : counts) {
+    for (const std::string& kind : linkfit::testing::LongTaskKinds()) {
+      for (const char* effort : {"fast", "balanced", "thorough"}) {
+        std::ofstream(task_path, std::ios::trunc)
+            << linkfit::testing::LongTaskText(kind, count, effort);
+        const ProgramRun run = RunLinkfit(task_path, result_path);
+        std::printf("%-14s %8d %-9s %5d %9.2f %9.1f\n", kind.c_str(), count, effort, run.status,
+                    run.seconds, run.max_rss_kb / 1024.0);
+        std::fflush(stdout);
+      }
+    }
+  }
+  std::filesystem::remove_all(directory);
+}
+
 int main(int argc, char** argv) {
   // Ceres reports steps the refiners handle through glog at ERROR level (the CLI silences it the
   // same way, apps/cli.cc RunCli): the tables stay clean.
@@ -828,6 +899,7 @@ int main(int argc, char** argv) {
   int four_tasks = 1000;
   int stage_tasks = 1000;
   int spherical_tasks = 200;
+  std::vector<int> scale_counts = {1000, 10000, 100000};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
       tasks = std::atoi(argv[++i]);
@@ -847,12 +919,18 @@ int main(int argc, char** argv) {
       stage_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--spherical-tasks") && i + 1 < argc) {
       spherical_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--scale-items") && i + 1 < argc) {
+      scale_counts.clear();
+      std::istringstream list(argv[++i]);
+      for (std::string item; std::getline(list, item, ',');) {
+        scale_counts.push_back(std::max(1, std::atoi(item.c_str())));
+      }
     } else {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
                    "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] "
-                   "[--spherical-tasks K] [--seed S] "
-                   "[--only planar|spatial|path|refine|stages|spherical]\n"
+                   "[--spherical-tasks K] [--scale-items N,N,...] [--seed S] "
+                   "[--only planar|spatial|path|refine|stages|spherical|scale]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -875,6 +953,10 @@ int main(int argc, char** argv) {
   }
   if (only == "spherical") {
     RunSpherical(spherical_tasks, seed);
+    return 0;
+  }
+  if (only == "scale") {
+    RunScale(scale_counts);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,

@@ -310,6 +310,41 @@ PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<Plana
   return bounds;
 }
 
+double PivotDyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                           const DataPrecision& precision, double scale, bool moving_given) {
+  const bool rr = dyad.type == DyadType::kRR;
+  // The free parameters' columns of DyadResiduals' Jacobian: RR the other pivot and the radius;
+  // a slider (PR from a moving pivot, RP from a fixed one) its line's angle and offset.
+  const std::vector<int> columns =
+      rr ? (moving_given ? std::vector<int>{0, 1, 4} : std::vector<int>{2, 3, 4})
+         : std::vector<int>{2, 3};
+  const int n = static_cast<int>(poses.size());
+  if (n < static_cast<int>(columns.size())) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd residual, uncertainty(n);
+  Eigen::MatrixXd jacobian;
+  DyadResiduals(dyad, poses, &residual, &jacobian);
+  Eigen::MatrixXd free(n, static_cast<Eigen::Index>(columns.size()));
+  for (size_t k = 0; k < columns.size(); ++k) free.col(k) = jacobian.col(columns[k]);
+  double extent = 0.0;  // sliders: how far along its line the constrained point runs
+  for (int j = 0; j < n; ++j) {
+    const PlanarPose& pose = poses[j];
+    const bool pr = dyad.type == DyadType::kPR;
+    if (!rr) {
+      const Eigen::Vector2d point =
+          pr ? pose.ToFixed(dyad.moving_pivot) : pose.ToMoving(dyad.fixed_pivot);
+      extent = std::max(extent, (point - dyad.LineFoot()).norm());
+    }
+    const double distance =
+        pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
+    uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
+  }
+  const Eigen::VectorXd moves = ParameterMovesQr(free, uncertainty);
+  if (moves.size() == 0) return std::numeric_limits<double>::infinity();
+  const double bound = rr ? std::max(std::sqrt(2.0) * std::max(moves[0], moves[1]), moves[2])
+                          : moves[1] + moves[0] * extent;
+  return std::isfinite(bound) ? bound : std::numeric_limits<double>::infinity();
+}
+
 double DyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                       const DataPrecision& precision, double scale) {
   const PlanarDyadBounds bounds = DyadErrorBounds(dyad, poses, precision, scale);

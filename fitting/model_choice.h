@@ -62,6 +62,13 @@ struct PlanarDyadBounds {
 PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                                  const DataPrecision& precision, double scale);
 
+// The same for the dyad of a pivot the task gives (three or four poses: the circle through the
+// pivot's positions): the pivot held (`moving_given`: the moving pivot, else the fixed one), the
+// other pivot and the radius (a slider: its line) moved by the poses' precision. Infinity when
+// the poses do not determine them.
+double PivotDyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                           const DataPrecision& precision, double scale, bool moving_given);
+
 // The same in space: SS (A, c, r), PS (c, the normal's two tangent turns, offset), SP (A, normal,
 // offset). Near a double root of the seven-pose problem (J nearly singular: the real part of a
 // complex pair that rounding made of two nearby dyads) the move along J's weakest direction is

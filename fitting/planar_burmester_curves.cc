@@ -921,6 +921,19 @@ void DefaultMovingPivots(const std::vector<PlanarPose>& poses, Eigen::Vector2d p
   }
   std::stable_sort(candidates.begin(), candidates.end(),
                    [](const Candidate& x, const Candidate& y) { return x.score > y.score; });
+  // Scores within kScoreTie of the best are a tie, decided by nearness to E's origin (then the
+  // grid's order): the rounding of the data moves every score a little, and a pick among near
+  // equals must not follow it.
+  constexpr double kScoreTie = 0.01;
+  if (!candidates.empty()) {
+    const double best = candidates.front().score;
+    const auto tied = std::partition_point(
+        candidates.begin(), candidates.end(),
+        [&](const Candidate& c) { return c.score >= (1.0 - kScoreTie) * best; });
+    std::stable_sort(candidates.begin(), tied, [](const Candidate& x, const Candidate& y) {
+      return x.point.norm() < y.point.norm() - 1e-12;
+    });
+  }
   // The second pivot at least L from the first, and so its fixed pivot (a ground link of
   // some length), if the grid has one.
   const Candidate* second = nullptr;

@@ -35,12 +35,22 @@ double ConditionErrorBound(double condition, double relative_precision,
 
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
                                 const std::vector<PlanarPose>& poses, double length,
-                                const std::vector<bool>& exact) {
+                                const std::vector<bool>& exact, const MechanismReport* screened) {
   const PlanarDyad& a = dyads[i].dyad;
   const PlanarDyad& b = dyads[j].dyad;
-  const FourBarAnalysis a_drives = AnalyzeFourBar(a, b, poses, length);
-  const FourBarAnalysis b_drives = AnalyzeFourBar(b, a, poses, length);
-  const bool swap = BetterAnalysis(b_drives, a_drives);
+  // Screened: the input the screening chose drives, and the other dyad's full rotation is the
+  // screening's (one analysis on every pose instead of two).
+  FourBarAnalysis a_drives, b_drives;
+  bool swap = false;
+  if (screened != nullptr) {
+    swap = screened->input_dyad == j;
+    (swap ? b_drives : a_drives) =
+        swap ? AnalyzeFourBar(b, a, poses, length) : AnalyzeFourBar(a, b, poses, length);
+  } else {
+    a_drives = AnalyzeFourBar(a, b, poses, length);
+    b_drives = AnalyzeFourBar(b, a, poses, length);
+    swap = BetterAnalysis(b_drives, a_drives);
+  }
   const FourBarAnalysis& chosen = swap ? b_drives : a_drives;
   MechanismReport mechanism;
   mechanism.input_dyad = swap ? j : i;
@@ -49,6 +59,7 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   const PlanarDyad& output = swap ? a : b;
   mechanism.type = ClassifyFourBar(input.type, output.type);
   TakeAnalysis(chosen, swap ? a_drives : b_drives, poses.size() > 5, &mechanism);
+  if (screened != nullptr) mechanism.output_rotates_fully = screened->output_rotates_fully;
   if (!mechanism.max_pose_error) {
     mechanism.pose_error_note = "the mechanism does not assemble at the first task pose";
   }
@@ -81,13 +92,13 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
 }
 
 bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& precision,
-              double length, double bound) {
+              double length, const Eigen::Vector2d& center, double bound) {
   if (a.type != b.type) return false;
   // Only what the type has: an RR its pivots and radius, a PR its moving pivot and line in
   // Sigma, an RP its fixed pivot and line in E.
   const bool fixed = a.type != DyadType::kPR, moving = a.type != DyadType::kRP;
   double size = length;
-  if (fixed) size = std::max(size, a.fixed_pivot.norm());
+  if (fixed) size = std::max(size, (a.fixed_pivot - center).norm());
   if (moving) size = std::max(size, a.moving_pivot.norm());
   double difference = 0.0;
   if (fixed) difference = std::max(difference, (a.fixed_pivot - b.fixed_pivot).norm());
@@ -95,7 +106,12 @@ bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& pre
   if (a.type == DyadType::kRR) {
     difference = std::max(difference, std::abs(a.radius - b.radius));
   } else {
-    size = std::max(size, a.LineFoot().norm());
+    // The line's nearest point to the centre (a PR's line in Sigma; an RP's in E, about E's
+    // origin).
+    const Eigen::Vector2d from = a.type == DyadType::kPR ? center : Eigen::Vector2d::Zero();
+    const Eigen::Vector2d direction = a.line_direction.normalized();
+    const Eigen::Vector2d nearest = a.line_point + (from - a.line_point).dot(direction) * direction;
+    size = std::max(size, (nearest - from).norm());
     const Eigen::Vector2d na(-a.line_direction.y(), a.line_direction.x());
     const double sign =
         na.dot(Eigen::Vector2d(-b.line_direction.y(), b.line_direction.x())) < 0 ? -1.0 : 1.0;
@@ -237,8 +253,15 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
   const std::vector<PlanarPose>& poses = task.planar_poses;
   std::string note;
   PlanarDyad dyad;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  // Each with its error bound, the pivot held (model_choice.h PivotDyadErrorBound).
+  bool moving_given = true;
   auto add = [&](bool ok, const std::string& what) {
-    if (ok) result->dyads.push_back({dyad, dyad.MaxResidual(poses)});
+    if (ok) {
+      DyadReport report{dyad, dyad.MaxResidual(poses)};
+      report.error_bound = PivotDyadErrorBound(dyad, poses, task.precision, length, moving_given);
+      result->dyads.push_back(report);
+    }
     if (!ok) result->notes.push_back(what + ": no dyad");
     if (!note.empty()) result->notes.push_back(what + ": " + note);
     note.clear();
@@ -247,6 +270,7 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
     add(DyadFromMovingPivot(poses, task.moving_pivots[i], &dyad, &note),
         "moving_pivots[" + std::to_string(i) + "]");
   }
+  moving_given = false;
   for (size_t i = 0; i < task.fixed_pivots.size(); ++i) {
     add(DyadFromFixedPivot(poses, task.fixed_pivots[i], &dyad, &note),
         "fixed_pivots[" + std::to_string(i) + "]");
@@ -257,6 +281,7 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
     std::string explanation;
     DefaultMovingPivots(poses, pivots, &explanation);
     result->notes.push_back(explanation);
+    moving_given = true;
     for (int i = 0; i < 2; ++i)
       add(DyadFromMovingPivot(poses, pivots[i], &dyad, &note), "default pivot");
   }
@@ -345,8 +370,9 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
     }
   }
   const auto analyse = [&](int i, int j, const std::vector<PlanarPose>& on,
-                           const std::vector<bool>& exact) {
-    MechanismReport mechanism = AnalyzeDyadPair(result->dyads, i, j, on, length, exact);
+                           const std::vector<bool>& exact,
+                           const MechanismReport* screened = nullptr) {
+    MechanismReport mechanism = AnalyzeDyadPair(result->dyads, i, j, on, length, exact, screened);
     JudgeMechanism(task.constraints, result->dyads, length, &mechanism);
     return mechanism;
   };
@@ -400,7 +426,7 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
       if (!keep[k]) continue;
       ++kept;
       result->mechanisms.push_back(
-          analyse(pairs[k].first, pairs[k].second, poses, task.pose_exact));
+          analyse(pairs[k].first, pairs[k].second, poses, task.pose_exact, &screened[k]));
     }
     result->notes.push_back(
         std::to_string(poses.size()) + " poses: the four-bars of " + std::to_string(pairs.size()) +

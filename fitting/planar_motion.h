@@ -65,9 +65,11 @@ std::vector<size_t> SpreadIndices(size_t count, size_t wanted, const std::vector
 // Whether two dyads are one: of a type, and their pivots, radii and lines within the data's
 // precision (kModelUnits point uncertainties at their size), within `bound` (how far the data's
 // precision can move them: the smaller of their DyadErrorBounds, at most 10 % of their size) or
-// within 1e-7 of their size.
+// within 1e-7 of their size. The size is the larger of L and the dyad's reach: its moving pivot
+// from E's origin, its fixed pivot and line from `center` (the pose origins' centroid in Sigma),
+// so that moving the data's origin away merges nothing.
 bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& precision,
-              double length, double bound = 0.0);
+              double length, const Eigen::Vector2d& center, double bound = 0.0);
 
 // The pose error below which a four-bar meets the poses within their precision (kModelUnits
 // point uncertainties of a point L from E's origin), not below 1e-8 L: two fits below it are a
@@ -120,9 +122,12 @@ constexpr double kExactPoseTolerance = 1e-9;
 // The analysis of the four-bar of dyads i and j of `dyads` (both inputs tried, the better kept).
 // With `exact` (one flag per pose), its largest error at the exact poses and whether it misses
 // them (MechanismReport::exact_pose_error, misses_exact).
+// With `screened` (its analysis on spread poses: BuildMechanisms), the input it chose drives and
+// its output's full rotation is taken from it.
 MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int j,
                                 const std::vector<PlanarPose>& poses, double length,
-                                const std::vector<bool>& exact = {});
+                                const std::vector<bool>& exact = {},
+                                const MechanismReport* screened = nullptr);
 
 // A mechanism's key in the ranking rule (lib/design_constraints.h): the fit is the RMS pose
 // error for least squares, else the largest; within the data's precision when its largest pose

@@ -126,12 +126,21 @@ constexpr int kScreenKept = 12;
 
 MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dyads, int i, int j,
                                      const SphericalMotion& motion,
-                                     const DesignConstraints& constraints) {
+                                     const DesignConstraints& constraints,
+                                     const MechanismReport* screened) {
   const SphericalFourBar a_drives = MakeSphericalFourBar(dyads[i].dyad, dyads[j].dyad);
   const SphericalFourBar b_drives = MakeSphericalFourBar(dyads[j].dyad, dyads[i].dyad);
-  const SphericalFourBarAnalysis a_analysis = AnalyzeSphericalFourBar(a_drives, motion);
-  const SphericalFourBarAnalysis b_analysis = AnalyzeSphericalFourBar(b_drives, motion);
-  const bool swap = BetterAnalysis(b_analysis, a_analysis);
+  // Screened: the screening's input drives (as planar AnalyzeDyadPair).
+  SphericalFourBarAnalysis a_analysis, b_analysis;
+  bool swap = false;
+  if (screened != nullptr) {
+    swap = screened->input_dyad == j;
+    (swap ? b_analysis : a_analysis) = AnalyzeSphericalFourBar(swap ? b_drives : a_drives, motion);
+  } else {
+    a_analysis = AnalyzeSphericalFourBar(a_drives, motion);
+    b_analysis = AnalyzeSphericalFourBar(b_drives, motion);
+    swap = BetterAnalysis(b_analysis, a_analysis);
+  }
   const SphericalFourBarAnalysis& chosen = swap ? b_analysis : a_analysis;
   const SphericalFourBar& four_bar = swap ? b_drives : a_drives;
   MechanismReport mechanism;
@@ -139,12 +148,19 @@ MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dya
   mechanism.input_dyad = swap ? j : i;
   mechanism.output_dyad = swap ? i : j;
   TakeAnalysis(chosen, swap ? a_analysis : b_analysis, motion.rotations.size() > 5, &mechanism);
+  if (screened != nullptr) mechanism.output_rotates_fully = screened->output_rotates_fully;
   if (!mechanism.max_pose_error) {
     mechanism.pose_error_note = four_bar.valid
                                     ? "the mechanism does not assemble at the first task pose"
                                     : four_bar.invalid_note;
   }
-  if (four_bar.valid) mechanism.grashof = SphericalGrashofType(four_bar);
+  if (four_bar.valid) {
+    mechanism.grashof = SphericalGrashofType(four_bar);
+    // Its size for the ranking's last tie-break (lib/design_constraints.h): its four links'
+    // arcs on the sphere of radius L.
+    mechanism.size = motion.length * (four_bar.ground + four_bar.input.angle + four_bar.coupler +
+                                      four_bar.output.angle);
+  }
   FourBarClass kind;
   kind.type = mechanism.type;
   kind.grashof = mechanism.grashof;
@@ -180,11 +196,12 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
       screen.rotations.push_back(motion.rotations[k]);
       if (k < motion.translations.size()) screen.translations.push_back(motion.translations[k]);
     }
+    std::vector<MechanismReport> screened;
     std::vector<RankKey> keys;
     for (const auto& [i, j] : pairs) {
-      keys.push_back(MechanismRankKey(
-          AnalyzeSphericalPair(result->spherical_dyads, i, j, screen, task.constraints),
-          precision_fit));
+      screened.push_back(
+          AnalyzeSphericalPair(result->spherical_dyads, i, j, screen, task.constraints));
+      keys.push_back(MechanismRankKey(screened.back(), precision_fit));
     }
     const std::vector<int> order = RankOrder(keys);
     std::vector<RankKey> ranked;
@@ -197,8 +214,9 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
     for (size_t k = 0; k < pairs.size(); ++k) {
       if (!keep[k]) continue;
       ++kept;
-      result->spherical_mechanisms.push_back(AnalyzeSphericalPair(
-          result->spherical_dyads, pairs[k].first, pairs[k].second, motion, task.constraints));
+      result->spherical_mechanisms.push_back(
+          AnalyzeSphericalPair(result->spherical_dyads, pairs[k].first, pairs[k].second, motion,
+                               task.constraints, &screened[k]));
     }
     result->notes.push_back(std::to_string(orientations) + " orientations: the four-bars of " +
                             std::to_string(pairs.size()) + " dyad pairs were ranked on " +

@@ -57,10 +57,13 @@ SphericalDyadReport ReportSphericalDyad(const SphericalDyad& dyad, const Spheric
                                         const DataPrecision& precision);
 
 // The four-bar of dyads i and j (both inputs tried, the better kept), judged against the task's
-// constraints (input_rotates_fully, grashof, min_transmission_angle_deg).
+// constraints (input_rotates_fully, grashof, min_transmission_angle_deg). With `screened` (its
+// analysis on spread orientations: BuildSphericalMechanisms), the input it chose drives and its
+// output's full rotation is taken from it.
 MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dyads, int i, int j,
                                      const SphericalMotion& motion,
-                                     const DesignConstraints& constraints);
+                                     const DesignConstraints& constraints,
+                                     const MechanismReport* screened = nullptr);
 
 // Every four-bar of two of result->spherical_dyads, analysed and ranked; with `bound` >= 0 at
 // most that many listed (RankMechanisms: and the best of each group), the rest said in a note.

@@ -226,10 +226,25 @@ bool CouplerCoordinates(const PathFourBar& four_bar, const std::vector<Eigen::Ve
 
 }  // namespace
 
-double PathFourBarErrorBound(const PathFourBar& four_bar,
-                             const std::vector<Eigen::Vector2d>& points,
+double PathFourBarErrorBound(const PathFourBar& given_four_bar,
+                             const std::vector<Eigen::Vector2d>& given_points,
                              const std::vector<double>& input_angles,
                              const DataPrecision& precision, double length, bool free_timing) {
+  // In a frame at the points' centroid: the central differences below step by 1e-6 L, which at
+  // coordinates 10^6 L from the origin would keep only a few digits of the derivatives (and the
+  // bound, which decides which four-bars are one, would depend on where the origin is).
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& point : given_points) {
+    centroid += point / static_cast<double>(given_points.size());
+  }
+  Similarity2 to_centroid;
+  to_centroid.translation = -centroid;
+  PathFourBar four_bar = given_four_bar;
+  four_bar.input = TransformDyad(given_four_bar.input, to_centroid, to_centroid);
+  four_bar.output = TransformDyad(given_four_bar.output, to_centroid, to_centroid);
+  four_bar.coupler_point = given_four_bar.coupler_point - centroid;
+  std::vector<Eigen::Vector2d> points;
+  for (const Eigen::Vector2d& point : given_points) points.push_back(point - centroid);
   const double unbounded = kInfinity;
   const bool rr = four_bar.output.type == DyadType::kRR;
   const int design_parameters = rr ? 10 : 9;

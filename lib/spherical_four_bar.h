@@ -58,8 +58,8 @@ double SphericalInputAngle(const SphericalFourBar& four_bar, const Eigen::Matrix
 int AssembleSphericalFourBar(const SphericalFourBar& four_bar, double input_angle, double tolerance,
                              Eigen::Matrix3d rotations[2]);
 
-// The same at the input angle of `rotation` (in *input_angle), with the crank pin taken as
-// R v1 itself (no round trip through the angle).
+// The same at the input angle of `rotation` (in *input_angle), with the crank pin taken on the
+// input's cone in the direction of R v1 (no round trip through the angle).
 int AssembleSphericalFourBarAt(const SphericalFourBar& four_bar, const Eigen::Matrix3d& rotation,
                                double tolerance, Eigen::Matrix3d rotations[2], double* input_angle);
 

@@ -82,6 +82,7 @@ struct PathData {
   std::vector<double> weights;
   std::vector<bool> exact;
   double length = 1.0;
+  Eigen::Vector2d centroid = Eigen::Vector2d::Zero();  // of the points
   bool closed = false;            // the crank makes a whole turn from the first point back to it
   DataPrecision precision;        // the task's
   DesignConstraints constraints;  // the task's
@@ -97,6 +98,7 @@ PathData Data(const Task& task) {
     data.exact.push_back(point.exact);
     centroid += point.point_in_fixed / static_cast<double>(task.points.size());
   }
+  data.centroid = centroid;
   double sum = 0.0;
   for (const Eigen::Vector2d& point : data.points) sum += (point - centroid).squaredNorm();
   data.length = task.scale ? *task.scale : std::sqrt(sum / static_cast<double>(task.points.size()));
@@ -214,11 +216,12 @@ int Rank(bool least_squares, double precision_fit, int bound,
 // Two four-bars are one when their crank, coupler point and output agree within kSameFourBar
 // (relative to L, and to a point's distance from the origin beyond L): an RR output by its
 // pivots, a PR by its moving pivot and line, an RP by its fixed pivot and line.
-bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
+bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length,
+                 const Eigen::Vector2d& centroid) {
   if (a.output.type != b.output.type) return false;
   const double tolerance = kSameFourBar * length;
   const auto near = [&](const Eigen::Vector2d& p, const Eigen::Vector2d& q) {
-    return (p - q).norm() <= tolerance * std::max(1.0, p.norm() / length);
+    return (p - q).norm() <= tolerance * std::max(1.0, (p - centroid).norm() / length);
   };
   const DyadType type = a.output.type;
   if (!near(a.input.fixed_pivot, b.input.fixed_pivot) ||
@@ -229,19 +232,23 @@ bool SameFourBar(const PathFourBar& a, const PathFourBar& b, double length) {
   if (type != DyadType::kPR && !near(a.output.fixed_pivot, b.output.fixed_pivot)) return false;
   if (type != DyadType::kRP && !near(a.output.moving_pivot, b.output.moving_pivot)) return false;
   if (type == DyadType::kRR) return true;
-  // A line: its foot from the origin, and its direction (either sense).
+  // A line: its foot from the points' centroid, and its direction (either sense).
   const Eigen::Vector2d u = a.output.line_direction.normalized();
   const Eigen::Vector2d v = b.output.line_direction.normalized();
-  return near(a.output.LineFoot(), b.output.LineFoot()) &&
+  const auto foot = [&](const PlanarDyad& dyad, const Eigen::Vector2d& direction) {
+    return Eigen::Vector2d(dyad.line_point +
+                           (centroid - dyad.line_point).dot(direction) * direction);
+  };
+  return near(foot(a.output, u), foot(b.output, v)) &&
          std::abs(u.x() * v.y() - u.y() * v.x()) <= kSameFourBar;
 }
 
 // Adds `report` unless an equal four-bar is listed (then the better of the two stays: defect-free
 // first, then by RMS error).
-void AddDistinct(const PathMechanismReport& report, double length,
+void AddDistinct(const PathMechanismReport& report, double length, const Eigen::Vector2d& centroid,
                  std::vector<PathMechanismReport>* reports) {
   for (PathMechanismReport& listed : *reports) {
-    if (!SameFourBar(listed.design, report.design, length)) continue;
+    if (!SameFourBar(listed.design, report.design, length, centroid)) continue;
     const auto key = [](const PathMechanismReport& r) {
       return std::make_tuple(!r.defects.empty(),
                              r.rms_point_error.value_or(std::numeric_limits<double>::infinity()));
@@ -287,7 +294,7 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
       four_bars.insert(four_bars.end(), summary.to_fit.begin(), summary.to_fit.end());
       for (const PathFourBar& four_bar : four_bars) {
         PathMechanismReport report = Report(four_bar, data, angles);
-        if (report.rms_point_error) AddDistinct(report, data.length, &seeds);
+        if (report.rms_point_error) AddDistinct(report, data.length, data.centroid, &seeds);
       }
     }
   }
@@ -455,7 +462,8 @@ int RefineAll(const PathData& data, const PathRefinerOptions& options,
 void Finish(const PathData& data, int reported, std::vector<PathMechanismReport> candidates,
             PathResult* result) {
   std::vector<PathMechanismReport> distinct;
-  for (const PathMechanismReport& report : candidates) AddDistinct(report, data.length, &distinct);
+  for (const PathMechanismReport& report : candidates)
+    AddDistinct(report, data.length, data.centroid, &distinct);
   for (PathMechanismReport& report : distinct) JudgeTransmission(data, &report);
   // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
   const int dropped = Rank(true, PassTolerance(data), reported, &distinct);
@@ -1003,6 +1011,61 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
   result->notes.push_back(note);
 }
 
+// Four-bars the data's precision cannot tell apart are one: of a type, every joint and the
+// coupler point of the later within the smaller of the two error bounds (and within 10 % of their
+// size) of the earlier's, and their largest point errors within PathPassTolerance of each other
+// (the points tell a fit twice as far from them apart, however loosely they pin the joints); the
+// better ranked stays, with a note. (Least-squares refinements from several seeds end on optima
+// that close; listed, they were clutter whose order rounding of the data decided.)
+void MergeWithinBounds(const PathData& data, PathResult* result) {
+  const double fit_tolerance = PathPassTolerance(data.precision, data.length);
+  const auto joints = [](const PathFourBar& design) {
+    std::vector<Eigen::Vector2d> points = {design.input.fixed_pivot, design.input.moving_pivot,
+                                           design.coupler_point};
+    if (design.output.type != DyadType::kPR) points.push_back(design.output.fixed_pivot);
+    if (design.output.type != DyadType::kRP) points.push_back(design.output.moving_pivot);
+    return points;
+  };
+  std::vector<PathMechanismReport> kept;
+  int merged = 0;
+  for (const PathMechanismReport& report : result->mechanisms) {
+    bool same = false;
+    for (const PathMechanismReport& other : kept) {
+      if (other.type != report.type || !report.error_bound || !other.error_bound ||
+          other.design.output.type != report.design.output.type || !report.max_point_error ||
+          !other.max_point_error ||
+          !(std::abs(*report.max_point_error - *other.max_point_error) <= fit_tolerance)) {
+        continue;
+      }
+      const double size = std::min(PathFourBarSize(report.design, data.points, data.length),
+                                   PathFourBarSize(other.design, data.points, data.length));
+      const double allowed = std::min({*report.error_bound, *other.error_bound, 0.1 * size});
+      const std::vector<Eigen::Vector2d> a = joints(report.design), b = joints(other.design);
+      double apart = 0.0;
+      for (size_t k = 0; k < a.size(); ++k) apart = std::max(apart, (a[k] - b[k]).norm());
+      if (report.design.output.type != DyadType::kRR) {
+        const Eigen::Vector2d u = report.design.output.line_direction.normalized();
+        const Eigen::Vector2d v = other.design.output.line_direction.normalized();
+        apart = std::max(apart, size * std::abs(u.x() * v.y() - u.y() * v.x()));
+      }
+      if (apart <= allowed) {
+        same = true;
+        break;
+      }
+    }
+    if (same) {
+      ++merged;
+    } else {
+      kept.push_back(report);
+    }
+  }
+  if (merged == 0) return;
+  result->mechanisms = std::move(kept);
+  result->notes.push_back(std::to_string(merged) +
+                          " four-bar(s) within the data's precision (their error_bound) of a "
+                          "better-ranked one were dropped: the points cannot tell them apart");
+}
+
 }  // namespace
 
 double PathPassTolerance(const DataPrecision& precision, double length) {
@@ -1052,7 +1115,8 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
       }
       if (SliderAtPrecision(data, options.path_refiner, report, &slider)) {
         ++simplified;
-        AddDistinct(slider, data.length, &result.mechanisms);  // the solver's own slider
+        AddDistinct(slider, data.length, data.centroid,
+                    &result.mechanisms);  // the solver's own slider
       } else {
         result.mechanisms.push_back(report);
       }
@@ -1065,7 +1129,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
       PathMechanismReport fitted;
       if (FitToPoints(data, options.path_refiner, candidate, &fitted)) {
         ++(candidate.output.type == DyadType::kRR ? rescued : simplified);
-        AddDistinct(fitted, data.length, &result.mechanisms);
+        AddDistinct(fitted, data.length, data.centroid, &result.mechanisms);
       }
     }
     if (rescued > 0) {
@@ -1094,7 +1158,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
       int added = 0;
       for (const PathMechanismReport& report : bounded.mechanisms) {
         if (!keeps(report)) continue;
-        AddDistinct(report, data.length, &result.mechanisms);
+        AddDistinct(report, data.length, data.centroid, &result.mechanisms);
         ++added;
       }
       result.stages = bounded.stages;
@@ -1127,7 +1191,10 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
       result.notes.push_back("no four-bar found: the seeds failed (degenerate points?)");
     }
   }
-  if (count >= 5) BoundErrors(data, free_timing, fits, &result);
+  if (count >= 5) {
+    BoundErrors(data, free_timing, fits, &result);
+    MergeWithinBounds(data, &result);
+  }
   if (task.closed && count >= 5) {
     result.notes.push_back(
         std::string("solved as a closed path: the crank makes a whole turn from points[0] back "

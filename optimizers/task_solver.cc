@@ -197,18 +197,19 @@ bool RefineSpatialReport(const Task& task, const std::vector<DualQuaternion>& in
   return simplified;
 }
 
-// Whether two spatial dyads are one, as planar SameDyad decides it (fitting/planar_motion.h): of
-// a type, and what the type has within SameDesignTolerance (fitting/model_choice.h: `bound` the
-// smaller of their DyadErrorBounds; the relative floor kSameRefinedOptimum). An SS: both centres
-// and the radius; a PS: its moving centre and its plane in Sigma; an SP: its fixed centre and its
-// plane in E. A plane is one whichever sense its normal has ((n, h) and (-n, -h)).
+// Whether two spatial dyads are one, as planar SameDyad decides it (fitting/planar_motion.h; sizes
+// from `center`, the pose origins' centroid, in Sigma): of a type, and what the type has within
+// SameDesignTolerance (fitting/model_choice.h: `bound` the smaller of their DyadErrorBounds; the
+// relative floor kSameRefinedOptimum). An SS: both centres and the radius; a PS: its moving centre
+// and its plane in Sigma; an SP: its fixed centre and its plane in E. A plane is one whichever
+// sense its normal has ((n, h) and (-n, -h)).
 bool SameSpatialDyad(const SpatialDyad& a, const SpatialDyad& b, const DataPrecision& precision,
-                     double length, double bound) {
+                     double length, const Eigen::Vector3d& center, double bound) {
   if (a.type != b.type) return false;
   const bool fixed = a.type != SpatialDyadType::kPS, moving = a.type != SpatialDyadType::kSP;
   double size = length, difference = 0.0;
   if (fixed) {
-    size = std::max(size, a.fixed_pivot.norm());
+    size = std::max(size, (a.fixed_pivot - center).norm());
     difference = std::max(difference, (a.fixed_pivot - b.fixed_pivot).norm());
   }
   if (moving) {
@@ -218,7 +219,9 @@ bool SameSpatialDyad(const SpatialDyad& a, const SpatialDyad& b, const DataPreci
   if (a.type == SpatialDyadType::kSS) {
     difference = std::max(difference, std::abs(a.radius - b.radius));
   } else {
-    size = std::max(size, std::abs(a.plane_offset));
+    // A PS plane (in Sigma) measured from the centre, an SP plane (in E) from E's origin.
+    const double offset = a.type == SpatialDyadType::kPS ? a.plane_normal.dot(center) : 0.0;
+    size = std::max(size, std::abs(a.plane_offset - offset));
     const double sense = a.plane_normal.dot(b.plane_normal) < 0.0 ? -1.0 : 1.0;
     difference = std::max({difference, size * (a.plane_normal - sense * b.plane_normal).norm(),
                            std::abs(a.plane_offset - sense * b.plane_offset)});
@@ -234,13 +237,19 @@ void DropRepeats(const Task& task, double length, std::vector<SpatialDyadReport>
     report.error_bound = DyadErrorBound(report.dyad, task.spatial_poses, task.precision, length);
   }
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const DualQuaternion& pose : task.spatial_poses) {
+    center += pose.Translation() / static_cast<double>(task.spatial_poses.size());
+  }
   std::vector<SpatialDyadReport> kept;
   for (const SpatialDyadReport& report : *dyads) {
     bool repeat = false;
     for (SpatialDyadReport& other : kept) {
       const double bound =
           std::min(report.error_bound.value_or(0.0), other.error_bound.value_or(0.0));
-      if (!SameSpatialDyad(report.dyad, other.dyad, task.precision, length, bound)) continue;
+      if (!SameSpatialDyad(report.dyad, other.dyad, task.precision, length, center, bound)) {
+        continue;
+      }
       repeat = true;
       if (report.rms_residual.value_or(kInf) < other.rms_residual.value_or(kInf)) other = report;
       break;
@@ -385,7 +394,21 @@ void RefineSphericalResult(const Task& task, const TaskSolverOptions& options,
             return SameSphericalDyad(kept.dyad, seed.dyad, kSameSphericalOptimum);
           });
       if (misses_exact || listed) continue;
-      refined.push_back(seed);
+      // A refined dyad the data's precision cannot tell from the seed (within the smaller of
+      // their error bounds) is the seed's twin: the seed, whose four-bar fits better, takes its
+      // place rather than being listed beside it.
+      const auto twin =
+          std::find_if(refined.begin(), refined.end(), [&](const SphericalDyadReport& kept) {
+            const double bound =
+                std::min(kept.error_bound.value_or(0.0), seed.error_bound.value_or(0.0));
+            return std::isfinite(bound) && bound > 0.0 &&
+                   SameSphericalDyad(kept.dyad, seed.dyad, bound);
+          });
+      if (twin != refined.end()) {
+        *twin = seed;
+      } else {
+        refined.push_back(seed);
+      }
       ++kept_seeds;
     }
   }
@@ -722,9 +745,13 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     if (keeps(a) != keeps(b)) return keeps(a);
     return a.rms_residual.value_or(1e300) < b.rms_residual.value_or(1e300);
   };
+  Eigen::Vector2d pose_centroid = Eigen::Vector2d::Zero();
+  for (const PlanarPose& pose : poses) {
+    pose_centroid += pose.origin_in_fixed / static_cast<double>(poses.size());
+  }
   const auto same = [&](const DyadReport& a, const DyadReport& b) {
     const double bound = std::min(a.error_bound.value_or(0.0), b.error_bound.value_or(0.0));
-    return SameDyad(a.dyad, b.dyad, task.precision, length, bound);
+    return SameDyad(a.dyad, b.dyad, task.precision, length, pose_centroid, bound);
   };
   const int max_dyads =
       task.constraints.given ? kConstrainedDyadsFactor * options.max_dyads : options.max_dyads;

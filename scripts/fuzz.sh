@@ -1,15 +1,22 @@
 #!/usr/bin/env bash
-# Fuzzes the task parser (tests/fuzz/fuzz_task_parser.cc) with libFuzzer, AddressSanitizer and
-# UBSan for SECONDS (default 300). Installs clang and libFuzzer's runtime if missing (Debian
-# packages, as setup.sh does), builds only the fuzz target in build-fuzz/ (clang,
-# -DLINKFIT_FUZZ=ON), copies the seeds (data/, tests/fuzz/corpus/) into the scratch corpus
-# build-fuzz/corpus/ and runs the fuzzer on it. A finding stops the run with a report and an
-# input build-fuzz/crash-<sha1> (or leak-, timeout-, oom-): fix it, then add the input to
-# tests/fuzz/corpus/ as a regression seed (the test FuzzCorpusReplay replays that directory
+# Fuzzes linkfit with libFuzzer, AddressSanitizer and UBSan: the task parser
+# (tests/fuzz/fuzz_task_parser.cc), the whole solve of every task kind (fuzz_solve.cc) and the
+# command line's option handling (fuzz_cli.cc), SECONDS each (default 300).
+#   scripts/fuzz.sh [SECONDS] [TARGET...]   (targets: parser solve cli; default all three)
+# Installs clang and libFuzzer's runtime if missing (Debian packages, as setup.sh does), builds
+# the fuzz targets in build-fuzz/ (clang, -DLINKFIT_FUZZ=ON), copies the seeds (data/ and
+# tests/fuzz/corpus/ for the parser and the solve, tests/fuzz/cli_corpus/ for the command line)
+# into scratch corpora build-fuzz/corpus-<target>/ and runs each fuzzer on its own. A finding
+# stops that run with a report and an input build-fuzz/crash-<sha1> (or leak-, timeout-, oom-):
+# fix it, then add the input to tests/fuzz/corpus/ (or cli_corpus/) as a regression seed (the
+# tests FuzzCorpusReplay, FuzzSolveCorpusReplay and FuzzCliCorpusReplay replay those directories
 # in every build). Exit status: 0 when nothing was found.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-300}"
+shift || true
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then targets=(parser solve cli); fi
 build=build-fuzz
 
 ./scripts/setup.sh --deps-only
@@ -19,11 +26,25 @@ packages=(clang libclang-rt-14-dev)
 
 CC=clang CXX=clang++ cmake -S . -B "$build" -DLINKFIT_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   >/dev/null
-cmake --build "$build" -j2 --target fuzz_task_parser
 
-mkdir -p "$build/corpus"
-cp data/* tests/fuzz/corpus/* "$build/corpus/"
-# -timeout: an input that takes seconds (a quadratic path) is a finding too.
-"$build/bin/fuzz_task_parser" -max_total_time="$seconds" -max_len=65536 -rss_limit_mb=2048 \
-  -timeout=10 -dict=tests/fuzz/task.dict -artifact_prefix="$build/" -print_final_stats=1 \
-  "$build/corpus" data tests/fuzz/corpus
+status=0
+for target in "${targets[@]}"; do
+  case "$target" in
+    parser) binary=fuzz_task_parser seeds=(data tests/fuzz/corpus) dict=tests/fuzz/task.dict
+      max_len=65536 ;;
+    solve) binary=fuzz_solve seeds=(data tests/fuzz/corpus) dict=tests/fuzz/task.dict
+      max_len=8192 ;;
+    cli) binary=fuzz_cli seeds=(tests/fuzz/cli_corpus) dict=tests/fuzz/cli.dict max_len=1024 ;;
+    *) echo "fuzz.sh: unknown target $target (parser, solve or cli)" >&2; exit 2 ;;
+  esac
+  cmake --build "$build" -j2 --target "$binary"
+  corpus="$build/corpus-$target"
+  mkdir -p "$corpus"
+  for seed in "${seeds[@]}"; do cp "$seed"/* "$corpus/"; done
+  echo "== $binary, $seconds s"
+  # -timeout: an input that takes seconds (a quadratic path) is a finding too.
+  "$build/bin/$binary" -max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb=2048 \
+    -timeout=20 -dict="$dict" -artifact_prefix="$build/" -print_final_stats=1 \
+    "$corpus" "${seeds[@]}" || status=1
+done
+exit $status

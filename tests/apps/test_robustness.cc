@@ -26,6 +26,7 @@
 #include "lib/task_io.h"
 #include "tests/apps/program_run.h"
 #include "tests/support/every_kind.h"
+#include "tests/support/long_tasks.h"
 
 namespace linkfit {
 namespace {
@@ -382,69 +383,10 @@ TEST_F(RobustnessTest, OptionValuesAreRefusedInOneLine) {
 // (linkfit_bench --only scale) measures 100,000.
 TEST_F(RobustnessTest, LongTasksOfEveryKindInLinearTimeAndMemory) {
   constexpr int kCount = 20000;
-  const auto write = [&](const std::string& name, const std::string& problem,
-                         const std::string& items, const std::function<json(int)>& item) {
-    json task = {{"problem", problem}, {"options", {{"effort", "fast"}}}};
-    json list = json::array();
-    for (int k = 0; k < kCount; ++k) list.push_back(item(k));
-    task[items] = list;
-    if (problem == "spatial") {
-      task["problem"] = "motion";
-      task["space"] = "spatial";
-    }
-    Write(name, task.dump());
-  };
-  const auto angle = [](int k) { return 1.7 * M_PI * k / kCount + 0.1; };
-  const auto round8 = [](double value) { return std::round(value * 1e8) / 1e8; };
-  // A four-bar's coupler: crank 1 about the origin, coupler 3.5, rocker 3 about (4, 0).
-  const auto coupler = [&](int k, double* theta, Eigen::Vector2d* pin, Eigen::Vector2d* point,
-                           double* rocker) {
-    const double phi = angle(k);
-    *pin = Eigen::Vector2d(std::cos(phi), std::sin(phi));
-    const Eigen::Vector2d to = Eigen::Vector2d(4.0, 0.0) - *pin;
-    const double d = to.norm(), l = (3.5 * 3.5 - 9.0 + d * d) / (2.0 * d);
-    const double h = std::sqrt(std::max(3.5 * 3.5 - l * l, 0.0));
-    const Eigen::Vector2d e = to / d;
-    const Eigen::Vector2d pin2 = *pin + l * e + h * Eigen::Vector2d(-e.y(), e.x());
-    *theta = std::atan2(pin2.y() - pin->y(), pin2.x() - pin->x());
-    *point = *pin + 1.5 * Eigen::Vector2d(std::cos(*theta + 0.5), std::sin(*theta + 0.5));
-    *rocker = std::atan2(pin2.y(), pin2.x() - 4.0);
-  };
-  write("motion.json", "motion", "poses", [&](int k) {
-    double theta, rocker;
-    Eigen::Vector2d pin, point;
-    coupler(k, &theta, &pin, &point, &rocker);
-    return json{
-        {"x", round8(pin.x())}, {"y", round8(pin.y())}, {"theta_deg", round8(theta * 180 / M_PI)}};
-  });
-  write("timed.json", "path", "points", [&](int k) {
-    double theta, rocker;
-    Eigen::Vector2d pin, point;
-    coupler(k, &theta, &pin, &point, &rocker);
-    return json{{"x", round8(point.x())},
-                {"y", round8(point.y())},
-                {"input_deg", round8(angle(k) * 180 / M_PI)}};
-  });
-  write("function.json", "function", "pairs", [&](int k) {
-    double theta, rocker;
-    Eigen::Vector2d pin, point;
-    coupler(k, &theta, &pin, &point, &rocker);
-    return json{{"input_deg", round8(angle(k) * 180 / M_PI)},
-                {"output_deg", round8(rocker * 180 / M_PI)}};
-  });
-  write("spherical.json", "spatial", "poses", [&](int k) {
-    const double t = 1.8 * M_PI * k / kCount;
-    const Eigen::Matrix3d rotation =
-        Eigen::AngleAxisd(t,
-                          Eigen::Vector3d(std::cos(0.3 * t), std::sin(0.3 * t), 1.0).normalized())
-            .toRotationMatrix();
-    const Eigen::Vector3d center(1.0, 2.0, 0.5), d = center - rotation * center;
-    json rows = json::array();
-    for (int r = 0; r < 3; ++r) {
-      rows.push_back({rotation(r, 0), rotation(r, 1), rotation(r, 2)});
-    }
-    return json{{"rotation", rows}, {"translation", {d.x(), d.y(), d.z()}}};
-  });
+  Write("motion.json", testing::LongTaskText("motion", kCount, "fast"));
+  Write("timed.json", testing::LongTaskText("timed path", kCount, "fast"));
+  Write("function.json", testing::LongTaskText("function", kCount, "fast"));
+  Write("spherical.json", testing::LongTaskText("spherical", kCount, "fast"));
   for (const char* name : {"motion.json", "timed.json", "function.json", "spherical.json"}) {
     SCOPED_TRACE(name);
     const ProgramResult run = Run({"solve", name, "-o", "out.json"});

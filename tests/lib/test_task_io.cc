@@ -268,6 +268,30 @@ TEST(TaskIoErrors, Pivots) {
       << ErrorOf(json);
 }
 
+// A pivot beyond 1e8 L of the poses (moving: of E's origin) is refused, naming it: at 1e200 its
+// squares overflowed and the solver returned a radius-0 dyad with a false note. Nearer, it is
+// accepted.
+TEST(TaskIoErrors, PivotsTooFarAreRefused) {
+  Json json = PlanarTaskJson();
+  json["poses"].erase(4);
+  json["poses"].erase(3);
+  for (const char* key : {"moving_pivots", "fixed_pivots"}) {
+    SCOPED_TRACE(key);
+    for (const double far : {1e200, 1e12, -1e300}) {
+      json.erase("moving_pivots");
+      json.erase("fixed_pivots");
+      json[key] = {{0.5, 0.25}, {far, 1.0}};
+      const std::string error = ErrorOf(json);
+      EXPECT_TRUE(StartsWith(error, std::string("task.json: ") + key + "[1]: ")) << error;
+      EXPECT_NE(error.find("farther than 1e+08 L"), std::string::npos) << error;
+    }
+    json.erase("moving_pivots");
+    json.erase("fixed_pivots");
+    json[key] = {{0.5, 0.25}, {1e3, 1.0}};
+    EXPECT_NO_THROW(ParseTask(json.dump(), "task.json")) << ErrorOf(json);
+  }
+}
+
 TEST(TaskIoErrors, Counts) {
   Json json = PlanarTaskJson();
   json["poses"].erase(4);

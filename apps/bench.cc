@@ -840,6 +840,8 @@ ProgramRun RunLinkfit(const std::string& task_path, const std::string& result_pa
   const std::string program =
       (std::filesystem::read_symlink("/proc/self/exe").parent_path() / "linkfit").string();
   ProgramRun run;
+  std::fflush(stdout);  // the child's freopen would print what is buffered again
+  std::fflush(stderr);
   const auto start = std::chrono::steady_clock::now();
   const pid_t child = fork();
   if (child == 0) {

@@ -120,7 +120,7 @@ CLI::Validator WholeNumber(long long minimum, long long maximum) {
         }
         return std::string();
       },
-      "INT");
+      "");  // no description: the option's type reads INT in --help and in messages
 }
 
 // Prints "linkfit: <kind>: <message>" on one line of stderr.
@@ -476,6 +476,14 @@ int Run(int argc, char** argv) {
                     "(untimed path), or its rows of a number of items (untimed path:10); of the "
                     "constrained part, constrained or constrained:<part of a family name>");
 
+  // A first word that is no command (CLI11 would say "A subcommand is required").
+  const std::string first = argc > 1 ? argv[1] : "";
+  if (!first.empty() && first[0] != '-' && first != "solve" && first != "refine" &&
+      first != "bench") {
+    PrintError("error", std::string("unknown command '") + argv[1] +
+                            "': solve, refine or bench (see 'linkfit --help')");
+    return kExitBadInput;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {

@@ -209,13 +209,21 @@ OutputFile::~OutputFile() {
     ::unlink(temporary_.c_str());
     UnregisterTemporary(registration_);
   }
+  // A FIFO whose run failed: its reader, if one waits, gets end of file (as it would from a
+  // shell's redirection) rather than waiting for ever; without a reader the open fails at once.
+  if (!committed_ && target_ == Target::kInPlace) {
+    struct stat status {};
+    if (::stat(target_path_.c_str(), &status) == 0 && S_ISFIFO(status.st_mode)) {
+      const int descriptor = ::open(target_path_.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC);
+      if (descriptor != -1) ::close(descriptor);
+    }
+  }
 }
 
 void OutputFile::Fail(const std::string& what, int error) const {
   std::string message = item_ + " " + (path_.empty() ? "-" : path_) + ": ";
-  if (target_ == Target::kDescriptor && (path_.empty() || path_ == "-")) {
-    message = item_ + ": standard output: ";
-  }
+  if (target_ == Target::kDescriptor && path_ == "-") message = item_ + ": standard output: ";
+  if (target_ == Target::kDescriptor && path_.empty()) message = "standard output: ";
   message += what;
   if (error != 0) message += std::string(" (") + std::strerror(error) + ")";
   throw OutputError(message);

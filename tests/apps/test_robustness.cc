@@ -4,7 +4,9 @@
 // file over the size limit; option values out of range; long tasks of every kind. Each time:
 // never a crash or an internal fault, never a file destroyed that the run did not create, never
 // a temporary file left behind, and one line that names the item for every refusal.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/stat.h>
@@ -218,6 +220,24 @@ TEST_F(RobustnessTest, AFifoTargetGetsTheResultAndStaysAFifo) {
   EXPECT_TRUE(S_ISFIFO(status.st_mode));
 }
 
+// A run that fails with a FIFO for -o opens and closes it, as a shell's redirection would have:
+// its reader gets end of file instead of waiting for ever. (Linux reports POLLHUP on a FIFO's
+// read end only once a writer has come and gone.)
+TEST_F(RobustnessTest, AFailedRunLetsTheFifoReaderGo) {
+  ASSERT_EQ(mkfifo(Path("out.fifo").c_str(), 0600), 0);
+  Write("bad.json", R"({"poses": [{"x": 0, "y": 0, "theta_deg": "a"}]})");
+  const int reader = open(Path("out.fifo").c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_NE(reader, -1);
+  const ProgramResult run = Run({"solve", "bad.json", "-o", "out.fifo"});
+  EXPECT_EQ(run.status, 2) << run.err;
+  pollfd end{reader, POLLIN, 0};
+  EXPECT_EQ(poll(&end, 1, 0), 1);
+  EXPECT_TRUE(end.revents & POLLHUP);
+  char byte;
+  EXPECT_EQ(read(reader, &byte, 1), 0);  // end of file, nothing written
+  close(reader);
+}
+
 // As root, `-o /dev/null` used to rename a regular file over /dev/null.
 TEST_F(RobustnessTest, DevicesAndStandardOutputAreWrittenInPlace) {
   const std::string task = DataPath("four_bar_5_poses.json");
@@ -323,7 +343,11 @@ TEST_F(RobustnessTest, AClosedStandardOutputIsNamed) {
   closed.close_stdout = true;
   const ProgramResult run = Run({"solve", DataPath("four_bar_5_poses.json")}, closed);
   EXPECT_EQ(run.status, 2) << run.err;
-  EXPECT_EQ(run.err, "linkfit: error: -o: standard output: cannot write (Bad file descriptor)\n");
+  EXPECT_EQ(run.err, "linkfit: error: standard output: cannot write (Bad file descriptor)\n");
+  // Named by the option when it was given.
+  const ProgramResult dash = Run({"solve", DataPath("four_bar_5_poses.json"), "-o", "-"}, closed);
+  EXPECT_EQ(dash.status, 2) << dash.err;
+  EXPECT_EQ(dash.err, "linkfit: error: -o: standard output: cannot write (Bad file descriptor)\n");
 }
 
 // A file over the 256 MiB limit is refused before it is read (a sparse file of 300 MiB: it
@@ -362,6 +386,8 @@ TEST_F(RobustnessTest, OptionValuesAreRefusedInOneLine) {
        "--mechanism: expected a whole number from 1 to 1000000000, got -3"},
       {{"bench", "--seed", "-1"},
        "--seed: expected a whole number from 0 to 9223372036854775807, got -1"},
+      {{"frobnicate", task}, "unknown command 'frobnicate': solve, refine or bench"},
+      {{"solve", task, "--jobs"}, "--jobs: 1 required INT missing"},
   };
   for (const auto& [args, expected] : cases) {
     SCOPED_TRACE(args[args.size() - 2] + " " + args.back());

@@ -41,7 +41,6 @@ inline Plain operator*(const Plain& a, const Plain& b) {
   return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
 }
 inline Plain operator*(double a, const Plain& b) { return {a * b.re, a * b.im}; }
-inline Plain& operator+=(Plain& a, const Plain& b) { return a = a + b; }
 inline Plain& operator-=(Plain& a, const Plain& b) { return a = a - b; }
 inline double SquaredNorm(const Plain& z) { return z.re * z.re + z.im * z.im; }
 // 1 / z (no scaling against overflow).

@@ -1554,8 +1554,12 @@ class TaskParser {
       if (!(pair[0] != pair[1])) Fail(KeyItem(item, key), "the range is empty (start = end)");
       return std::pair<double, double>(pair[0] * kDegree, pair[1] * kDegree);
     };
-    const auto [input_start, input_end] = range("input_range_deg");
-    const auto [output_start, output_end] = range("output_range_deg");
+    // Plain variables, not structured bindings: a lambda below uses them (Clang 14, which the
+    // fuzz build uses, cannot capture bindings).
+    const std::pair<double, double> input_range = range("input_range_deg");
+    const std::pair<double, double> output_range = range("output_range_deg");
+    const double input_start = input_range.first, input_end = input_range.second;
+    const double output_start = output_range.first, output_end = output_range.second;
     if (!(y.back() != y.front())) {
       Fail(KeyItem(item, "y"),
            "f(x) is the same at both ends of the range: the output range "

@@ -550,7 +550,8 @@ std::vector<PlanarDyad> SearchType(const ScaledTask& task, DyadType type,
   std::stable_sort(optima.begin(), optima.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<PlanarDyad> distinct;
-  for (const auto& [value, dyad] : optima) {
+  for (const auto& optimum : optima) {
+    const PlanarDyad& dyad = optimum.second;  // not a binding: the lambda below uses it
     if (static_cast<int>(distinct.size()) >= options.polish_count) break;
     if (!IsFinite(dyad)) continue;
     const bool seen = std::any_of(distinct.begin(), distinct.end(),

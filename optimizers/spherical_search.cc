@@ -382,7 +382,8 @@ std::vector<SphericalDyad> SearchOptima(const Objective& objective,
   std::stable_sort(optima.begin(), optima.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<SphericalDyad> distinct;
-  for (const auto& [value, dyad] : optima) {
+  for (const auto& optimum : optima) {
+    const SphericalDyad& dyad = optimum.second;  // not a binding: the lambda below uses it
     if (static_cast<int>(distinct.size()) >= options.polish_count) break;
     if (!dyad.AllFinite()) continue;
     const bool seen = std::any_of(
@@ -439,7 +440,9 @@ int SearchSphericalDyads(const std::vector<Eigen::Matrix3d>& rotations,
   }
   std::stable_sort(polished.begin(), polished.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
-  for (const auto& [cost, dyad] : polished) {
+  for (const auto& entry : polished) {
+    const double cost = entry.first;
+    const SphericalDyad& dyad = entry.second;  // not a binding: the lambda below uses it
     const bool seen = std::any_of(dyads->begin(), dyads->end(), [&](const SphericalDyad& other) {
       return SameSphericalDyad(dyad, other, kDistinct);
     });

@@ -30,21 +30,26 @@ CC=clang CXX=clang++ cmake -S . -B "$build" -DLINKFIT_FUZZ=ON -DCMAKE_BUILD_TYPE
 status=0
 for target in "${targets[@]}"; do
   case "$target" in
-    parser) binary=fuzz_task_parser seeds=(data tests/fuzz/corpus) dict=tests/fuzz/task.dict
-      max_len=65536 ;;
-    solve) binary=fuzz_solve seeds=(data tests/fuzz/corpus) dict=tests/fuzz/task.dict
-      max_len=8192 ;;
-    cli) binary=fuzz_cli seeds=(tests/fuzz/cli_corpus) dict=tests/fuzz/cli.dict max_len=1024 ;;
+    parser) binary=fuzz_task_parser seeds=("$PWD/data" "$PWD/tests/fuzz/corpus")
+      dict=tests/fuzz/task.dict max_len=65536 timeout=20 ;;
+    # The solve's seeds are the small tasks of the corpus (data/'s twelve-point tasks take more
+    # than a minute at balanced under the sanitizers).
+    solve) binary=fuzz_solve seeds=("$PWD/tests/fuzz/corpus") dict=tests/fuzz/task.dict
+      max_len=8192 timeout=90 ;;
+    # Absolute paths: the target works in a scratch directory of its own.
+    cli) binary=fuzz_cli seeds=("$PWD/tests/fuzz/cli_corpus") dict=tests/fuzz/cli.dict
+      max_len=1024 timeout=20 ;;
     *) echo "fuzz.sh: unknown target $target (parser, solve or cli)" >&2; exit 2 ;;
   esac
   cmake --build "$build" -j2 --target "$binary"
-  corpus="$build/corpus-$target"
+  corpus="$PWD/$build/corpus-$target"
   mkdir -p "$corpus"
   for seed in "${seeds[@]}"; do cp "$seed"/* "$corpus/"; done
   echo "== $binary, $seconds s"
-  # -timeout: an input that takes seconds (a quadratic path) is a finding too.
+  # -timeout: an input that takes far longer than its kind should (a quadratic path) is a
+  # finding too.
   "$build/bin/$binary" -max_total_time="$seconds" -max_len="$max_len" -rss_limit_mb=2048 \
-    -timeout=20 -dict="$dict" -artifact_prefix="$build/" -print_final_stats=1 \
-    "$corpus" "${seeds[@]}" || status=1
+    -timeout="$timeout" -dict="$PWD/$dict" -artifact_prefix="$PWD/$build/" \
+    -print_final_stats=1 "$corpus" "${seeds[@]}" || status=1
 done
 exit $status

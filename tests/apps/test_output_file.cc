@@ -20,31 +20,7 @@ namespace {
 
 using testing::ReadWholeFile;
 
-class OutputFileTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    char pattern[] = "/tmp/linkfit_output_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
-  void Write(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name), std::ios::binary) << text;
-  }
-  // The names in the directory, sorted.
-  std::vector<std::string> Names() const {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
-      names.push_back(entry.path().filename().string());
-    }
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
-  std::string dir_;
-};
+using OutputFileTest = testing::ScratchDirectoryTest;
 
 // Before this contract the temporary files had predictable names (.NAME.tmp.<pid> beside the
 // target, /tmp/linkfit-result.<pid> for standard output) and were opened without O_EXCL: a link

@@ -53,35 +53,12 @@ using testing::ReadWholeFile;
 // angles to 1e-9 rad.
 constexpr double kExactTolerance = 1e-9;
 
-class RobustnessTest : public ::testing::Test {
+class RobustnessTest : public testing::ScratchDirectoryTest {
  protected:
-  void SetUp() override {
-    char pattern[] = "/tmp/linkfit_robust_XXXXXX";
-    ASSERT_NE(mkdtemp(pattern), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return dir_ + "/" + name; }
-  std::string Write(const std::string& name, const std::string& text) const {
-    std::ofstream(Path(name), std::ios::binary) << text;
-    return Path(name);
-  }
   ProgramResult Run(const std::vector<std::string>& args, ProgramOptions options = {}) const {
     if (options.directory == ".") options.directory = dir_;
     return testing::RunProgram(LINKFIT_BINARY, args, options);
   }
-  // The names in the temporary directory (the program's .stdout and .stderr are gone by then).
-  std::vector<std::string> Names() const {
-    std::vector<std::string> names;
-    for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
-      names.push_back(entry.path().filename().string());
-    }
-    std::sort(names.begin(), names.end());
-    return names;
-  }
-
-  std::string dir_;
 };
 
 std::string DataPath(const std::string& name) {

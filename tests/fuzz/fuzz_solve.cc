@@ -17,27 +17,16 @@
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
+#include "tests/fuzz/fuzz_contract.h"
 
 namespace {
 
 constexpr char kSource[] = "fuzz.json";
 constexpr size_t kMaxItems = 16;
 
-[[noreturn]] void Finding(const std::string& what) {
-  std::fprintf(stderr, "fuzz_solve: %s\n", what.c_str());
-  std::abort();
-}
+[[noreturn]] void Finding(const std::string& what) { linkfit::fuzz::Finding("fuzz_solve", what); }
 
-// The error contract of task_io.h: "<source>: ..." on one printable line.
-void CheckMessage(const char* what) {
-  const std::string message = what;
-  if (message.rfind(std::string(kSource) + ": ", 0) != 0) {
-    Finding("message does not start with the source: " + message);
-  }
-  for (const char c : message) {
-    if (c < 0x20 || c >= 0x7f) Finding("unprintable byte in message: " + message);
-  }
-}
+void CheckMessage(const char* what) { linkfit::fuzz::CheckMessage("fuzz_solve", kSource, what); }
 
 // Every number of the result finite (the writer has no NaN or infinity to give: a missing
 // value is left out or null with its note).

@@ -12,25 +12,18 @@
 #include <string>
 
 #include "lib/task_io.h"
+#include "tests/fuzz/fuzz_contract.h"
 
 namespace {
 
 constexpr char kSource[] = "fuzz.json";
 
 [[noreturn]] void Finding(const std::string& what) {
-  std::fprintf(stderr, "fuzz_task_parser: %s\n", what.c_str());
-  std::abort();
+  linkfit::fuzz::Finding("fuzz_task_parser", what);
 }
 
-// The error contract of task_io.h: "<source>: ..." on one printable line.
 void CheckMessage(const char* what) {
-  const std::string message = what;
-  if (message.rfind(std::string(kSource) + ": ", 0) != 0) {
-    Finding("message does not start with the source: " + message);
-  }
-  for (const char c : message) {
-    if (c < 0x20 || c >= 0x7f) Finding("unprintable byte in message: " + message);
-  }
+  linkfit::fuzz::CheckMessage("fuzz_task_parser", kSource, what);
 }
 
 template <typename Matrix>

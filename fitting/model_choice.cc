@@ -271,6 +271,34 @@ PlanarDyad FitDyadLeastSquares(const PlanarDyad& start, const std::vector<Planar
   return dyad.AllFinite() ? dyad : start;
 }
 
+namespace {
+
+// The uncertainty u_j of the dyad's constrained point at each pose (DyadErrorBound: RR, PR the
+// moving pivot, |m| from E's origin; RP the fixed pivot, |F - d_j| from the pose's origin), in
+// *uncertainty (sized to the poses); returns, for a slider, how far along its line the
+// constrained point runs (0 for RR).
+double ConstrainedPointUncertainties(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
+                                     const DataPrecision& precision, double scale,
+                                     Eigen::VectorXd* uncertainty) {
+  const bool rr = dyad.type == DyadType::kRR, pr = dyad.type == DyadType::kPR;
+  uncertainty->resize(static_cast<Eigen::Index>(poses.size()));
+  double extent = 0.0;
+  for (size_t j = 0; j < poses.size(); ++j) {
+    const PlanarPose& pose = poses[j];
+    if (!rr) {
+      const Eigen::Vector2d point =
+          pr ? pose.ToFixed(dyad.moving_pivot) : pose.ToMoving(dyad.fixed_pivot);
+      extent = std::max(extent, (point - dyad.LineFoot()).norm());
+    }
+    const double distance =
+        pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
+    (*uncertainty)[static_cast<Eigen::Index>(j)] = PointUncertainty(precision, distance, scale, 2);
+  }
+  return extent;
+}
+
+}  // namespace
+
 PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses,
                                  const DataPrecision& precision, double scale) {
   const bool rr = dyad.type == DyadType::kRR, pr = dyad.type == DyadType::kPR;
@@ -280,18 +308,8 @@ PlanarDyadBounds DyadErrorBounds(const PlanarDyad& dyad, const std::vector<Plana
   Eigen::VectorXd residual, uncertainty(n);
   Eigen::MatrixXd jacobian;
   DyadResiduals(dyad, poses, &residual, &jacobian);
-  double extent = 0.0;  // sliders: how far along its line the constrained point runs
-  for (int j = 0; j < n; ++j) {
-    const PlanarPose& pose = poses[j];
-    if (!rr) {
-      const Eigen::Vector2d point =
-          pr ? pose.ToFixed(dyad.moving_pivot) : pose.ToMoving(dyad.fixed_pivot);
-      extent = std::max(extent, (point - dyad.LineFoot()).norm());
-    }
-    const double distance =
-        pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
-    uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
-  }
+  // Sliders: how far along its line the constrained point runs.
+  const double extent = ConstrainedPointUncertainties(dyad, poses, precision, scale, &uncertainty);
   const Eigen::VectorXd moves = ParameterMovesQr(jacobian, uncertainty);
   if (moves.size() == 0) return bounds;
   const auto finite = [](double value) {
@@ -325,19 +343,8 @@ double PivotDyadErrorBound(const PlanarDyad& dyad, const std::vector<PlanarPose>
   DyadResiduals(dyad, poses, &residual, &jacobian);
   Eigen::MatrixXd free(n, static_cast<Eigen::Index>(columns.size()));
   for (size_t k = 0; k < columns.size(); ++k) free.col(k) = jacobian.col(columns[k]);
-  double extent = 0.0;  // sliders: how far along its line the constrained point runs
-  for (int j = 0; j < n; ++j) {
-    const PlanarPose& pose = poses[j];
-    const bool pr = dyad.type == DyadType::kPR;
-    if (!rr) {
-      const Eigen::Vector2d point =
-          pr ? pose.ToFixed(dyad.moving_pivot) : pose.ToMoving(dyad.fixed_pivot);
-      extent = std::max(extent, (point - dyad.LineFoot()).norm());
-    }
-    const double distance =
-        pr || rr ? dyad.moving_pivot.norm() : (dyad.fixed_pivot - pose.origin_in_fixed).norm();
-    uncertainty[j] = PointUncertainty(precision, distance, scale, 2);
-  }
+  // Sliders: how far along its line the constrained point runs.
+  const double extent = ConstrainedPointUncertainties(dyad, poses, precision, scale, &uncertainty);
   const Eigen::VectorXd moves = ParameterMovesQr(free, uncertainty);
   if (moves.size() == 0) return std::numeric_limits<double>::infinity();
   const double bound = rr ? std::max(std::sqrt(2.0) * std::max(moves[0], moves[1]), moves[2])

@@ -45,6 +45,9 @@
 // four-bar does, where the search adds a dyad balanced lacks, and the share of generating dyads
 // whose least-squares optimum (the generating dyad refined to convergence) each lists.
 //
+// Only on request (--only curves; not part of the default run): path synthesis from target
+// curves without timing (RunCurves).
+//
 // Only on request (--only scale; not part of the default run): long tasks of every kind
 // (tests/support/long_tasks.h: 1,000, 10,000 and 100,000 items, or --scale-items) at every
 // effort, each solved by the `linkfit` program beside this one in a process of its own: exit
@@ -52,8 +55,8 @@
 //
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
 //                 [--four-tasks F] [--stage-tasks T] [--spherical-tasks K] [--seed S]
-//                 [--scale-items N,N,...]
-//                 [--only planar|spatial|path|refine|stages|spherical|scale]
+//                 [--curve-tasks C] [--scale-items N,N,...]
+//                 [--only planar|spatial|path|refine|stages|spherical|scale|curves]
 #include <glog/logging.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -89,6 +92,7 @@
 #include "optimizers/task_solver.h"
 #include "tests/support/long_tasks.h"
 #include "tests/support/moved_design.h"
+#include "tests/support/random_curve.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
 #include "tests/support/random_spatial.h"
@@ -888,6 +892,167 @@ void RunScale(const std::vector<int>& counts) {
   std::filesystem::remove_all(directory);
 }
 
+// Path synthesis from target curves (--only curves; issue 34): closed full cycles, open arcs of
+// a quarter to three quarters of the cycle and partial arcs (0.8 to 0.95 of a closed curve) of
+// random 4Rs, slider-cranks and inverted slider-cranks (tests/support/random_curve.h), 12, 40
+// and 400 points unevenly spaced, the curve 1 to 100 units across, noise 0, 1e-3 or 1e-2 of its
+// size, printed to 2 to 4 decimals of its size's order, half of them with bounds the generator
+// keeps (links at most 1.25 times its longest, both fixed pivots in its pivots' box grown by 30 %
+// of the curve's size). Each task solved at balanced and at thorough (SolvePathTask): the share
+// whose first listed four-bar fits the printed points as well as the generator (its untimed fit,
+// the RMS distance to the nearest point of its coupler curve, and its timed RMS point error, each
+// within 1.1 times the generator's own plus 1e-6 of the size), the share whose first keeps the
+// bounds, the median and 95th-percentile time, and the share where thorough's first fits
+// better than balanced's (by more than 1 %).
+struct CurveRow {
+  const char* name;
+  bool closed;
+  double arc_low, arc_high;
+  int count;
+};
+
+void RunCurves(int tasks, uint64_t seed) {
+  using linkfit::DyadType;
+  using linkfit::Effort;
+  const CurveRow rows[] = {{"closed, 12 points", true, 1.0, 1.0, 12},
+                           {"closed, 40 points", true, 1.0, 1.0, 40},
+                           {"closed, 400 points", true, 1.0, 1.0, 400},
+                           {"open arc, 12 points", false, 0.25, 0.75, 12},
+                           {"open arc, 40 points", false, 0.25, 0.75, 40},
+                           {"open arc, 400 points", false, 0.25, 0.75, 400},
+                           {"partial arc, 40 points", false, 0.8, 0.95, 40}};
+  std::printf(
+      "\npath synthesis from target curves, free timing (--only curves), %d tasks per row, "
+      "seed %llu\n",
+      tasks, static_cast<unsigned long long>(seed));
+  std::printf("%-24s %-9s %9s %9s %9s %10s %10s %12s\n", "row", "effort", "curve_fit", "timed_fit",
+              "bounds", "median_s", "p95_s", "thorough_better");
+  for (const CurveRow& row : rows) {
+    std::mt19937_64 rng(seed++);
+    std::uniform_real_distribution<double> unit(0.0, 1.0);
+    struct Tally {
+      int curve_fit = 0, timed_fit = 0, bounded = 0, kept = 0;
+      std::vector<double> seconds;
+    } tally[2];
+    int better = 0, refused = 0;
+    for (int t = 0; t < tasks; ++t) {
+      const DyadType output = t % 3 == 0   ? DyadType::kRR
+                              : t % 3 == 1 ? DyadType::kPR
+                                           : DyadType::kRP;
+      linkfit::testing::CurveOptions options;
+      options.count = row.count;
+      options.closed = row.closed;
+      options.arc_turns = row.arc_low + (row.arc_high - row.arc_low) * unit(rng);
+      const linkfit::testing::GeneratedCurve curve =
+          linkfit::testing::RandomCurve(rng, output, options);
+      // The curve 1 to 100 across, noise, and the digits printed.
+      const double across = std::exp(std::log(100.0) * unit(rng));
+      const double factor = across / (4.0 * curve.size);
+      const double noise_levels[] = {0.0, 1e-3, 1e-2};
+      const double noise = noise_levels[t % 3 == 0 ? (t / 3) % 3 : (t + t / 3) % 3];
+      std::normal_distribution<double> gauss(0.0, noise * curve.size * factor);
+      const int magnitude = static_cast<int>(std::floor(std::log10(across)));
+      const int decimals = std::max(0, 2 + static_cast<int>(unit(rng) * 3) - magnitude);
+      linkfit::PathFourBar generator = curve.four_bar;
+      for (linkfit::PlanarDyad* dyad : {&generator.input, &generator.output}) {
+        dyad->fixed_pivot *= factor;
+        dyad->moving_pivot *= factor;
+        dyad->line_point *= factor;
+        dyad->radius *= factor;
+      }
+      generator.coupler_point *= factor;
+      std::string text = R"({"problem": "path", "points": [)";
+      char buffer[512];
+      for (size_t j = 0; j < curve.points.size(); ++j) {
+        const Eigen::Vector2d p =
+            curve.points[j] * factor + Eigen::Vector2d(gauss(rng), gauss(rng));
+        std::snprintf(buffer, sizeof(buffer), "%s{\"x\": %.*f, \"y\": %.*f}", j ? ", " : "",
+                      decimals, p.x(), decimals, p.y());
+        text += buffer;
+      }
+      text += "]";
+      const bool bounds = t % 2 == 1;
+      if (bounds) {
+        double longest = generator.input.radius;
+        if (generator.output.type == DyadType::kRR)
+          longest = std::max(longest, generator.output.radius);
+        longest = std::max(longest,
+                           (generator.input.moving_pivot - (generator.output.type == DyadType::kRP
+                                                                ? generator.output.fixed_pivot
+                                                                : generator.output.moving_pivot))
+                               .norm());
+        Eigen::Vector2d low = generator.input.fixed_pivot, high = low;
+        if (generator.output.type != DyadType::kPR) {
+          low = low.cwiseMin(generator.output.fixed_pivot);
+          high = high.cwiseMax(generator.output.fixed_pivot);
+        }
+        const double grow = 0.3 * 4.0 * curve.size * factor;
+        std::snprintf(buffer, sizeof(buffer),
+                      R"(, "constraints": {"max_link_length": %.6g, "fixed_pivots_box": )"
+                      R"([[%.6g, %.6g], [%.6g, %.6g]]})",
+                      1.25 * longest, low.x() - grow, low.y() - grow, high.x() + grow,
+                      high.y() + grow);
+        text += buffer;
+      }
+      text += "}";
+      double fits[2] = {0.0, 0.0};
+      linkfit::Task parsed;
+      try {
+        parsed = linkfit::ParseTask(text, "curve");
+      } catch (const linkfit::InputError&) {
+        ++refused;  // points equal as printed (a coarse table of a small curve)
+        continue;
+      }
+      for (int e = 0; e < 2; ++e) {
+        linkfit::Task task = parsed;
+        task.effort = e == 0 ? Effort::kBalanced : Effort::kThorough;
+        std::vector<Eigen::Vector2d> printed;
+        for (const linkfit::TimedPoint& point : task.points)
+          printed.push_back(point.point_in_fixed);
+        const auto start = std::chrono::steady_clock::now();
+        const linkfit::PathResult result = linkfit::SolvePathTask(task);
+        tally[e].seconds.push_back(
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+        const double size = across / 4.0;
+        const double own = linkfit::testing::CurveRmsDistance(generator, printed, size);
+        // The generator's timed fit: driven through its own crank angles.
+        linkfit::PathAnalysisOptions analysis;
+        analysis.closed = task.closed;
+        const linkfit::PathFourBarAnalysis generated =
+            linkfit::AnalyzePathFourBar(generator, printed, curve.input_angles, size, analysis);
+        fits[e] = std::numeric_limits<double>::infinity();
+        if (result.mechanisms.empty()) continue;
+        const linkfit::PathMechanismReport& first = result.mechanisms.front();
+        fits[e] = linkfit::testing::CurveRmsDistance(first.design, printed, size);
+        if (fits[e] <= 1.1 * own + 1e-6 * size) ++tally[e].curve_fit;
+        if (first.rms_point_error && generated.rms_point_error &&
+            *first.rms_point_error <= 1.1 * *generated.rms_point_error + 1e-6 * size) {
+          ++tally[e].timed_fit;
+        }
+        if (bounds) {
+          ++tally[e].bounded;
+          if (first.violates.empty()) ++tally[e].kept;
+        }
+      }
+      if (fits[1] < 0.99 * fits[0]) ++better;
+    }
+    const int solved = std::max(1, tasks - refused);
+    for (int e = 0; e < 2; ++e) {
+      char kept[32];
+      std::snprintf(kept, sizeof(kept), "%d/%d", tally[e].kept, tally[e].bounded);
+      std::printf("%-24s %-9s %8.1f%% %8.1f%% %9s %10.3f %10.3f %11s\n", e == 0 ? row.name : "",
+                  e == 0 ? "balanced" : "thorough", 100.0 * tally[e].curve_fit / solved,
+                  100.0 * tally[e].timed_fit / solved, kept,
+                  linkfit::Percentile(tally[e].seconds, 0.5),
+                  linkfit::Percentile(tally[e].seconds, 0.95),
+                  e == 1 ? (std::to_string(better) + "/" + std::to_string(solved)).c_str() : "");
+    }
+    if (refused > 0)
+      std::printf("%-24s %d task(s) refused: points equal as printed\n", "", refused);
+    std::fflush(stdout);
+  }
+}
+
 int main(int argc, char** argv) {
   // Ceres reports steps the refiners handle through glog at ERROR level (the CLI silences it the
   // same way, apps/cli.cc RunCli): the tables stay clean.
@@ -901,6 +1066,7 @@ int main(int argc, char** argv) {
   int four_tasks = 1000;
   int stage_tasks = 1000;
   int spherical_tasks = 200;
+  int curve_tasks = 24;
   std::vector<int> scale_counts = {1000, 10000, 100000};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
@@ -919,6 +1085,8 @@ int main(int argc, char** argv) {
       four_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--stage-tasks") && i + 1 < argc) {
       stage_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--curve-tasks") && i + 1 < argc) {
+      curve_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--spherical-tasks") && i + 1 < argc) {
       spherical_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--scale-items") && i + 1 < argc) {
@@ -931,8 +1099,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
                    "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] "
-                   "[--spherical-tasks K] [--scale-items N,N,...] [--seed S] "
-                   "[--only planar|spatial|path|refine|stages|spherical|scale]\n"
+                   "[--spherical-tasks K] [--curve-tasks C] [--scale-items N,N,...] [--seed S] "
+                   "[--only planar|spatial|path|refine|stages|spherical|scale|curves]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -959,6 +1127,10 @@ int main(int argc, char** argv) {
   }
   if (only == "scale") {
     RunScale(scale_counts);
+    return 0;
+  }
+  if (only == "curves") {
+    RunCurves(curve_tasks, seed);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,

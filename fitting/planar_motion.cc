@@ -321,24 +321,27 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
   }
 }
 
-RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit) {
+RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit,
+                         const DesignConstraints& constraints) {
   RankKey key;
   key.within_precision = mechanism.max_pose_error && *mechanism.max_pose_error <= precision_fit;
+  key.fit_floor = 1e-3 * precision_fit;
   key.parameters = FourBarParameters(mechanism.type);
-  key.violates = !mechanism.violates.empty();
   key.misses_exact = mechanism.misses_exact;
   key.size = mechanism.size;
   key.fit = mechanism.rms_pose_error ? mechanism.rms_pose_error : mechanism.max_pose_error;
   // Not assembling at the first pose, it cannot be driven through the poses at all.
-  key.defect_level = mechanism.max_pose_error ? DefectLevel(mechanism.defects) : 2;
+  JudgeWithDefaults(constraints, mechanism.violates, mechanism.defects,
+                    mechanism.max_pose_error.has_value(), &key);
   key.transmission_min_deg = mechanism.transmission_min_deg;
   return key;
 }
 
-int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>* mechanisms) {
+int RankMechanisms(double precision_fit, const DesignConstraints& constraints, int bound,
+                   std::vector<MechanismReport>* mechanisms) {
   return RankReports(
-      [precision_fit](const MechanismReport& mechanism) {
-        return MechanismRankKey(mechanism, precision_fit);
+      [precision_fit, &constraints](const MechanismReport& mechanism) {
+        return MechanismRankKey(mechanism, precision_fit, constraints);
       },
       bound, mechanisms);
 }
@@ -393,7 +396,7 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
     for (const auto& [i, j] : pairs) screened.push_back(analyse(i, j, screen_poses, screen_exact));
     std::vector<RankKey> keys;
     for (const MechanismReport& mechanism : screened) {
-      keys.push_back(MechanismRankKey(mechanism, precision_fit));
+      keys.push_back(MechanismRankKey(mechanism, precision_fit, task.constraints));
     }
     const std::vector<int> order = RankOrder(keys);
     std::vector<bool> keep(screened.size(), false);
@@ -433,7 +436,7 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
         " dyad pairs were ranked on " + std::to_string(screen_poses.size()) +
         " spread poses first, and the best " + std::to_string(kept) + " analysed on every pose");
   }
-  RankMechanisms(precision_fit, -1, &result->mechanisms);
+  RankMechanisms(precision_fit, task.constraints, -1, &result->mechanisms);
   result->analysis_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -106,6 +106,7 @@ void TakeAnalysis(const Analysis& chosen, const Analysis& other, bool least_squa
   mechanism->transmission_min_deg = chosen.transmission_min_deg;
   mechanism->transmission_max_deg = chosen.transmission_max_deg;
   mechanism->transmission_note = chosen.transmission_note;
+  mechanism->order_within_noise = chosen.order_within_noise;
   if (least_squares && mechanism->max_pose_error) {
     double sum = 0.0;
     for (const FourBarLocation& location : chosen.locations) {
@@ -131,15 +132,18 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
 
 // A mechanism's key in the ranking rule (lib/design_constraints.h): the fit is the RMS pose
 // error for least squares, else the largest; within the data's precision when its largest pose
-// error is at most `precision_fit` (PoseFitTolerance).
-RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit);
+// error is at most `precision_fit` (PoseFitTolerance); the task's `constraints` tell its
+// defaults (JudgeWithDefaults).
+RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit,
+                         const DesignConstraints& constraints);
 
 // Ranks mechanisms by the rule of lib/design_constraints.h (RankReports): keeping the
 // constraints, defect-free, by fit (RMS pose error for least squares, else the largest), near
 // ties by worst transmission angle. `precision_fit`: PoseFitTolerance. With `bound` >= 0 at
 // most that many are kept, and the best fit of each group (ListedWithinBound); returns how many
 // were dropped.
-int RankMechanisms(double precision_fit, int bound, std::vector<MechanismReport>* mechanisms);
+int RankMechanisms(double precision_fit, const DesignConstraints& constraints, int bound,
+                   std::vector<MechanismReport>* mechanisms);
 
 }  // namespace linkfit
 

@@ -201,7 +201,7 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
     for (const auto& [i, j] : pairs) {
       screened.push_back(
           AnalyzeSphericalPair(result->spherical_dyads, i, j, screen, task.constraints));
-      keys.push_back(MechanismRankKey(screened.back(), precision_fit));
+      keys.push_back(MechanismRankKey(screened.back(), precision_fit, task.constraints));
     }
     const std::vector<int> order = RankOrder(keys);
     std::vector<RankKey> ranked;
@@ -224,7 +224,8 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
                             " spread orientations first, and the best " + std::to_string(kept) +
                             " analysed on every orientation");
   }
-  const int dropped = RankMechanisms(precision_fit, bound, &result->spherical_mechanisms);
+  const int dropped =
+      RankMechanisms(precision_fit, task.constraints, bound, &result->spherical_mechanisms);
   if (dropped > 0) result->notes.push_back(DroppedNote(dropped));
   result->analysis_seconds +=
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <tuple>
@@ -236,7 +237,8 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
   constexpr double kFitRounding = 1e-4;
   std::vector<int> order(keys.size());
   std::iota(order.begin(), order.end(), 0);
-  const auto fit = [&](int i) { return FitOf(keys[i]); };
+  // A fit below its key's floor (an exact solution's rounding) counts as the floor.
+  const auto fit = [&](int i) { return std::max(FitOf(keys[i]), keys[i].fit_floor); };
   const auto group = [&](int i) { return GroupOf(keys[i]); };
   const auto size = [&](int i) { return keys[i].size.value_or(kInfinity); };
   const bool sized = std::all_of(keys.begin(), keys.end(),
@@ -244,19 +246,15 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
     if (group(a) != group(b)) return group(a) < group(b);
     if (keys[a].within_precision != keys[b].within_precision) return keys[a].within_precision;
-    if (keys[a].within_precision && keys[a].parameters != keys[b].parameters) {
-      return keys[a].parameters < keys[b].parameters;
-    }
-    // Within the data's precision, fits say nothing: the smaller first.
-    if (sized && keys[a].within_precision) return size(a) < size(b);
-    return fit(a) < fit(b);
+    if (fit(a) != fit(b)) return fit(a) < fit(b);
+    return sized && size(a) < size(b);
   });
   // Runs of fits equal to rounding (each within kFitRounding of the one before): the smaller
-  // first.
+  // first, so that the order depends neither on rounding nor on where the data's origin is.
   for (size_t begin = 0; sized && begin < order.size();) {
     size_t end = begin + 1;
     while (end < order.size() && group(order[end]) == group(order[begin]) &&
-           !keys[order[end]].within_precision && !keys[order[begin]].within_precision &&
+           keys[order[end]].within_precision == keys[order[begin]].within_precision &&
            std::isfinite(fit(order[end])) &&
            fit(order[end]) - fit(order[end - 1]) <= kFitRounding * fit(order[end])) {
       ++end;
@@ -265,33 +263,53 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
                      [&](int a, int b) { return size(a) < size(b); });
     begin = end;
   }
-  // Runs of ties: those within the precision of one group and model, or from the first of a
-  // run every later one of the group whose fit is within kNearTieRatio of it.
+  // Runs of near ties: from the first of a run every later one of the group (and of its
+  // within-precision standing) whose fit is within kNearTieRatio of it (kPrecisionTieRatio among
+  // those within the data's precision).
+  const auto angle = [&](int i) { return keys[i].transmission_min_deg.value_or(-1.0); };
   size_t begin = 0;
   while (begin < order.size()) {
     const int first = order[begin];
+    const bool within = keys[first].within_precision;
+    const double ratio = within ? kPrecisionTieRatio : kNearTieRatio;
     size_t end = begin + 1;
     while (end < order.size()) {
       const int next = order[end];
-      if (group(next) != group(first)) break;
-      const bool tie =
-          keys[first].within_precision
-              ? keys[next].within_precision && keys[next].parameters == keys[first].parameters
-              : std::isfinite(fit(next)) && fit(next) <= kNearTieRatio * fit(first);
-      if (!tie) break;
+      if (group(next) != group(first) || keys[next].within_precision != within) break;
+      if (!(std::isfinite(fit(next)) && fit(next) <= ratio * fit(first))) break;
       ++end;
     }
-    // Within the run: the best fit of those within kTransmissionTie of the best remaining
-    // transmission angle, repeatedly (angles that close are a tie too, decided by the fit).
+    // Within the run: within the data's precision the simplest model first (fewest
+    // parameters); then those keeping the defaults the task did not give; then the best fit of
+    // those within kTransmissionTie of the best remaining transmission angle, repeatedly
+    // (angles that close are a tie too, decided by the fit).
     std::vector<int> run(order.begin() + begin, order.begin() + end);
-    const auto angle = [&](int i) { return keys[i].transmission_min_deg.value_or(-1.0); };
-    for (size_t slot = begin; slot < end; ++slot) {
-      double best = -kInfinity;
-      for (int i : run) best = std::max(best, angle(i));
-      const auto pick = std::find_if(run.begin(), run.end(),
-                                     [&](int i) { return angle(i) >= best - kTransmissionTie; });
-      order[slot] = *pick;
-      run.erase(pick);
+    if (within) {
+      std::stable_sort(run.begin(), run.end(),
+                       [&](int a, int b) { return keys[a].parameters < keys[b].parameters; });
+    }
+    size_t slot = begin;
+    for (size_t class_begin = 0; class_begin < run.size();) {
+      size_t class_end = class_begin + 1;
+      while (class_end < run.size() &&
+             (!within || keys[run[class_end]].parameters == keys[run[class_begin]].parameters)) {
+        ++class_end;
+      }
+      std::vector<int> keeping(run.begin() + class_begin, run.begin() + class_end);
+      const auto keeps_defaults = std::stable_partition(
+          keeping.begin(), keeping.end(), [&](int i) { return keys[i].breaks_default.empty(); });
+      std::vector<int> breaking(keeps_defaults, keeping.end());
+      keeping.erase(keeps_defaults, keeping.end());
+      for (size_t placed = class_begin; placed < class_end; ++placed) {
+        if (keeping.empty()) keeping.swap(breaking);
+        double best = -kInfinity;
+        for (int i : keeping) best = std::max(best, angle(i));
+        const auto pick = std::find_if(keeping.begin(), keeping.end(),
+                                       [&](int i) { return angle(i) >= best - kTransmissionTie; });
+        order[slot++] = *pick;
+        keeping.erase(pick);
+      }
+      class_begin = class_end;
     }
     begin = end;
   }
@@ -316,6 +334,63 @@ std::vector<int> ListedWithinBound(const std::vector<RankKey>& ranked, int bound
     if (keep) listed.push_back(i);
   }
   return listed;
+}
+
+void JudgeWithDefaults(const DesignConstraints& constraints,
+                       const std::vector<std::string>& violates,
+                       const std::vector<std::string>& defects, bool driven, RankKey* key) {
+  std::vector<std::string> given_violations, given_defects;
+  key->breaks_default.clear();
+  const auto breaks = [&](const std::string& what) {
+    key->breaks_default += (key->breaks_default.empty() ? "" : " and ") + what;
+  };
+  for (const std::string& violation : violates) {
+    if (violation == "max_link_length" && !constraints.max_link_length) {
+      char text[96];
+      std::snprintf(text, sizeof(text), "the default link limit (%g L)", kDefaultMaxLinkLength);
+      breaks(text);
+    } else {
+      given_violations.push_back(violation);
+    }
+  }
+  for (const std::string& defect : defects) {
+    if (defect == "transmission" && !constraints.min_transmission_angle_deg) {
+      char text[96];
+      std::snprintf(text, sizeof(text), "the default minimum transmission angle (%g degrees)",
+                    kDefaultMinTransmissionDeg);
+      breaks(text);
+    } else {
+      given_defects.push_back(defect);
+    }
+  }
+  key->violates = !given_violations.empty();
+  key->defect_level = driven ? DefectLevel(given_defects) : 2;
+}
+
+std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit) {
+  if (ranked.empty() || ranked.front().breaks_default.empty()) return "";
+  const RankKey& first = ranked.front();
+  std::string note = "the first four-bar breaks " + first.breaks_default +
+                     ", which the task did not give; it fits best";
+  for (size_t i = 1; i < ranked.size(); ++i) {
+    const RankKey& key = ranked[i];
+    if (!key.breaks_default.empty() || GroupOf(key) != GroupOf(first) || !key.fit) continue;
+    char text[200];
+    const double ratio = first.fit && *first.fit > 0.0 ? *key.fit / *first.fit : 0.0;
+    if (ratio > 0.0) {
+      std::snprintf(text, sizeof(text),
+                    "; the best that keeps them (--mechanism %zu) has %s %.3g, %.3g times the "
+                    "first's",
+                    i + 1, unit.c_str(), *key.fit, ratio);
+    } else {
+      std::snprintf(text, sizeof(text), "; the best that keeps them (--mechanism %zu) has %s %.3g",
+                    i + 1, unit.c_str(), *key.fit);
+    }
+    return note + text + "; give \"constraints\" to require them";
+  }
+  return note +
+         "; no listed four-bar of its kind keeps them; give \"constraints\" to require "
+         "them";
 }
 
 std::string DroppedNote(int dropped) {

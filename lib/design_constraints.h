@@ -39,6 +39,11 @@ inline constexpr double kConstraintSlack = 1e-6;
 // transmission angle ranks first.
 inline constexpr double kNearTieRatio = 1.1;
 
+// Among the four-bars that meet the data within their precision, fits within this ratio are a
+// tie (the simplest model first, then as near ties): the first listed fits within 1.25 times the
+// best (issue 34), and a slider the data cannot tell from a circle still comes first.
+inline constexpr double kPrecisionTieRatio = 1.25;
+
 // Transmission angles within this many degrees of each other are a tie too: decided by the fit.
 inline constexpr double kTransmissionTie = 1.0;
 
@@ -132,15 +137,16 @@ int DefectLevel(const std::vector<std::string>& defects);
 bool GrashofClassKeeps(const std::string& required, const std::string& grashof);
 
 // The ranking rule of every result (README, "Ranking"): those meeting the task's exact items
-// before those that miss one; then those keeping every constraint before those violating one;
-// within each, defect-free, then those whose only defect is the transmission angle, then those with
-// a kinematic defect (DefectLevel). Within each of those: first those that meet the task within the
-// data's precision, the simplest model first (fewest parameters: a slider where the data cannot
-// tell it from a circle), then by the worst transmission angle; then the others by fit (smaller
-// first; absent last), fits within kNearTieRatio of the first of their run by the worst
-// transmission angle. Transmission angles within kTransmissionTie of each other are a tie, the
-// better fit first (within the data's precision, and for fits equal to rounding, the smaller size
-// first); absent ones last.
+// before those that miss one; then those keeping every constraint the task gave before those
+// violating one; within each, defect-free, then those whose only defect is the transmission
+// angle the task gave, then those with a kinematic defect (DefectLevel). Within each of those:
+// first those that meet the task within the data's precision, by fit, fits within
+// kPrecisionTieRatio of the first of their run the simplest model first (fewest parameters: a
+// slider where the data cannot tell it from a circle); then the others by fit (smaller first;
+// absent last), fits within kNearTieRatio of the first of their run a near tie. Within a tie,
+// those keeping the defaults the task did not give (breaks_default) first, then by the worst
+// transmission angle; angles within kTransmissionTie of each other are a tie, the better fit
+// first (fits equal to rounding or below fit_floor: the smaller size first); absent ones last.
 struct RankKey {
   // Misses an item the task marks exact (a pose or point) by more than the promised 1e-9 L:
   // listed after every one that meets them, whatever its fit.
@@ -156,7 +162,28 @@ struct RankKey {
   // smaller first, so that the order does not depend on rounding, nor on where the data's origin
   // is. Absent: the fit's order stands.
   std::optional<double> size;
+  // Fits below this (length units) are equal: an exact solution's rounding (a thousandth of the
+  // data's precision tolerance).
+  double fit_floor = 0.0;
+  // What it breaks of the defaults the task did not give (the transmission angle of
+  // kDefaultMinTransmissionDeg, links of kDefaultMaxLinkLength L): not counted in `violates`
+  // nor `defect_level`; it orders near ties only (README, "Ranking"). Empty: keeps them.
+  std::string breaks_default;
 };
+
+// Fills key->violates, key->defect_level and key->breaks_default from a mechanism's violations
+// and defects (`driven`: it has a fit, it can be driven through the task; else level 2): a
+// violation or a "transmission" defect under a default the task did not give counts in
+// breaks_default only.
+void JudgeWithDefaults(const DesignConstraints& constraints,
+                       const std::vector<std::string>& violates,
+                       const std::vector<std::string>& defects, bool driven, RankKey* key);
+
+// The note a result gives when its first mechanism (ranked[0]) breaks a default the task did not
+// give: which, and what the best-fitting listed mechanism that keeps the defaults (and is in the
+// first one's group otherwise) costs in fit; empty when the first keeps them. `unit` names the
+// fit ("RMS point error" and the like).
+std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit);
 
 // The sum of the distances between every two of `joints` (a mechanism's pivots, pins and
 // coupler point in one configuration): its size, which no move or turn of the data changes and

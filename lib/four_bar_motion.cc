@@ -248,6 +248,17 @@ FourBarLocation LocatePose(const FourBarMotion& motion, const PlanarDyad& input,
   return location;
 }
 
+std::vector<bool> StepsWithinNoise(const std::vector<FourBarLocation>& locations,
+                                   const std::vector<PlanarPose>& poses, double length) {
+  std::vector<bool> within(locations.size(), false);
+  for (size_t j = 1; j < locations.size() && j < poses.size(); ++j) {
+    const double residual = locations[j - 1].pose_error + locations[j].pose_error;
+    within[j] = residual <= kNoiseResidualCap * length &&
+                PoseError(poses[j - 1], poses[j], length) <= 2.0 * residual;
+  }
+  return within;
+}
+
 namespace {
 
 // Why the transmission angle over the poses is not given (empty when it is).
@@ -281,12 +292,20 @@ FourBarAnalysis AnalyzeFourBarSampled(const PlanarDyad& input, const PlanarDyad&
   // between that sample and the input's true limit).
   const bool periodic = IsAngleInput(input);
   const double origin = circuit.input_start - circuit.input_step;
-  const DefectVisit visit = JudgeDefects(
-      analysis.locations, circuit_index, circuit.input_rotates_fully,
-      [&](double value) {
-        return periodic && !circuit.input_rotates_fully ? PositiveAngle(value - origin) : value;
-      },
-      &analysis.defects);
+  const auto position = [&](double value) {
+    return periodic && !circuit.input_rotates_fully ? PositiveAngle(value - origin) : value;
+  };
+  const std::vector<bool> within_noise = StepsWithinNoise(analysis.locations, poses, length);
+  const DefectVisit visit =
+      JudgeDefects(analysis.locations, circuit_index, circuit.input_rotates_fully, position,
+                   &analysis.defects, within_noise);
+  if (std::find(within_noise.begin(), within_noise.end(), true) != within_noise.end() &&
+      std::find(analysis.defects.begin(), analysis.defects.end(), "order") ==
+          analysis.defects.end()) {
+    std::vector<std::string> strict;
+    JudgeDefects(analysis.locations, circuit_index, circuit.input_rotates_fully, position, &strict);
+    analysis.order_within_noise = std::find(strict.begin(), strict.end(), "order") != strict.end();
+  }
   const bool increasing = visit.increasing, decreasing = visit.decreasing;
 
   // Pose error on the one circuit; a pose not reachable on it at its input value: the nearest
@@ -397,13 +416,18 @@ FourBarAnalysis AnalyzeFourBar(const PlanarDyad& input, const PlanarDyad& output
     inputs.push_back(value);
     label_errors.push_back(errors);
   }
+  std::vector<double> step_distances(poses.size(), std::numeric_limits<double>::infinity());
+  for (size_t j = 1; j < poses.size(); ++j) {
+    step_distances[j] = PoseError(poses[j - 1], poses[j], length);
+  }
   const ClosureJudgment judgment = JudgeOnClosure(
       closure, inputs, label_errors, options.slider_margin, length,
       [&](size_t j, double value, int label) {
         const int count = AssembleFourBar(input, output, value, 1e-9 * length, &configurations);
         if (count == 0) return std::numeric_limits<double>::infinity();
         return PoseError(configurations[std::min(label, count - 1)], poses[j], length);
-      });
+      },
+      step_distances);
   if (!TakeJudgment(judgment, &analysis)) return analysis;
   if (options.trace_cycle) {
     analysis.cycle = CircuitConfigurations<PlanarPose>(

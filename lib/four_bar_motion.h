@@ -103,7 +103,20 @@ struct FourBarAnalysis {
   std::optional<double> transmission_max_deg;
   std::string transmission_note;  // why the transmission angle is absent
   std::vector<PlanarPose> cycle;  // coupler poses along the circuit (for pictures)
+  // Neighbouring poses closer to each other than the fit's residual at them are visited in
+  // swapped order: an "order" judgement the data's noise decides, not a defect (issue 34).
+  bool order_within_noise = false;
 };
+
+// The residual (times L) up to which a fit's residuals are the data's noise: a four-bar that
+// misses poses by more is judged strictly (its order is its own, not the noise's).
+inline constexpr double kNoiseResidualCap = 0.05;
+
+// The steps j - 1 -> j between poses closer to each other (pose error) than twice the sum of
+// the fit's residuals at them (their located pose errors, together at most kNoiseResidualCap L):
+// their order is within the noise.
+std::vector<bool> StepsWithinNoise(const std::vector<FourBarLocation>& locations,
+                                   const std::vector<PlanarPose>& poses, double length);
 
 // In closed form (four_bar_closure.h): the circuits and branches from the closure's intervals
 // and the assembly labels, the defects from the poses' input values on them, the 4R's
@@ -159,11 +172,14 @@ struct DefectVisit {
 // a pose is off the first pose's circuit, "branch" when consecutive poses are on different
 // branches of it, "order" when on one branch the input cannot run monotonically through their
 // values: around a full turn the forward (or backward) steps must add up to less than a turn;
-// on a limited input `position` measures each value along the circuit.
+// on a limited input `position` measures each value along the circuit. A step j - 1 -> j marked
+// in `within_noise` (poses closer to each other than the fit's residual at them, issue 34) may
+// go either way: its order is not judged.
 template <typename Position>
 DefectVisit JudgeDefects(const std::vector<FourBarLocation>& locations, int circuit_index,
                          bool rotates_fully, const Position& position,
-                         std::vector<std::string>* defects) {
+                         std::vector<std::string>* defects,
+                         const std::vector<bool>& within_noise = {}) {
   bool one_circuit = true, one_branch = true;
   for (size_t j = 0; j < locations.size(); ++j) {
     one_circuit = one_circuit && locations[j].circuit == circuit_index;
@@ -171,26 +187,46 @@ DefectVisit JudgeDefects(const std::vector<FourBarLocation>& locations, int circ
   }
   if (!one_circuit) defects->push_back("circuit");
   if (one_circuit && !one_branch) defects->push_back("branch");
-  DefectVisit visit;
-  if (!one_circuit || !one_branch || locations.size() < 2) return visit;
-  if (rotates_fully) {
-    double forward = 0.0, backward = 0.0;
-    for (size_t j = 1; j < locations.size(); ++j) {
-      const double step = PositiveAngle(locations[j].input - locations[j - 1].input);
-      forward += step;
-      backward += step == 0.0 ? 0.0 : kClosureTwoPi - step;
+  if (!one_circuit || !one_branch || locations.size() < 2) return DefectVisit();
+  // The visit with the steps marked `free` taken either way (none: the strict visit).
+  const auto visit_with = [&](const std::vector<bool>& free) {
+    const auto free_step = [&](size_t j) { return j < free.size() && free[j]; };
+    DefectVisit visit;
+    if (rotates_fully) {
+      double forward = 0.0, backward = 0.0;
+      for (size_t j = 1; j < locations.size(); ++j) {
+        if (free_step(j)) {
+          // Either way by the short step: forward adds it only when it goes forward.
+          const double wrapped = WrapAngle(locations[j].input - locations[j - 1].input);
+          forward += std::max(wrapped, 0.0);
+          backward += std::max(-wrapped, 0.0);
+          continue;
+        }
+        const double step = PositiveAngle(locations[j].input - locations[j - 1].input);
+        forward += step;
+        backward += step == 0.0 ? 0.0 : kClosureTwoPi - step;
+      }
+      visit.increasing = forward < kClosureTwoPi;
+      visit.decreasing = backward < kClosureTwoPi;
+    } else {
+      for (size_t j = 1; j < locations.size(); ++j) {
+        if (free_step(j)) continue;
+        const double a = position(locations[j - 1].input), b = position(locations[j].input);
+        visit.increasing = visit.increasing && b > a;
+        visit.decreasing = visit.decreasing && b < a;
+      }
     }
-    visit.increasing = forward < kClosureTwoPi;
-    visit.decreasing = backward < kClosureTwoPi;
-  } else {
-    for (size_t j = 1; j < locations.size(); ++j) {
-      const double a = position(locations[j - 1].input), b = position(locations[j].input);
-      visit.increasing = visit.increasing && b > a;
-      visit.decreasing = visit.decreasing && b < a;
-    }
+    return visit;
+  };
+  const DefectVisit strict = visit_with({});
+  if (strict.increasing || strict.decreasing) return strict;
+  // Out of order strictly: within the noise when the steps marked free explain it.
+  if (std::find(within_noise.begin(), within_noise.end(), true) != within_noise.end()) {
+    const DefectVisit tolerant = visit_with(within_noise);
+    if (tolerant.increasing || tolerant.decreasing) return tolerant;
   }
-  if (!visit.increasing && !visit.decreasing) defects->push_back("order");
-  return visit;
+  defects->push_back("order");
+  return strict;
 }
 
 // The largest pose error on the first pose's circuit: a pose on it at its own location, one off
@@ -310,6 +346,7 @@ struct ClosureJudgment {
   // sweep_extent (signed; a crank runs the way its monotonic visit goes, a limited input within
   // its interval).
   double sweep_start = 0.0, sweep_extent = 0.0;
+  bool order_within_noise = false;  // FourBarAnalysis::order_within_noise
 };
 
 // inputs[j] is pose j's input value and label_errors[j] its pose error from the configuration
@@ -318,10 +355,13 @@ struct ClosureJudgment {
 // that circuit: at its own input value on the circuit's label, or to the circuit's nearest
 // configuration (NearestOnCircuit with error_at(j, value, label)). A slider's open side reaches
 // slider_margin times the larger of the poses' range and `length` beyond their values.
+// `step_distances[j]` (optional) is the pose error between poses j - 1 and j: a step between
+// poses closer than twice their residuals is within the noise (JudgeDefects).
 template <typename ErrorAt>
 ClosureJudgment JudgeOnClosure(const FourBarClosure& closure, const std::vector<double>& inputs,
                                const std::vector<std::array<double, 2>>& label_errors,
-                               double slider_margin, double length, const ErrorAt& error_at) {
+                               double slider_margin, double length, const ErrorAt& error_at,
+                               const std::vector<double>& step_distances = {}) {
   constexpr double kInfinity = std::numeric_limits<double>::infinity();
   ClosureJudgment judgment;
   judgment.circuits = ClosedCircuits(closure);
@@ -366,8 +406,21 @@ ClosureJudgment JudgeOnClosure(const FourBarClosure& closure, const std::vector<
   const auto position = [&](double value) {
     return closure.angle_input ? PositiveAngle(value - origin) : value;
   };
+  std::vector<bool> within_noise(judgment.locations.size(), false);
+  bool any_within_noise = false;
+  for (size_t j = 1; j < judgment.locations.size() && j < step_distances.size(); ++j) {
+    const double residual = judgment.locations[j - 1].pose_error + judgment.locations[j].pose_error;
+    within_noise[j] = residual <= kNoiseResidualCap * length && step_distances[j] <= 2.0 * residual;
+    any_within_noise = any_within_noise || within_noise[j];
+  }
   const DefectVisit visit = JudgeDefects(judgment.locations, circuit_index, circuit.rotates_fully,
-                                         position, &judgment.defects);
+                                         position, &judgment.defects, within_noise);
+  if (any_within_noise && std::find(judgment.defects.begin(), judgment.defects.end(), "order") ==
+                              judgment.defects.end()) {
+    std::vector<std::string> strict;
+    JudgeDefects(judgment.locations, circuit_index, circuit.rotates_fully, position, &strict);
+    judgment.order_within_noise = std::find(strict.begin(), strict.end(), "order") != strict.end();
+  }
   // A bound on a pose's error from the circuit: at its own input value on the circuit's label,
   // or where that does not assemble, at the nearer end of the circuit's interval (a
   // configuration of the circuit, so no nearer than the nearest).
@@ -422,6 +475,7 @@ bool TakeJudgment(const ClosureJudgment& judgment, Analysis* analysis) {
   analysis->circuit = judgment.circuit;
   analysis->input_rotates_fully = judgment.input_rotates_fully;
   analysis->max_pose_error = judgment.max_pose_error;
+  analysis->order_within_noise = judgment.order_within_noise;
   return true;
 }
 

@@ -59,23 +59,66 @@ bool ReadWrittenDigits(const std::string& text, WrittenDigits* digits) {
 
 void DigitTally::Add(const WrittenDigits& digits) {
   ++count_;
-  for (const Pattern& pattern : patterns_) {
+  for (Pattern& pattern : patterns_) {
     if (pattern.last == digits.last && pattern.lead == digits.lead && pattern.zero == digits.zero) {
+      ++pattern.count;
       return;
     }
   }
-  patterns_.push_back({digits.last, digits.lead, digits.zero});
+  patterns_.push_back({digits.last, digits.lead, digits.zero, 1});
+}
+
+bool DigitTally::SignificantDigits() const {
+  int significant = 0, finest = std::numeric_limits<int>::max();
+  long nonzero = 0;
+  for (const Pattern& pattern : patterns_) {
+    if (pattern.zero) continue;
+    significant = std::max(significant, pattern.lead - pattern.last + 1);
+    finest = std::min(finest, pattern.last);
+    nonzero += pattern.count;
+  }
+  // Numbers that show all S digits: in a fixed-decimal table they are the largest decade's
+  // (one leading exponent); in a significant-digit table most numbers, of every magnitude.
+  long full = 0;
+  int lowest_lead = std::numeric_limits<int>::max(), highest_lead = std::numeric_limits<int>::min();
+  // Trailing zeros each reading says were dropped: printed to the finest decimal, a number
+  // dropped (last - finest); printed to S digits, (S - its digits). Each dropped zero is a 1 in
+  // 10 event for measured values.
+  long dropped_fixed = 0, dropped_significant = 0;
+  for (const Pattern& pattern : patterns_) {
+    if (pattern.zero) continue;
+    const int digits = pattern.lead - pattern.last + 1;
+    dropped_fixed += pattern.count * (pattern.last - finest);
+    dropped_significant += pattern.count * (significant - digits);
+    if (digits != significant) continue;
+    full += pattern.count;
+    lowest_lead = std::min(lowest_lead, pattern.lead);
+    highest_lead = std::max(highest_lead, pattern.lead);
+  }
+  // Evidently significant digits: the full numbers span decades, and they are most of the table
+  // or the fixed reading needs at least twice the dropped zeros.
+  return full > 0 && highest_lead > lowest_lead &&
+         (4 * full >= 3 * nonzero || 2 * dropped_significant <= dropped_fixed);
 }
 
 double DigitTally::HalfUnit() const {
   if (patterns_.empty()) return 0.0;
   // The table's significant digits S (the most any number shows) and its finest last digit.
-  int significant = 1, finest = patterns_[0].last;
+  // The finest decimal of the numbers that are not zero (a zero printed "0.00000" by a table of
+  // six significant digits shows more decimals than any of its numbers); of the zeros when every
+  // number is one.
+  int significant = 1, finest = std::numeric_limits<int>::max(), finest_zero = finest;
   for (const Pattern& pattern : patterns_) {
-    if (!pattern.zero) significant = std::max(significant, pattern.lead - pattern.last + 1);
+    if (pattern.zero) {
+      finest_zero = std::min(finest_zero, pattern.last);
+      continue;
+    }
+    significant = std::max(significant, pattern.lead - pattern.last + 1);
     finest = std::min(finest, pattern.last);
   }
+  if (finest == std::numeric_limits<int>::max()) finest = finest_zero;
   const double floor = HalfUnitAt(finest);
+  if (!SignificantDigits()) return floor;
   double coarsest = floor;
   for (const Pattern& pattern : patterns_) {
     if (pattern.zero) continue;

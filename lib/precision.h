@@ -5,10 +5,16 @@
 // inferred from the numbers as written. A number written with its last digit in the decimal
 // place 10^k is known to half a unit there, 0.5 * 10^k ("12.3456": 5e-5). The precision of a
 // kind of number (lengths; angles, and dimensionless entries such as quaternion or rotation
-// components) is that of the most precise number of the kind; a table printed to S
-// significant digits gives each number 0.5 * 10^(e - S + 1) (e its leading decimal exponent),
-// so there the largest number of the kind decides (its digits are the coarsest), and a number
-// whose trailing zeros were dropped ("1.5" in a table of six digits) counts with the table's S.
+// components) is read one of two ways (issue 34):
+//   fixed decimals (the default): the table is printed to the finest decimal place of its
+//     numbers that are not zero, and every number is known to half a unit there ("0.05", "0.15",
+//     "1.1" and "12.35": 0.005; "1.1" is "1.10" with its trailing zero dropped);
+//   significant digits: a table evidently printed to S significant digits (mixed magnitudes:
+//     the numbers that show the most digits, S, span more than one decade, and they are three
+//     quarters of the numbers or the fixed reading needs twice the dropped trailing zeros) gives
+//     each number 0.5 * 10^(e - S + 1) (e its leading decimal exponent), so the largest number of
+//     the kind decides (its digits are the coarsest), and a number whose trailing zeros were
+//     dropped ("1.5" in a table of six digits) counts with the table's S.
 // Full-precision doubles get rounding level.
 //
 // The solvers use the precision to choose models (slider or circle, plane or sphere, planar or
@@ -46,9 +52,12 @@ class DigitTally {
  public:
   void Add(const WrittenDigits& digits);
   bool empty() const { return count_ == 0; }
-  // Half a unit of the last written digit, the coarsest over the kind after the table's
-  // significant digits are taken into account (file comment); 0 when empty.
+  // Half a unit of the last written digit: of the finest over the kind (fixed decimals), or of
+  // the coarsest after the table's significant digits are taken into account (a table printed
+  // to significant digits; file comment); 0 when empty.
   double HalfUnit() const;
+  // Whether the numbers read as a table printed to significant digits (file comment).
+  bool SignificantDigits() const;
 
  private:
   // Distinct (last, lead) pairs with the zero flag: tables repeat a few patterns, so this stays
@@ -57,6 +66,7 @@ class DigitTally {
     int last;
     int lead;
     bool zero;
+    long count;
   };
   std::vector<Pattern> patterns_;
   long count_ = 0;

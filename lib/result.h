@@ -65,6 +65,9 @@ struct MechanismReport {
   std::optional<double> transmission_max_deg;
   std::string transmission_note;  // why the transmission angle is absent
   std::vector<PlanarPose> cycle;  // coupler poses along the circuit (pictures; not written)
+  // Neighbouring poses closer than the fit's residual were reached in swapped order: not an
+  // "order" defect at the data's noise (lib/four_bar_motion.h; a note of the result says so).
+  bool order_within_noise = false;
   // Least squares: the RMS pose error on the circuit, and the largest before the mechanism-level
   // refinement (absent when not refined).
   std::optional<double> rms_pose_error;

@@ -104,6 +104,7 @@ struct SphericalFourBarAnalysis {
   std::optional<double> transmission_max_deg;
   std::string transmission_note;
   std::vector<Eigen::Matrix3d> cycle;  // rotations along the circuit (pictures)
+  bool order_within_noise = false;     // as FourBarAnalysis's
 };
 
 // In closed form, as AnalyzeFourBar: the closure's arcs and labels give circuits and branches,

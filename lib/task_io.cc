@@ -1133,12 +1133,12 @@ class TaskParser {
     origins.reserve(task->planar_poses.size());
     for (const PlanarPose& pose : task->planar_poses) origins.push_back(pose.origin_in_fixed);
     const double length = Length(origins, task->scale, "poses", "pose origins");
-    const auto coincide = [&](size_t i, size_t j) {
+    const auto coincide = [&](size_t i, size_t j, bool within_precision) {
       const PlanarPose& a = task->planar_poses[i];
       const PlanarPose& b = task->planar_poses[j];
-      return Coincide(PoseError(a, b, length),
-                      (a.origin_in_fixed - b.origin_in_fixed).cwiseAbs().maxCoeff(),
-                      std::abs(WrapAngle(a.theta - b.theta)), length, 1.0, task->precision);
+      return Coincide(
+          PoseError(a, b, length), (a.origin_in_fixed - b.origin_in_fixed).cwiseAbs().maxCoeff(),
+          std::abs(WrapAngle(a.theta - b.theta)), length, 1.0, task->precision, within_precision);
     };
     if (CloseLoop("poses", coincide, 3, "planar motion synthesis", task)) {
       task->planar_poses.pop_back();
@@ -1151,27 +1151,27 @@ class TaskParser {
           return Eigen::Vector4d(pose.origin_in_fixed.x(), pose.origin_in_fixed.y(),
                                  length * std::cos(pose.theta), length * std::sin(pose.theta));
         },
-        1.0, CoincidentWindow(1.0, length, 2, 1.0, task->precision), coincide);
+        1.0, CoincidentWindow(1.0, length), coincide);
   }
 
   // Two poses or points are coincident when their pose error is within coincident_tolerance
-  // * L, or when they agree within the data's precision: every coordinate within delta and the
-  // angle within alpha (spatial: the rotation between them within 2 alpha, as rounding every
-  // entry of a rotation can turn it by up to about sqrt(2) alpha). Equal digits as printed are
-  // then always equal.
+  // * L (equal as printed: rounding apart). Only a last item that closes a loop (CloseLoop) is
+  // also matched `within_precision`: every coordinate within delta and the angle within alpha
+  // (spatial: the rotation between them within 2 alpha, as rounding every entry of a rotation can
+  // turn it by up to about sqrt(2) alpha). Two items that differ in print are never refused as
+  // coincident (issue 34: a two-decimal table's neighbours are 0.05 apart at precision 0.005).
   bool Coincide(double pose_error, double largest_offset, double angle, double length,
-                double angle_units, const DataPrecision& precision) const {
+                double angle_units, const DataPrecision& precision, bool within_precision) const {
     return pose_error <= options_.coincident_tolerance * length ||
-           (largest_offset <= precision.length && angle <= angle_units * precision.angle);
+           (within_precision && largest_offset <= precision.length &&
+            angle <= angle_units * precision.angle);
   }
 
   // The distance along a sort key within which coincident items lie (CheckCoincident): the
-  // feature distance that Coincide allows, `lipschitz` times the pose error bound.
-  double CoincidentWindow(double lipschitz, double length, int dimension, double angle_units,
-                          const DataPrecision& precision) const {
-    return std::max(lipschitz * options_.coincident_tolerance * length,
-                    std::hypot(std::sqrt(static_cast<double>(dimension)) * precision.length,
-                               lipschitz * angle_units * length * precision.angle));
+  // feature distance that Coincide allows without `within_precision`, `lipschitz` times the pose
+  // error bound.
+  double CoincidentWindow(double lipschitz, double length) const {
+    return lipschitz * options_.coincident_tolerance * length;
   }
 
   // A last pose or point that repeats the first within precision closes the motion or path:
@@ -1183,7 +1183,7 @@ class TaskParser {
                  const std::string& purpose, Task* task) const {
     const bool poses = std::string(key) == "poses";
     const size_t count = poses ? task->pose_weights.size() : task->points.size();
-    if (count < 3 || !coincide(0, count - 1)) return false;
+    if (count < 3 || !coincide(0, count - 1, true)) return false;
     const std::string last = IndexItem(key, count - 1);
     if (count - 1 < minimum) {
       Fail(last, "repeats " + std::string(key) + "[0] (a closed " + (poses ? "motion" : "path") +
@@ -1400,7 +1400,7 @@ class TaskParser {
     origins.reserve(task->spatial_poses.size());
     for (const DualQuaternion& pose : task->spatial_poses) origins.push_back(pose.Translation());
     const double length = Length(origins, task->scale, "poses", "pose origins");
-    const auto coincide = [&](size_t i, size_t j) {
+    const auto coincide = [&](size_t i, size_t j, bool within_precision) {
       const DualQuaternion& a = task->spatial_poses[i];
       const DualQuaternion& b = task->spatial_poses[j];
       const double error = PoseError(a, b, length);
@@ -1410,7 +1410,7 @@ class TaskParser {
       rotation_a.q = a.q;
       rotation_b.q = b.q;
       const double angle = PoseError(rotation_a, rotation_b, 1.0);
-      return Coincide(error, offset, angle, length, 2.0, task->precision);
+      return Coincide(error, offset, angle, length, 2.0, task->precision, within_precision);
     };
     if (CloseLoop("poses", coincide, 1, "spatial motion synthesis", task)) {
       task->spatial_poses.pop_back();
@@ -1428,7 +1428,7 @@ class TaskParser {
           feature << origins[i], length * rotations[i].col(0), length * rotations[i].col(1);
           return feature;
         },
-        1.0, CoincidentWindow(std::sqrt(2.0), length, 3, 2.0, task->precision), coincide);
+        1.0, CoincidentWindow(std::sqrt(2.0), length), coincide);
   }
 
   // Function problems (issue 17): "pairs" of crank angles, or a "function" given as samples of
@@ -1484,8 +1484,9 @@ class TaskParser {
     FinishPrecision(
         task->ground_input.cwiseAbs().maxCoeff() + task->ground_output.cwiseAbs().maxCoeff(), 0.0,
         task);
-    // Two pairs at one input angle (modulo a turn, within precision) ask one four-bar for two
-    // outputs there, or repeat a pair: no four-bar is determined by them.
+    // Two pairs at one input angle (modulo a turn, equal as printed: within rounding) ask one
+    // four-bar for two outputs there, or repeat a pair: no four-bar is determined by them. Input
+    // angles that differ in print are never refused (issue 34).
     // Sorted by their angle on the circle, a pair within the tolerance of another is within it
     // of its neighbour (time n log n: comparing every two took 50 s for 100,000 pairs); the
     // pair named is the first in the list that repeats an earlier one.
@@ -1502,7 +1503,7 @@ class TaskParser {
       const auto& [a, i] = on_circle[k];
       const auto& [b, j] = on_circle[(k + 1) % count];
       const double apart = k + 1 < count ? b - a : b + 2.0 * kPi - a;
-      if (!(apart <= 2.0 * task->precision.angle)) continue;
+      if (!(apart <= options_.coincident_tolerance)) continue;
       if (std::max(i, j) < repeat) {
         repeat = std::max(i, j);
         repeated = std::min(i, j);
@@ -1650,20 +1651,20 @@ class TaskParser {
       return Eigen::Vector4d(point.point_in_fixed.x(), point.point_in_fixed.y(),
                              length * std::cos(angle), length * std::sin(angle));
     };
-    const auto coincide = [&](size_t i, size_t j) {
+    const auto coincide = [&](size_t i, size_t j, bool within_precision) {
       const TimedPoint& a = task->points[i];
       const TimedPoint& b = task->points[j];
       const double angle =
           std::abs(WrapAngle(a.input_angle.value_or(0.0) - b.input_angle.value_or(0.0)));
       return Coincide(std::hypot((a.point_in_fixed - b.point_in_fixed).norm(), length * angle),
                       (a.point_in_fixed - b.point_in_fixed).cwiseAbs().maxCoeff(), angle, length,
-                      1.0, task->precision);
+                      1.0, task->precision, within_precision);
     };
     if (CloseLoop("points", coincide, 1, "path synthesis", task)) {
       locations.pop_back();
     }
-    CheckCoincident<4>("points", task->points.size(), feature, 1.0,
-                       CoincidentWindow(1.0, length, 2, 1.0, task->precision), coincide);
+    CheckCoincident<4>("points", task->points.size(), feature, 1.0, CoincidentWindow(1.0, length),
+                       coincide);
   }
 
   // The characteristic length: `scale` when given, else the RMS distance of `origins` from
@@ -1712,7 +1713,7 @@ class TaskParser {
     for (size_t a = 0; a < count; ++a) {
       for (size_t b = a + 1; b < count && key[order[b]] - key[order[a]] <= window; ++b) {
         const size_t i = std::min(order[a], order[b]), j = std::max(order[a], order[b]);
-        if ((j < best_second || (j == best_second && i < best_first)) && coincide(i, j)) {
+        if ((j < best_second || (j == best_second && i < best_first)) && coincide(i, j, false)) {
           best_first = i;
           best_second = j;
         }

@@ -243,10 +243,11 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
   const auto key_of = [&](const FunctionMechanismReport& report) {
     RankKey key;
     key.misses_exact = report.misses_exact;
-    key.violates = !report.violates.empty();
-    key.defect_level = report.max_angle_error ? DefectLevel(report.defects) : 2;
+    JudgeWithDefaults(task.constraints, report.violates, report.defects,
+                      report.max_angle_error.has_value(), &key);
     key.fit = report.rms_angle_error;
     key.within_precision = report.max_angle_error && *report.max_angle_error <= pass;
+    key.fit_floor = 1e-3 * pass;
     key.parameters = FourBarParameters(FourBarType::k4R);
     key.transmission_min_deg = report.transmission_min_deg;
     if (report.first) {
@@ -259,6 +260,12 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
       key_of, exact ? -1 : options.function_reported, &reports);
   if (dropped > 0) result.notes.push_back(DroppedNote(dropped));
   result.mechanisms = std::move(reports);
+  {
+    std::vector<RankKey> keys;
+    for (const FunctionMechanismReport& report : result.mechanisms) keys.push_back(key_of(report));
+    const std::string note = DefaultsNote(keys, "an RMS angle error (radians) of");
+    if (!note.empty()) result.notes.push_back(note);
+  }
   if (result.mechanisms.empty()) {
     result.notes.push_back("no four-bar meets the pairs" + (why.empty() ? "" : ": " + why));
   }

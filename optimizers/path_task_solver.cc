@@ -12,10 +12,12 @@
 #include "fitting/nine_point_path.h"
 #include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
+#include "lib/four_bar_motion.h"
 #include "lib/golden_section.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/precision.h"
+#include "optimizers/coupler_atlas.h"
 #include "optimizers/path_search.h"
 #include "optimizers/task_solver.h"
 
@@ -70,6 +72,14 @@ constexpr double kSecondNineMiss = 1000.0;
 // near misses beyond them, up to kNinePointNearMax in all.
 constexpr int kNinePointRefined = 8;
 constexpr int kNinePointNearMax = 32;
+
+// Free timing: atlas candidates (optimizers/coupler_atlas.h) refined per effort (fast lists
+// them unrefined), and a curve whose last point is within this many median steps of its first
+// is matched as closed as well as open.
+constexpr int kAtlasFast = 3;
+constexpr int kAtlasBalanced = 6;
+constexpr int kAtlasThorough = 16;
+constexpr double kNearlyClosedSteps = 2.5;
 
 double Seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -182,16 +192,18 @@ double PassTolerance(const PathData& data) {
 // The ranking rule (lib/design_constraints.h RankOrder): keeping the constraints, defect-free,
 // by error (RMS for least squares, the largest for exact synthesis; absent last), near ties by
 // the worst transmission angle; `precision_fit`: PassTolerance.
-RankKey PathRankKey(bool least_squares, double precision_fit, const PathMechanismReport& report) {
+RankKey PathRankKey(bool least_squares, double precision_fit, const DesignConstraints& constraints,
+                    const PathMechanismReport& report) {
   RankKey key;
   key.within_precision = report.max_point_error && *report.max_point_error <= precision_fit;
+  key.fit_floor = 1e-3 * precision_fit;
   key.parameters = FourBarParameters(report.type);
-  key.violates = !report.violates.empty();
   key.misses_exact = report.misses_exact;
   key.fit = least_squares ? report.rms_point_error : report.max_point_error;
   if (!report.max_point_error) key.fit.reset();
   // Not driven through every point, it cannot pass them at all.
-  key.defect_level = report.max_point_error ? DefectLevel(report.defects) : 2;
+  JudgeWithDefaults(constraints, report.violates, report.defects,
+                    report.max_point_error.has_value(), &key);
   key.transmission_min_deg = report.transmission_min_deg;
   const PathFourBar& design = report.design;
   std::vector<Eigen::Vector2d> joints = {design.input.fixed_pivot, design.input.moving_pivot,
@@ -204,13 +216,26 @@ RankKey PathRankKey(bool least_squares, double precision_fit, const PathMechanis
 
 // Ranks by PathRankKey (RankReports); with `bound` >= 0 a bounded list. Returns how many were
 // dropped.
-int Rank(bool least_squares, double precision_fit, int bound,
+int Rank(bool least_squares, const PathData& data, int bound,
          std::vector<PathMechanismReport>* mechanisms) {
+  const double precision_fit = PassTolerance(data);
   return RankReports(
       [&](const PathMechanismReport& report) {
-        return PathRankKey(least_squares, precision_fit, report);
+        return PathRankKey(least_squares, precision_fit, data.constraints, report);
       },
       bound, mechanisms);
+}
+
+// The note of a ranked list whose first four-bar breaks a default the task did not give
+// (DefaultsNote).
+void NoteDefaults(bool least_squares, const PathData& data, PathResult* result) {
+  std::vector<RankKey> keys;
+  for (const PathMechanismReport& report : result->mechanisms) {
+    keys.push_back(PathRankKey(least_squares, PassTolerance(data), data.constraints, report));
+  }
+  const std::string note =
+      DefaultsNote(keys, least_squares ? "an RMS point error of" : "a largest point error of");
+  if (!note.empty()) result->notes.push_back(note);
 }
 
 // Two four-bars are one when their crank, coupler point and output agree within kSameFourBar
@@ -298,7 +323,7 @@ std::vector<PathMechanismReport> SubsetSeeds(const PathData& data,
       }
     }
   }
-  Rank(true, PassTolerance(data), -1, &seeds);
+  Rank(true, data, -1, &seeds);
   if (static_cast<int>(seeds.size()) > keep) seeds.resize(keep);
   return seeds;
 }
@@ -466,9 +491,10 @@ void Finish(const PathData& data, int reported, std::vector<PathMechanismReport>
     AddDistinct(report, data.length, data.centroid, &distinct);
   for (PathMechanismReport& report : distinct) JudgeTransmission(data, &report);
   // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
-  const int dropped = Rank(true, PassTolerance(data), reported, &distinct);
+  const int dropped = Rank(true, data, reported, &distinct);
   if (dropped > 0) result->notes.push_back(DroppedNote(dropped));
   result->mechanisms = std::move(distinct);
+  NoteDefaults(true, data, result);
 }
 
 void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOptions& options,
@@ -646,6 +672,30 @@ bool Monotonic(const std::vector<double>& angles) {
   return true;
 }
 
+// Free timing: steps of `angles` against the crank's direction between points closer to each
+// other than twice the four-bar's errors at them are the data's noise, not an order the crank
+// must go back for (issue 34): such a step becomes a zero step. Returns whether the angles are
+// then monotonic (unchanged when some backward step is beyond the noise).
+bool MonotonicWithinNoise(const PathFourBar& design, const PathData& data,
+                          std::vector<double>* angles) {
+  if (Monotonic(*angles)) return true;
+  const PathFourBarAnalysis analysis =
+      AnalyzePathFourBar(design, data.points, *angles, data.length);
+  if (analysis.point_errors.size() != data.points.size()) return false;
+  const double direction = angles->back() >= angles->front() ? 1.0 : -1.0;
+  std::vector<double> clamped = *angles;
+  for (size_t j = 1; j < clamped.size(); ++j) {
+    if (direction * (clamped[j] - clamped[j - 1]) >= 0.0) continue;
+    const double apart = (data.points[j] - data.points[j - 1]).norm();
+    const double residual = analysis.point_errors[j] + analysis.point_errors[j - 1];
+    if (!(residual <= kNoiseResidualCap * data.length && apart <= 2.0 * residual)) return false;
+    clamped[j] = clamped[j - 1];
+  }
+  if (!Monotonic(clamped)) return false;
+  *angles = clamped;
+  return true;
+}
+
 // Free timing, one seed: alternately refine the four-bar under the timing (prescribed) and
 // take the timing the four-bar gives the points (ProjectTiming), `alternations` times, then
 // refine with the angles free when that timing is monotonic (at most `free_iterations`).
@@ -667,7 +717,7 @@ void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
     if (!projected) break;
     angles = *projected;
   }
-  if (Monotonic(angles)) {
+  if (MonotonicWithinNoise(design, data, &angles)) {
     PathRefinerOptions free_options = options;
     free_options.max_iterations = free_iterations;
     try {
@@ -770,6 +820,39 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
   return seeds;
 }
 
+// Free timing: the candidates of the coupler-curve atlas for the points' curve, timed by
+// projection (ProjectTiming) in their direction and measured; `kept` of them. With constraints
+// the task gives, three times as many are aligned and those that keep them come first (the
+// search shaped by the bounds; the refiners then hold them).
+std::vector<PathMechanismReport> AtlasSeeds(const PathData& data, int kept) {
+  const size_t count = data.points.size();
+  std::vector<double> steps;
+  for (size_t j = 1; j < count; ++j) steps.push_back((data.points[j] - data.points[j - 1]).norm());
+  std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
+  const double median = steps[steps.size() / 2];
+  const double gap = (data.points.back() - data.points.front()).norm();
+  AtlasMatchOptions options;
+  options.kept = data.constraints.given ? 3 * kept : kept;
+  options.match_closed = data.closed || gap <= kNearlyClosedSteps * median;
+  options.match_open = !data.closed;
+  std::vector<PathMechanismReport> seeds;
+  for (const AtlasMatch& match :
+       CouplerAtlas::Shared().Match(data.points, options.match_closed, options)) {
+    std::optional<std::vector<double>> angles =
+        ProjectTiming(match.four_bar, data, match.direction);
+    if (!angles) continue;
+    MonotonicWithinNoise(match.four_bar, data, &*angles);
+    PathMechanismReport report = Report(match.four_bar, data, *angles);
+    report.input_angles = *angles;
+    if (!Monotonic(*angles)) report.defects.push_back("order");
+    if (report.rms_point_error) seeds.push_back(report);
+  }
+  std::stable_partition(seeds.begin(), seeds.end(),
+                        [](const PathMechanismReport& seed) { return seed.violates.empty(); });
+  if (static_cast<int>(seeds.size()) > kept) seeds.resize(kept);
+  return seeds;
+}
+
 // Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
 // four-bars of each guess, refined with the angles free (RefineFreeTiming).
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
@@ -815,24 +898,50 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     }
   }
   result->stages.push_back(Stage("seed", stage_start, candidates));
+  // The curve as a whole: candidates from the coupler-curve atlas; above fast, refined first (a
+  // few refinements from seeds near the curve).
+  const auto atlas_start = std::chrono::steady_clock::now();
+  std::vector<PathMechanismReport> atlas_seeds =
+      AtlasSeeds(data, task.effort == Effort::kFast       ? kAtlasFast
+                       : task.effort == Effort::kBalanced ? kAtlasBalanced
+                                                          : kAtlasThorough);
+  if (task.effort != Effort::kFast) {
+    std::vector<PathMechanismReport> refined = atlas_seeds;
+    for (PathMechanismReport& candidate : refined) {
+      RefineFreeTiming(data, options.path_refiner, &candidate);
+    }
+    atlas_seeds.insert(atlas_seeds.end(), refined.begin(), refined.end());
+  }
+  result->stages.push_back(Stage("atlas", atlas_start, atlas_seeds));
+  const std::vector<PathMechanismReport> subset_seeds = candidates;
+  candidates.insert(candidates.end(), atlas_seeds.begin(), atlas_seeds.end());
+  // Balanced: a refined atlas four-bar through every point within the data's precision is the
+  // curve; the subset seeds' refinement can only come to it or to a worse fit. The nine-point
+  // solve (a second or more) runs at balanced only when the atlas gave no defect-free four-bar.
+  // Thorough runs them always.
+  const std::optional<double> atlas_best = BestDefectFreeMaxError(atlas_seeds);
+  const bool atlas_passes = atlas_best && *atlas_best <= tolerance;
+  const bool search_more = task.effort == Effort::kThorough || !atlas_passes;
+  const bool homotopy = task.effort == Effort::kThorough || !atlas_best;
   std::vector<PathMechanismReport> homotopy_seeds;
-  if (task.effort != Effort::kFast && count >= 9) {
+  if (task.effort != Effort::kFast && count >= 9 && homotopy) {
     const auto homotopy_start = std::chrono::steady_clock::now();
     homotopy_seeds = NinePointSeeds(data, false);
     result->stages.push_back(Stage("nine-point homotopy", homotopy_start, homotopy_seeds));
   }
-  if (task.effort != Effort::kFast) {
+  if (task.effort != Effort::kFast && search_more) {
     const auto refine_start = std::chrono::steady_clock::now();
     for (PathMechanismReport& candidate : homotopy_seeds) {
       RefineFreeTiming(data, options.path_refiner, &candidate);
     }
     // A four-bar through every point within the data's precision: the guessed timings' seeds
-    // can only come to the same curve or to a worse fit; they are not refined. Refined ones join
-    // the seeds rather than replace them (fast's answer stays a candidate).
+    // can only come to the same curve or to a worse fit; they are not refined (thorough
+    // refines them). Refined ones join the seeds rather than replace them (fast's answer stays a
+    // candidate).
     const std::optional<double> best = BestDefectFreeMaxError(homotopy_seeds);
     std::vector<PathMechanismReport> refined;
-    if (!(best && *best <= tolerance)) {
-      refined = candidates;
+    if (task.effort == Effort::kThorough || !(best && *best <= tolerance)) {
+      refined = subset_seeds;  // the atlas seeds were refined already
       for (PathMechanismReport& candidate : refined) {
         RefineFreeTiming(data, options.path_refiner, &candidate);
       }
@@ -914,8 +1023,9 @@ void SolveFreeTimingScreened(const Task& task, const PathData& data,
   for (const PathMechanismReport& listed : screened.mechanisms) {
     if (listed.input_angles.size() != screen.points.size()) continue;
     const double direction = listed.input_angles.back() >= listed.input_angles.front() ? 1.0 : -1.0;
-    const std::optional<std::vector<double>> angles = ProjectTiming(listed.design, data, direction);
+    std::optional<std::vector<double>> angles = ProjectTiming(listed.design, data, direction);
     if (!angles) continue;
+    MonotonicWithinNoise(listed.design, data, &*angles);
     PathMechanismReport report = Report(listed.design, data, *angles);
     report.input_angles = *angles;
     if (!Monotonic(*angles)) report.defects.push_back("order");
@@ -1004,9 +1114,12 @@ void BoundErrors(const PathData& data, bool free_timing, const std::vector<PathF
       " four-bars may be off by more than 1 % of their size (error_bound, first "
       "order; at a four-bar's own point error where that is larger)";
   if (meaningless > 0) {
+    // Issue 34: such a four-bar is not meaningless when it fits; its dimensions are what the
+    // points leave open.
     note += "; " + std::to_string(meaningless) +
-            " by more than their own size or undetermined: such a four-bar means nothing at this "
-            "precision";
+            " by more than their own size or undetermined: such a four-bar is not determined by "
+            "the points at this precision (others pass them as well; its fit stands, its "
+            "dimensions are one choice)";
   }
   result->notes.push_back(note);
 }
@@ -1168,7 +1281,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
           "the bounds allow");
     }
     for (PathMechanismReport& report : result.mechanisms) JudgeTransmission(data, &report);
-    Rank(false, PassTolerance(data), -1, &result.mechanisms);
+    Rank(false, data, -1, &result.mechanisms);
     if (four_bars.empty() && !summary.degenerate) {
       result.notes.push_back("no real four-bar passes the five points with this timing");
     }

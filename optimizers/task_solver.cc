@@ -810,7 +810,8 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     stage_start = std::chrono::steady_clock::now();
     bool answered = false;
     if (!result.mechanisms.empty()) {
-      const RankKey first = MechanismRankKey(result.mechanisms.front(), precision_fit);
+      const RankKey first =
+          MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
       answered = !first.misses_exact && !first.violates && first.defect_level == 0 &&
                  first.within_precision;
     }
@@ -949,9 +950,26 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   // Ranked, and a bounded list (ListedWithinBound): the best ranked, and the best fit of each
   // group. (Every dyad has its error bound: the seeds' were set before the dyads were merged,
   // the refined ones' when they were added.)
-  const int dropped =
-      RankMechanisms(precision_fit, options.reported_mechanisms, &result.mechanisms);
+  const int dropped = RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
+                                     &result.mechanisms);
   if (dropped > 0) result.notes.push_back(DroppedNote(dropped));
+  {
+    std::vector<RankKey> keys;
+    for (const MechanismReport& mechanism : result.mechanisms) {
+      keys.push_back(MechanismRankKey(mechanism, precision_fit, task.constraints));
+    }
+    const std::string note = DefaultsNote(keys, "an RMS pose error of");
+    if (!note.empty()) result.notes.push_back(note);
+    const long swapped =
+        std::count_if(result.mechanisms.begin(), result.mechanisms.end(),
+                      [](const MechanismReport& m) { return m.order_within_noise; });
+    if (swapped > 0) {
+      result.notes.push_back(
+          std::to_string(swapped) +
+          " four-bar(s) reach some neighbouring poses, closer to each other than the fit's "
+          "residual at them, in swapped order: within the data's noise, not an order defect");
+    }
+  }
   if (result.dyads.empty()) result.notes.push_back("no dyad: the seeds failed (degenerate poses?)");
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

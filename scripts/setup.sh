@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.."
 packages=(build-essential cmake libeigen3-dev libceres-dev libnlopt-cxx-dev libgtest-dev
           nlohmann-json3-dev libcli11-dev librsvg2-bin libxml2-utils libpng-dev
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
-          python3-matplotlib)
+          python3-matplotlib libnanoflann-dev)
 ./scripts/install_packages.sh "${packages[@]}"
 
 [ "${1:-}" = "--deps-only" ] && exit 0

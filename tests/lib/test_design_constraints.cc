@@ -47,6 +47,49 @@ TEST(RankOrder, NearTiesGoByTransmissionAngle) {
   EXPECT_EQ(RankOrder({no_angle, Key(1.01, 35), no_fit}), (std::vector<int>{1, 0, 2}));
 }
 
+// Issue 34: defaults the task did not give (the 30 degree transmission angle, links of 100 L)
+// order near ties only; the note says what keeping them costs.
+TEST(RankOrder, DefaultsTheTaskDidNotGiveOrderNearTiesOnly) {
+  DesignConstraints none;
+  RankKey best = Key(1.0, 12);
+  JudgeWithDefaults(none, {}, {"transmission"}, true, &best);
+  EXPECT_EQ(best.defect_level, 0);
+  EXPECT_NE(best.breaks_default.find("transmission angle (30 degrees)"), std::string::npos);
+  RankKey long_link = Key(1.02, 60);
+  JudgeWithDefaults(none, {"max_link_length"}, {}, true, &long_link);
+  EXPECT_FALSE(long_link.violates);
+  EXPECT_NE(long_link.breaks_default.find("link limit (100 L)"), std::string::npos);
+  RankKey near = Key(1.05, 50), far = Key(9.0, 80);
+  JudgeWithDefaults(none, {}, {}, true, &near);
+  JudgeWithDefaults(none, {}, {}, true, &far);
+  // A keeper within the near-tie ratio goes first (then the others of the tie by transmission
+  // angle); one 9 times worse does not.
+  EXPECT_EQ(RankOrder({best, long_link, near}), (std::vector<int>{2, 1, 0}));
+  const std::vector<RankKey> ranked = {best, far};
+  EXPECT_EQ(RankOrder(ranked), (std::vector<int>{0, 1}));
+  const std::string note = DefaultsNote(ranked, "an RMS point error of");
+  EXPECT_NE(note.find("breaks the default minimum transmission angle"), std::string::npos) << note;
+  EXPECT_NE(note.find("(--mechanism 2) has an RMS point error of 9, 9 times the first's"),
+            std::string::npos)
+      << note;
+  EXPECT_EQ(DefaultsNote({far, best}, "an RMS point error of"), "");
+  // Given by the task, the same limits are constraints and defects as before.
+  DesignConstraints given;
+  given.min_transmission_angle_deg = 30.0;
+  given.max_link_length = 100.0;
+  RankKey judged = Key(1.0, 12);
+  JudgeWithDefaults(given, {"max_link_length"}, {"transmission"}, true, &judged);
+  EXPECT_TRUE(judged.violates);
+  EXPECT_EQ(judged.defect_level, 1);
+  EXPECT_TRUE(judged.breaks_default.empty());
+  // A kinematic defect counts whatever the defaults; not driven through: level 2.
+  RankKey kinematic = Key(1.0, 40);
+  JudgeWithDefaults(none, {}, {"order", "transmission"}, true, &kinematic);
+  EXPECT_EQ(kinematic.defect_level, 2);
+  JudgeWithDefaults(none, {}, {}, false, &kinematic);
+  EXPECT_EQ(kinematic.defect_level, 2);
+}
+
 TEST(RankOrder, WithinPrecisionTheSimplestModelFirst) {
   // Both meet the data within their precision: the slider-crank (9 parameters) before the 4R
   // however their transmission angles and RMS fits compare; then the rest by fit.

@@ -92,6 +92,9 @@ double HalfUnitOf(const std::vector<std::string>& texts) {
 TEST(DigitTally, FixedDecimalsGiveTheFinestDecimal) {
   // Four decimals, as %.4f prints them (zeros kept), with a number written shorter by hand.
   EXPECT_DOUBLE_EQ(HalfUnitOf({"12.3456", "0.5000", "-3.1416", "100.2500", "0.0000", "2.5"}), 5e-5);
+  // A zero shows the decimals %#.6g gives it, more than any number of the table: not the table's.
+  EXPECT_DOUBLE_EQ(HalfUnitOf({"0.00000", "42.4494", "-30.6617", "64.5089", "-7.10340"}), 5e-5);
+  EXPECT_DOUBLE_EQ(HalfUnitOf({"0.000", "0.00"}), 5e-4);
 }
 
 TEST(DigitTally, SignificantDigitsGiveTheCoarsestNumber) {
@@ -99,8 +102,40 @@ TEST(DigitTally, SignificantDigitsGiveTheCoarsestNumber) {
   // to the coarser. "1.5" (1.50000 with zeros dropped) and "100" count with six digits too.
   EXPECT_DOUBLE_EQ(HalfUnitOf({"123.456", "0.0123456", "1.5", "-45.6789"}), 5e-4);
   EXPECT_DOUBLE_EQ(HalfUnitOf({"0.0123456", "1.5", "-4.56789"}), 5e-6);
-  // %g drops trailing zeros: 100.25 of a six-digit table is 100.250, good to 5e-4.
-  EXPECT_DOUBLE_EQ(HalfUnitOf({"12.3456", "0.5", "-3.1416", "100.25"}), 5e-4);
+  // %g drops trailing zeros: 100.25 of a six-digit table is 100.250, good to 5e-4, when the
+  // table shows it is one (most numbers with six digits, of several magnitudes).
+  EXPECT_DOUBLE_EQ(HalfUnitOf({"12.3456", "0.5", "-3.1416", "100.25", "2.71828", "0.123457"}),
+                   5e-4);
+}
+
+// Issue 34: fixed decimals are the default reading; significant digits only where the table
+// evidently is one. Tables of 1, 2 and 3 decimals of values 0.01 to 100 (trailing zeros dropped
+// by hand or kept) have the precision of their finest decimal.
+TEST(DigitTally, FixedDecimalsOfMixedMagnitudes) {
+  EXPECT_DOUBLE_EQ(HalfUnitOf({"0.05", "0.15", "1.1", "0.5", "0.75", "1.0", "0.25", "0.6"}), 0.005);
+  // Only one number of four printed: as likely four fixed decimals as six significant digits.
+  EXPECT_DOUBLE_EQ(HalfUnitOf({"12.3456", "0.5", "-3.1416", "100.25"}), 5e-5);
+  std::mt19937 rng(34);
+  for (int decimals = 1; decimals <= 3; ++decimals) {
+    for (double across : {1.0, 10.0, 100.0}) {
+      std::uniform_real_distribution<double> value(-across, across);
+      std::vector<std::string> texts;
+      for (int i = 0; i < 40; ++i) {
+        std::string text = Printed(value(rng), 0, decimals);
+        // Some tables drop trailing zeros.
+        if (i % 2 == 0) {
+          while (text.find('.') != std::string::npos &&
+                 (text.back() == '0' || text.back() == '.')) {
+            text.pop_back();
+          }
+          if (text.empty() || text == "-") text = "0";
+        }
+        texts.push_back(text);
+      }
+      EXPECT_DOUBLE_EQ(HalfUnitOf(texts), 0.5 * std::pow(10.0, -decimals))
+          << decimals << " decimals, values up to " << across;
+    }
+  }
 }
 
 TEST(DigitTally, FullPrecisionIsRoundingLevel) {
@@ -366,24 +401,36 @@ TEST(TaskClosure, ClosedPathPrescribedAndFree) {
   EXPECT_EQ(task.points.size(), 7u);
 }
 
-TEST(TaskCoincidence, PosesEqualWithinPrecisionAreCoincident) {
-  // Measured to 1e-3 (given), printed to four decimals: 4e-4 apart is the same pose.
+TEST(TaskCoincidence, OnlyItemsEqualInPrintAreCoincident) {
+  // Measured to 1e-3 (given), printed to four decimals: 4e-4 apart they differ in print, and a
+  // least-squares task takes both (issue 34: never refused as coincident).
   const std::string given = R"(, "precision": {"length": 0.001})";
   std::string text = PlanarTaskText(4, given);
   text.insert(text.rfind(']'), R"(, {"x": 2.2504, "y": 1.0500, "theta_deg": 20.5000})");
-  EXPECT_EQ(ErrorOf(text), "task.json: poses[5]: coincides with poses[2]");
-  // 2e-3 apart they are distinct, and so are different angles.
-  text = PlanarTaskText(4, given);
-  text.insert(text.rfind(']'), R"(, {"x": 2.2520, "y": 1.0500, "theta_deg": 20.5000})");
   EXPECT_EQ(ErrorOf(text), "<no error>");
   text = PlanarTaskText(4, given);
-  text.insert(text.rfind(']'), R"(, {"x": 2.2500, "y": 1.0500, "theta_deg": 20.5010})");
+  text.insert(text.rfind(']'), R"(, {"x": 2.2500, "y": 1.0500, "theta_deg": 20.5001})");
   EXPECT_EQ(ErrorOf(text), "<no error>");
-  // Printed identically: coincident at the printed precision.
+  // Printed identically, with or without trailing zeros: coincident.
   text = PlanarTaskText(4);
   text.insert(text.rfind(']'), R"(, {"x": 2.2500, "y": 1.0500, "theta_deg": 20.5000})");
   EXPECT_EQ(ErrorOf(text), "task.json: poses[5]: coincides with poses[2]");
+  text = PlanarTaskText(4, given);
+  text.insert(text.rfind(']'), R"(, {"x": 2.25, "y": 1.05, "theta_deg": 20.5})");
+  EXPECT_EQ(ErrorOf(text), "task.json: poses[5]: coincides with poses[2]");
 }
 
+// Issue 34: a closed curve printed to two decimals by hand ("0.05", "0.15", "1.1", "0.0"):
+// known to 0.005, its neighbours 0.05 apart are distinct points.
+TEST(TaskCoincidence, TwoDecimalTableOfACurveIsRead) {
+  const Task task = ParseTask(
+      R"({"problem": "path", "points": [
+      {"x": 0.5, "y": 1.1}, {"x": 0.3, "y": 1.1}, {"x": 0.1, "y": 0.9}, {"x": 0.05, "y": 0.75},
+      {"x": 0.0, "y": 0.5}, {"x": 0.03, "y": 0.3}, {"x": 0.1, "y": 0.25}, {"x": 0.15, "y": 0.2},
+      {"x": 0.3, "y": 0.4}, {"x": 0.6, "y": 0.9}]})",
+      "task.json");
+  EXPECT_DOUBLE_EQ(task.precision.length, 0.005);
+  EXPECT_EQ(task.points.size(), 10u);
+}
 }  // namespace
 }  // namespace linkfit

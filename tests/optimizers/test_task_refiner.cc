@@ -107,20 +107,30 @@ TEST(TaskRefiner, FreeTimingStartsFromTheDesignsAngles) {
     const PathResult solved = SolvePathTask(task);
     ASSERT_FALSE(solved.mechanisms.empty());
     const PathMechanismReport& first = solved.mechanisms[0];
-    ASSERT_TRUE(first.defects.empty());
+    // Without a minimum given, the default one only orders near ties (issue 34): the first may
+    // have a poor transmission angle, never a kinematic defect.
+    ASSERT_FALSE(HasKinematicDefect(first.defects));
+    if (constrained) {
+      ASSERT_TRUE(first.defects.empty());
+    }
     const PathDesign design = PathDesignText(first.design, first.input_angles);
     ASSERT_EQ(design.input_angles[0].size(), generated.points.size());
     const PathResult result = std::get<PathResult>(RefineTask(task, design, RefineChoice()));
     ASSERT_EQ(result.mechanisms.size(), 1u);
     const PathMechanismReport& refined = result.mechanisms[0];
-    ASSERT_TRUE(refined.max_point_error && first.max_point_error);
-    EXPECT_LE(*refined.max_point_error, *first.max_point_error * (1.0 + 1e-6));
+    // Not worse in what it minimises, the RMS point error.
+    ASSERT_TRUE(refined.rms_point_error && first.rms_point_error);
+    EXPECT_LE(*refined.rms_point_error, *first.rms_point_error * (1.0 + 1e-6));
     EXPECT_EQ(refined.input_angles.size(), generated.points.size());
     EXPECT_FALSE(HasKinematicDefect(refined.defects));
     const bool noted = std::any_of(result.notes.begin(), result.notes.end(), [](const auto& note) {
       return note.find("min_transmission_angle_deg") != std::string::npos;
     });
-    EXPECT_EQ(noted, !refined.defects.empty());
+    // A note when the refinement costs the transmission angle the design had.
+    const auto poor = [](const PathMechanismReport& m) {
+      return std::find(m.defects.begin(), m.defects.end(), "transmission") != m.defects.end();
+    };
+    EXPECT_EQ(noted, poor(refined) && !poor(first));
     if (constrained) {
       EXPECT_TRUE(refined.defects.empty());
     }

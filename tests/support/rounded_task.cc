@@ -141,6 +141,7 @@ void TimedPoints(const Task& task, std::vector<Eigen::Vector2d>* points,
 bool SaysTooCoarse(const std::vector<std::string>& notes) {
   return std::any_of(notes.begin(), notes.end(), [](const std::string& note) {
     return note.find("means nothing") != std::string::npos ||
+           note.find("not determined by the points at this precision") != std::string::npos ||
            note.find("rounding of the data can turn two real dyads into a complex pair") !=
                std::string::npos ||
            note.find("dependent within the data's precision") != std::string::npos ||

@@ -953,14 +953,9 @@ void RunCurves(int tasks, uint64_t seed) {
       std::normal_distribution<double> gauss(0.0, noise * curve.size * factor);
       const int magnitude = static_cast<int>(std::floor(std::log10(across)));
       const int decimals = std::max(0, 2 + static_cast<int>(unit(rng) * 3) - magnitude);
-      linkfit::PathFourBar generator = curve.four_bar;
-      for (linkfit::PlanarDyad* dyad : {&generator.input, &generator.output}) {
-        dyad->fixed_pivot *= factor;
-        dyad->moving_pivot *= factor;
-        dyad->line_point *= factor;
-        dyad->radius *= factor;
-      }
-      generator.coupler_point *= factor;
+      linkfit::Similarity2 scaling;
+      scaling.scale = factor;
+      const linkfit::PathFourBar generator = linkfit::TransformPathFourBar(curve.four_bar, scaling);
       std::string text = R"({"problem": "path", "points": [)";
       char buffer[512];
       for (size_t j = 0; j < curve.points.size(); ++j) {

@@ -470,6 +470,27 @@ Similarity2 ScaledPointFrame(const std::vector<Eigen::Vector2d>& points, double 
   return frame;
 }
 
+PathFourBar TransformPathFourBar(const PathFourBar& four_bar, const Similarity2& similarity,
+                                 bool mirror) {
+  const auto reflect = [mirror](const Eigen::Vector2d& p) {
+    return Eigen::Vector2d(p.x(), mirror ? -p.y() : p.y());
+  };
+  const auto dyad = [&](const PlanarDyad& in) {
+    PlanarDyad out = in;
+    out.fixed_pivot = similarity.Apply(reflect(in.fixed_pivot));
+    out.moving_pivot = similarity.Apply(reflect(in.moving_pivot));
+    out.line_point = similarity.Apply(reflect(in.line_point));
+    out.line_direction = similarity.ApplyToDirection(reflect(in.line_direction));
+    out.radius = in.radius * similarity.scale;
+    return out;
+  };
+  PathFourBar out;
+  out.input = dyad(four_bar.input);
+  out.output = dyad(four_bar.output);
+  out.coupler_point = similarity.Apply(reflect(four_bar.coupler_point));
+  return out;
+}
+
 PathFourBar MoveToFirstConfiguration(const PathFourBar& four_bar, const PlanarPose& first_pose) {
   PathFourBar moved = four_bar;
   moved.input.moving_pivot = first_pose.ToFixed(four_bar.input.moving_pivot);

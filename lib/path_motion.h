@@ -140,6 +140,13 @@ std::vector<PlanarPose> CouplerCycle(const PathFourBar& four_bar, double length,
 // scaled by `length`. Returns the similarity that maps that frame back to the task's.
 Similarity2 ScaledPointFrame(const std::vector<Eigen::Vector2d>& points, double length);
 
+// `four_bar` with every point (pivots, line points, the coupler point: Sigma and E alike, as they
+// coincide in the first configuration) mapped by `similarity`, after a reflection y -> -y when
+// `mirror`; radii scaled, line directions turned (and reflected). A reflected four-bar is a
+// four-bar whose crank turns the other way.
+PathFourBar TransformPathFourBar(const PathFourBar& four_bar, const Similarity2& similarity,
+                                 bool mirror = false);
+
 // Re-expresses a design whose first configuration is `first_pose` (the coupler pose at the first
 // point, not the identity) in the convention above: E is moved onto that pose.
 PathFourBar MoveToFirstConfiguration(const PathFourBar& four_bar, const PlanarPose& first_pose);

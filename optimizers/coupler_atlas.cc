@@ -32,7 +32,7 @@ constexpr int kOpenStarts = 12;
 constexpr int kOpenSpans[] = {60, 90, 135, 180, 225, 270, 320};
 // Slack of assembly while sampling, relative to the crank.
 constexpr double kAssemblyTolerance = 1e-9;
-constexpr char kMagic[16] = "linkfit-atlas-1";
+constexpr char kMagic[16] = "linkfit-atlas-2";
 
 double Uniform(std::mt19937_64& rng, double low, double high) {
   // The top 53 bits: the same numbers on every platform (std::uniform_real_distribution is not).
@@ -213,31 +213,11 @@ double Align(const AlignTarget& target, const std::vector<Complex>& source, Comp
 
 // A four-bar mapped by z -> a S(z) + b, S the mirror (conjugation) when `mirror`.
 PathFourBar Transformed(const PathFourBar& four_bar, bool mirror, Complex a, Complex b) {
-  const auto point = [&](const Eigen::Vector2d& p) {
-    Complex z(p.x(), mirror ? -p.y() : p.y());
-    z = a * z + b;
-    return Eigen::Vector2d(z.real(), z.imag());
-  };
-  const auto direction = [&](const Eigen::Vector2d& d) {
-    Complex z(d.x(), mirror ? -d.y() : d.y());
-    z *= a / std::abs(a);
-    return Eigen::Vector2d(z.real(), z.imag());
-  };
-  const double scale = std::abs(a);
-  const auto dyad = [&](const PlanarDyad& in) {
-    PlanarDyad out = in;
-    out.fixed_pivot = point(in.fixed_pivot);
-    out.moving_pivot = point(in.moving_pivot);
-    out.line_point = point(in.line_point);
-    out.line_direction = direction(in.line_direction);
-    out.radius = in.radius * scale;
-    return out;
-  };
-  PathFourBar out;
-  out.input = dyad(four_bar.input);
-  out.output = dyad(four_bar.output);
-  out.coupler_point = point(four_bar.coupler_point);
-  return out;
+  Similarity2 similarity;
+  similarity.scale = std::abs(a);
+  similarity.angle = std::arg(a);
+  similarity.translation = Eigen::Vector2d(b.real(), b.imag());
+  return TransformPathFourBar(four_bar, similarity, mirror);
 }
 
 // Random four-bars whose crank (length 1, pivot at the origin) turns fully, in the configuration
@@ -346,8 +326,8 @@ void Mix(std::uint64_t* hash, const void* bytes, size_t size) {
 struct CouplerAtlas::Data {
   CouplerAtlasOptions options;
   std::vector<PathFourBar> four_bars;
+  // One per four-bar, in its order (closed_keys[i] is four_bars[i]'s).
   std::vector<std::array<float, kClosedKeySize>> closed_keys;
-  std::vector<std::int32_t> closed_four_bar;
   std::vector<std::array<float, kOpenKeySize>> open_keys;
   std::vector<OpenWindow> open_windows;
   KeyCloud<kClosedKeySize> closed_cloud;
@@ -387,7 +367,6 @@ CouplerAtlas::CouplerAtlas(const CouplerAtlasOptions& options) : CouplerAtlas(Em
       const std::int32_t index = static_cast<std::int32_t>(data_->four_bars.size());
       data_->four_bars.push_back(four_bar);
       data_->closed_keys.push_back(ClosedKeyOf(cycle));
-      data_->closed_four_bar.push_back(index);
       if (i >= counts.second) continue;
       for (int s = 0; s < kOpenStarts; ++s) {
         for (const int span : kOpenSpans) {
@@ -422,7 +401,6 @@ namespace {
 template <typename Io>
 bool Serialize(Io& io, CouplerAtlasOptions* options, std::vector<PathFourBar>* four_bars,
                std::vector<std::array<float, kClosedKeySize>>* closed_keys,
-               std::vector<std::int32_t>* closed_four_bar,
                std::vector<std::array<float, kOpenKeySize>>* open_keys,
                std::vector<OpenWindow>* open_windows) {
   std::uint64_t counts[3] = {four_bars->size(), closed_keys->size(), open_keys->size()};
@@ -443,7 +421,6 @@ bool Serialize(Io& io, CouplerAtlasOptions* options, std::vector<PathFourBar>* f
   if (counts[0] > kMost || counts[1] > kMost || counts[2] > kMost) return false;
   four_bars->resize(counts[0]);
   closed_keys->resize(counts[1]);
-  closed_four_bar->resize(counts[1]);
   open_keys->resize(counts[2]);
   open_windows->resize(counts[2]);
   for (PathFourBar& four_bar : *four_bars) {
@@ -461,7 +438,6 @@ bool Serialize(Io& io, CouplerAtlasOptions* options, std::vector<PathFourBar>* f
     if (!io(four_bar.coupler_point.data(), 2 * sizeof(double))) return false;
   }
   return io(closed_keys->data(), closed_keys->size() * sizeof((*closed_keys)[0])) &&
-         io(closed_four_bar->data(), closed_four_bar->size() * sizeof(std::int32_t)) &&
          io(open_keys->data(), open_keys->size() * sizeof((*open_keys)[0])) &&
          io(open_windows->data(), open_windows->size() * sizeof(OpenWindow));
 }
@@ -489,11 +465,9 @@ bool CouplerAtlas::Write(const std::string& path) const {
   CouplerAtlasOptions options = data_->options;
   std::vector<PathFourBar> four_bars = data_->four_bars;
   std::vector<std::array<float, kClosedKeySize>> closed_keys = data_->closed_keys;
-  std::vector<std::int32_t> closed_four_bar = data_->closed_four_bar;
   std::vector<std::array<float, kOpenKeySize>> open_keys = data_->open_keys;
   std::vector<OpenWindow> open_windows = data_->open_windows;
-  if (!Serialize(write, &options, &four_bars, &closed_keys, &closed_four_bar, &open_keys,
-                 &open_windows)) {
+  if (!Serialize(write, &options, &four_bars, &closed_keys, &open_keys, &open_windows)) {
     return false;
   }
   out.write(reinterpret_cast<const char*>(&hash), sizeof(hash));
@@ -517,8 +491,8 @@ std::unique_ptr<CouplerAtlas> CouplerAtlas::Read(const std::string& path,
   };
   std::unique_ptr<CouplerAtlas> atlas(new CouplerAtlas(Empty()));
   Data& data = *atlas->data_;
-  if (!Serialize(read, &data.options, &data.four_bars, &data.closed_keys, &data.closed_four_bar,
-                 &data.open_keys, &data.open_windows)) {
+  if (!Serialize(read, &data.options, &data.four_bars, &data.closed_keys, &data.open_keys,
+                 &data.open_windows)) {
     return nullptr;
   }
   std::uint64_t stored = 0;
@@ -526,9 +500,7 @@ std::unique_ptr<CouplerAtlas> CouplerAtlas::Read(const std::string& path,
       !SameOptions(data.options, options)) {
     return nullptr;
   }
-  for (const std::int32_t index : data.closed_four_bar) {
-    if (index < 0 || static_cast<size_t>(index) >= data.four_bars.size()) return nullptr;
-  }
+  if (data.closed_keys.size() != data.four_bars.size()) return nullptr;
   for (const OpenWindow& window : data.open_windows) {
     if (window.four_bar < 0 || static_cast<size_t>(window.four_bar) >= data.four_bars.size())
       return nullptr;
@@ -617,7 +589,7 @@ std::vector<AtlasMatch> CouplerAtlas::Match(const std::vector<Eigen::Vector2d>& 
     const size_t count =
         data_->closed_tree->knnSearch(key.data(), wanted, found.data(), distances.data());
     for (size_t f = 0; f < count; ++f) {
-      const int index = data_->closed_four_bar[found[f]];
+      const int index = static_cast<int>(found[f]);
       if (!CycleCurve(data_->four_bars[index], kCycleSamples, &cycle, &poses)) continue;
       // The candidate at kShiftRefinement times the target's samples: shifts of a fraction of
       // their spacing.

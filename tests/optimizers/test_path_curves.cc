@@ -54,15 +54,9 @@ void ExpectFirstFitsAsTheGenerator(const CurveCase& c, std::uint64_t seed, Effor
   ASSERT_FALSE(result.mechanisms.empty());
   std::vector<Eigen::Vector2d> printed;
   for (const TimedPoint& point : task.points) printed.push_back(point.point_in_fixed);
-  PathFourBar generator = curve.four_bar;
-  const double factor = 4.0 / curve.size;
-  for (PlanarDyad* dyad : {&generator.input, &generator.output}) {
-    dyad->fixed_pivot *= factor;
-    dyad->moving_pivot *= factor;
-    dyad->line_point *= factor;
-    dyad->radius *= factor;
-  }
-  generator.coupler_point *= factor;
+  Similarity2 scaling;
+  scaling.scale = 4.0 / curve.size;
+  const PathFourBar generator = TransformPathFourBar(curve.four_bar, scaling);
   const double own = testing::CurveRmsDistance(generator, printed, result.scale);
   const PathMechanismReport& first = result.mechanisms.front();
   const double fit = testing::CurveRmsDistance(first.design, printed, result.scale);

@@ -87,26 +87,11 @@ GeneratedCurve RandomCurve(std::mt19937_64& rng, DyadType output, const CurveOpt
     const bool mirror = unit(rng) < 0.5;
     const double reach = options.offset_scale * 3.0 * scale;
     const Eigen::Vector2d shift(reach * (2.0 * unit(rng) - 1.0), reach * (2.0 * unit(rng) - 1.0));
-    const auto map = [&](const Eigen::Vector2d& p) {
-      const Eigen::Vector2d q(p.x(), mirror ? -p.y() : p.y());
-      return Eigen::Vector2d(scale * Turned(q, turn) + shift);
-    };
-    const auto map_direction = [&](const Eigen::Vector2d& d) {
-      return Turned(Eigen::Vector2d(d.x(), mirror ? -d.y() : d.y()), turn);
-    };
-    const auto dyad = [&](const PlanarDyad& d) {
-      PlanarDyad out = d;
-      out.fixed_pivot = map(d.fixed_pivot);
-      out.moving_pivot = map(d.moving_pivot);
-      out.line_point = map(d.line_point);
-      out.line_direction = map_direction(d.line_direction);
-      out.radius = d.radius * scale;
-      return out;
-    };
-    PathFourBar placed;
-    placed.input = dyad(drawn.input);
-    placed.output = dyad(drawn.output);
-    placed.coupler_point = map(drawn.coupler_point);
+    Similarity2 similarity;
+    similarity.scale = scale;
+    similarity.angle = turn;
+    similarity.translation = shift;
+    const PathFourBar placed = TransformPathFourBar(drawn, similarity, mirror);
     // Crank angles: a full turn or an arc, from a random start, either sense, steps uneven.
     const int count = options.count;
     const double span = options.closed ? 2.0 * kPi : options.arc_turns * 2.0 * kPi;

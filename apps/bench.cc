@@ -46,7 +46,9 @@
 // whose least-squares optimum (the generating dyad refined to convergence) each lists.
 //
 // Only on request (--only curves; not part of the default run): path synthesis from target
-// curves without timing (RunCurves).
+// curves without timing (RunCurves); --curve-rows picks rows by name, --curve-detail prints a
+// line per task (the fits, the best listed fit, the first's defects, the time of each stage) and
+// writes each failed task to /tmp/curve_fail_<row>_<points>_<task>_<effort>.json.
 //
 // Only on request (--only scale; not part of the default run): long tasks of every kind
 // (tests/support/long_tasks.h: 1,000, 10,000 and 100,000 items, or --scale-items) at every
@@ -55,7 +57,7 @@
 //
 //   linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] [--refine-tasks R]
 //                 [--four-tasks F] [--stage-tasks T] [--spherical-tasks K] [--seed S]
-//                 [--curve-tasks C] [--scale-items N,N,...]
+//                 [--curve-tasks C] [--curve-detail] [--curve-rows R] [--scale-items N,N,...]
 //                 [--only planar|spatial|path|refine|stages|spherical|scale|curves]
 #include <glog/logging.h>
 #include <sys/resource.h>
@@ -86,6 +88,7 @@
 #include "fitting/spatial_burmester.h"
 #include "fitting/spherical_motion.h"
 #include "fitting/timed_path.h"
+#include "lib/design_constraints.h"
 #include "lib/path_motion.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
@@ -911,7 +914,7 @@ struct CurveRow {
   int count;
 };
 
-void RunCurves(int tasks, uint64_t seed) {
+void RunCurves(int tasks, uint64_t seed, bool detail, const std::string& only_rows) {
   using linkfit::DyadType;
   using linkfit::Effort;
   const CurveRow rows[] = {{"closed, 12 points", true, 1.0, 1.0, 12},
@@ -929,6 +932,8 @@ void RunCurves(int tasks, uint64_t seed) {
               "bounds", "median_s", "p95_s", "thorough_better");
   for (const CurveRow& row : rows) {
     std::mt19937_64 rng(seed++);
+    // --curve-rows: a row runs when its name contains the text (e.g. "closed, 40").
+    if (!only_rows.empty() && std::string(row.name).find(only_rows) == std::string::npos) continue;
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     struct Tally {
       int curve_fit = 0, timed_fit = 0, bounded = 0, kept = 0;
@@ -968,14 +973,9 @@ void RunCurves(int tasks, uint64_t seed) {
       text += "]";
       const bool bounds = t % 2 == 1;
       if (bounds) {
-        double longest = generator.input.radius;
-        if (generator.output.type == DyadType::kRR)
-          longest = std::max(longest, generator.output.radius);
-        longest = std::max(longest,
-                           (generator.input.moving_pivot - (generator.output.type == DyadType::kRP
-                                                                ? generator.output.fixed_pivot
-                                                                : generator.output.moving_pivot))
-                               .norm());
+        // Its links as the constraints count them (lib/design_constraints.h).
+        const std::vector<double> links = linkfit::PathFourBarLinks(generator).All();
+        const double longest = *std::max_element(links.begin(), links.end());
         Eigen::Vector2d low = generator.input.fixed_pivot, high = low;
         if (generator.output.type != DyadType::kPR) {
           low = low.cwiseMin(generator.output.fixed_pivot);
@@ -991,6 +991,7 @@ void RunCurves(int tasks, uint64_t seed) {
       }
       text += "}";
       double fits[2] = {0.0, 0.0};
+      std::string lines;  // --curve-detail: one line per task and effort
       linkfit::Task parsed;
       try {
         parsed = linkfit::ParseTask(text, "curve");
@@ -1028,8 +1029,54 @@ void RunCurves(int tasks, uint64_t seed) {
           ++tally[e].bounded;
           if (first.violates.empty()) ++tally[e].kept;
         }
+        if (detail && !(fits[e] <= 1.1 * own + 1e-6 * size)) {
+          // A failed task's text, for a look with the CLI.
+          char name[128];
+          std::snprintf(name, sizeof(name), "/tmp/curve_fail_%s_%d_%d_%s.json",
+                        row.closed          ? "closed"
+                        : row.arc_low > 0.5 ? "partial"
+                                            : "open",
+                        row.count, t, e == 0 ? "balanced" : "thorough");
+          if (FILE* file = std::fopen(name, "w")) {
+            std::fputs(text.c_str(), file);
+            std::fclose(file);
+          }
+        }
+        if (detail) {
+          // The best curve fit listed (a search miss, or a ranking that put it further down),
+          // the first's defects and the time of each stage.
+          double best = std::numeric_limits<double>::infinity();
+          size_t best_index = 0;
+          for (size_t m = 0; m < result.mechanisms.size(); ++m) {
+            const double fit =
+                linkfit::testing::CurveRmsDistance(result.mechanisms[m].design, printed, size);
+            if (fit < best) best = fit, best_index = m;
+          }
+          std::string defects;
+          for (const std::string& d : first.defects) defects += d + " ";
+          for (const std::string& v : first.violates) defects += "!" + v + " ";
+          if (!result.mechanisms.empty() && best_index > 0) {
+            defects += "| best:";
+            for (const std::string& d : result.mechanisms[best_index].defects) defects += " " + d;
+            for (const std::string& v : result.mechanisms[best_index].violates) defects += " !" + v;
+          }
+          std::string stages;
+          for (const linkfit::StageReport& stage : result.stages) {
+            std::snprintf(buffer, sizeof(buffer), " %s=%.2f", stage.name.c_str(), stage.seconds);
+            stages += buffer;
+          }
+          std::snprintf(buffer, sizeof(buffer),
+                        "  task %d %s type=%d noise=%g dec=%d bounds=%d %.2fs own=%.3g first=%.3g "
+                        "(%s) best=%.3g #%zu of %zu [%s]%s\n",
+                        t, e == 0 ? "bal" : "tho", static_cast<int>(output), noise, decimals,
+                        bounds ? 1 : 0, tally[e].seconds.back(), own / size, fits[e] / size,
+                        fits[e] <= 1.1 * own + 1e-6 * size ? "pass" : "FAIL", best / size,
+                        best_index, result.mechanisms.size(), defects.c_str(), stages.c_str());
+          lines += buffer;
+        }
       }
       if (fits[1] < 0.99 * fits[0]) ++better;
+      if (detail) std::printf("%s", lines.c_str());
     }
     const int solved = std::max(1, tasks - refused);
     for (int e = 0; e < 2; ++e) {
@@ -1062,6 +1109,8 @@ int main(int argc, char** argv) {
   int stage_tasks = 1000;
   int spherical_tasks = 200;
   int curve_tasks = 24;
+  bool curve_detail = false;
+  std::string curve_rows;  // the curve rows run (their first words: closed, open, partial)
   std::vector<int> scale_counts = {1000, 10000, 100000};
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--tasks") && i + 1 < argc) {
@@ -1082,6 +1131,10 @@ int main(int argc, char** argv) {
       stage_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--curve-tasks") && i + 1 < argc) {
       curve_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--curve-detail")) {
+      curve_detail = true;
+    } else if (!std::strcmp(argv[i], "--curve-rows") && i + 1 < argc) {
+      curve_rows = argv[++i];
     } else if (!std::strcmp(argv[i], "--spherical-tasks") && i + 1 < argc) {
       spherical_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--scale-items") && i + 1 < argc) {
@@ -1094,7 +1147,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr,
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
                    "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] "
-                   "[--spherical-tasks K] [--curve-tasks C] [--scale-items N,N,...] [--seed S] "
+                   "[--spherical-tasks K] [--curve-tasks C] [--curve-detail] [--curve-rows R] "
+                   "[--scale-items N,N,...] [--seed S] "
                    "[--only planar|spatial|path|refine|stages|spherical|scale|curves]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
@@ -1125,7 +1179,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (only == "curves") {
-    RunCurves(curve_tasks, seed);
+    RunCurves(curve_tasks, seed, curve_detail, curve_rows);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,

@@ -280,7 +280,8 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
       ++end;
     }
     // Within the run: within the data's precision the simplest model first (fewest
-    // parameters); then those keeping the defaults the task did not give; then the best fit of
+    // parameters), each model's fits in near ties; then those keeping the defaults the task did
+    // not give; then the best fit of
     // those within kTransmissionTie of the best remaining transmission angle, repeatedly
     // (angles that close are a tie too, decided by the fit).
     std::vector<int> run(order.begin() + begin, order.begin() + end);
@@ -290,9 +291,12 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
     }
     size_t slot = begin;
     for (size_t class_begin = 0; class_begin < run.size();) {
+      // A class: one model (within the data's precision), then near ties of its fits
+      // (kNearTieRatio of the first: a model's better fit is not traded for more than that).
       size_t class_end = class_begin + 1;
       while (class_end < run.size() &&
-             (!within || keys[run[class_end]].parameters == keys[run[class_begin]].parameters)) {
+             (!within || (keys[run[class_end]].parameters == keys[run[class_begin]].parameters &&
+                          fit(run[class_end]) <= kNearTieRatio * fit(run[class_begin])))) {
         ++class_end;
       }
       std::vector<int> keeping(run.begin() + class_begin, run.begin() + class_end);

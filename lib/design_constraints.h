@@ -32,16 +32,17 @@ struct PlanarBox {
 inline constexpr double kDefaultMaxLinkLength = 100.0;
 
 // How far (times L) a four-bar may be past a bound and still keep it: what a refinement that
-// ends on the bound leaves.
-inline constexpr double kConstraintSlack = 1e-6;
+// ends on the bound leaves (a link of 80.0000001 breaks a bound of 80 at L up to 100).
+inline constexpr double kConstraintSlack = 1e-9;
 
 // Two fits (RMS errors) within this ratio of each other are a near tie: the better worst
 // transmission angle ranks first.
 inline constexpr double kNearTieRatio = 1.1;
 
 // Among the four-bars that meet the data within their precision, fits within this ratio are a
-// tie (the simplest model first, then as near ties): the first listed fits within 1.25 times the
-// best (issue 34), and a slider the data cannot tell from a circle still comes first.
+// tie of models (the simplest model first; the fits of one model then as near ties,
+// kNearTieRatio): the first listed fits within 1.25 times the best (issue 34), and a slider the
+// data cannot tell from a circle still comes first.
 inline constexpr double kPrecisionTieRatio = 1.25;
 
 // Transmission angles within this many degrees of each other are a tie too: decided by the fit.
@@ -142,7 +143,8 @@ bool GrashofClassKeeps(const std::string& required, const std::string& grashof);
 // angle the task gave, then those with a kinematic defect (DefectLevel). Within each of those:
 // first those that meet the task within the data's precision, by fit, fits within
 // kPrecisionTieRatio of the first of their run the simplest model first (fewest parameters: a
-// slider where the data cannot tell it from a circle); then the others by fit (smaller first;
+// slider where the data cannot tell it from a circle), each model's fits within kNearTieRatio
+// of each other a near tie; then the others by fit (smaller first;
 // absent last), fits within kNearTieRatio of the first of their run a near tie. Within a tie,
 // those keeping the defaults the task did not give (breaks_default) first, then by the worst
 // transmission angle; angles within kTransmissionTie of each other are a tie, the better fit

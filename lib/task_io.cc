@@ -1663,8 +1663,32 @@ class TaskParser {
     if (CloseLoop("points", coincide, 1, "path synthesis", task)) {
       locations.pop_back();
     }
-    CheckCoincident<4>("points", task->points.size(), feature, 1.0, CoincidentWindow(1.0, length),
-                       coincide);
+    // Untimed, points equal in print are a curve traced finer than its digits, or one that
+    // crosses itself: the coupler passes each where its curve passes it (noted, not refused).
+    // Timed, the same point at the same crank angle is a duplicate.
+    const bool untimed = !task->points.empty() && !task->points.front().input_angle;
+    if (!untimed) {
+      CheckCoincident<4>("points", task->points.size(), feature, 1.0, CoincidentWindow(1.0, length),
+                         coincide);
+      return;
+    }
+    std::vector<size_t> order(task->points.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+      const Eigen::Vector2d &p = task->points[a].point_in_fixed,
+                            &q = task->points[b].point_in_fixed;
+      return std::make_tuple(p.x(), p.y(), a) < std::make_tuple(q.x(), q.y(), b);
+    });
+    int repeats = 0;
+    for (size_t k = 1; k < order.size(); ++k) {
+      repeats += task->points[order[k]].point_in_fixed == task->points[order[k - 1]].point_in_fixed;
+    }
+    if (repeats > 0) {
+      task->input_notes.push_back(
+          std::to_string(repeats) +
+          " point(s) equal in print to another (a curve traced finer than its digits, or crossing "
+          "itself): each is passed where the coupler curve passes it");
+    }
   }
 
   // The characteristic length: `scale` when given, else the RMS distance of `origins` from

@@ -6,12 +6,14 @@
 // against its bound, a fixed pivot against its box, a moving pivot against its box in E, the
 // crank shorter than every other link and Grashof with it); its residual is sqrt(mu) max(0, g), a
 // quadratic penalty. The refiners solve again with mu multiplied by kBoundGrowth until every g is
-// within kBoundSlack (a fraction of kConstraintSlack, so that the result keeps the constraint as
-// the result file judges it), at most kBoundRounds times: an optimum on a bound is approached from
-// outside, to O(1/mu). A required Grashof kind is one (s + l <= p + q); a Grashof class within
-// its kind is left to the ranking. A held transmission angle (the refiners'
-// min_transmission_deg) is a penalty of the same kind on the assembled configurations, raised
-// with the bounds' weight (kTransmissionSamples, HeldTransmissionSine below).
+// within kBoundShiftFrom, then with the bounds held further in by the violation left (the shift
+// of the method of multipliers) until within kBoundSlack (a fraction of kConstraintSlack, so that
+// the result keeps the constraint as the result file judges it), at most kBoundRounds times: an
+// optimum on a bound is approached from outside, to O(1/mu), and the shift moves it onto it. A
+// required Grashof kind is one (s + l <= p + q); a Grashof class within its kind is left to the
+// ranking. A held transmission angle (the refiners' min_transmission_deg) is a penalty of the same
+// kind on the assembled configurations, raised with the bounds' weight (kTransmissionSamples,
+// HeldTransmissionSine below).
 #ifndef LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
 #define LINKFIT_OPTIMIZERS_DESIGN_BOUNDS_H_
 
@@ -29,9 +31,12 @@ namespace linkfit {
 // its growth per round and the rounds at most.
 inline constexpr double kBoundFirstWeight = 1e2;
 inline constexpr double kBoundGrowth = 1e2;
-inline constexpr int kBoundRounds = 5;
+inline constexpr int kBoundRounds = 7;
 // The violation (scaled, times L) a refinement stops at: inside the result file's slack.
 inline constexpr double kBoundSlack = 0.1 * kConstraintSlack;
+// Violations up to this (scaled) are not met by a heavier penalty but by holding the bounds
+// that much further in (ScaledBounds::inset; NextBoundRound).
+inline constexpr double kBoundShiftFrom = 1e-6;
 // A held transmission angle: its sine is held at the configuration of each task pose or point
 // and at kTransmissionSamples - 1 inputs between each two, with a margin of
 // kTransmissionMarginDeg over the minimum asked (the analysis samples the motion more finely),
@@ -62,6 +67,10 @@ struct ScaledBounds {
   // A required Grashof kind (4R): +1 a Grashof class ("grashof" or one of its classes), -1
   // "non-grashof", 0 none. The class within the kind is left to the ranking.
   int grashof_kind = 0;
+  // How far inside every bound the penalty holds the design (scaled): the shift of the method
+  // of multipliers, which brings the optimum the penalty approaches from outside onto the bound
+  // itself (NextBoundRound). BoundViolation measures against the bounds themselves.
+  double inset = 0.0;
 };
 
 // `to_fixed` maps Sigma to the scaled frame Sigma', `to_moving` E to E' (each a scale and a
@@ -292,7 +301,21 @@ void BoundPenalties(const ScaledBounds& bounds, const BoundGeometry<T>& geometry
   T g[kBoundResiduals];
   BoundValues(bounds, geometry, g);
   for (int k = 0; k < kBoundResiduals; ++k) {
-    residual[k] = g[k] > T(0.0) ? T(sqrt_weight * g[k]) : T(0.0);
+    const T held = g[k] + T(bounds.inset);
+    residual[k] = held > T(0.0) ? T(sqrt_weight * held) : T(0.0);
+  }
+}
+
+// The next round onto the bounds of a design `violation` (scaled) past them: a violation over
+// kBoundShiftFrom raises the penalty's weight sqrt(mu) by sqrt(kBoundGrowth); a smaller one
+// holds the bounds that much further in (the penalty's optimum moves in by about as much, onto
+// the bound: the result keeps it to kBoundSlack, 1e-10 L, without a weight that stiffens the
+// solve).
+inline void NextBoundRound(double violation, ScaledBounds* bounds, double* sqrt_weight) {
+  if (violation > kBoundShiftFrom) {
+    *sqrt_weight *= std::sqrt(kBoundGrowth);
+  } else {
+    bounds->inset += violation;
   }
 }
 

@@ -1087,6 +1087,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   const auto refine_from = [&](const Unknowns& start, const char* origin) {
     Candidate candidate;
     candidate.origin = origin;
+    task.bounds.inset = 0.0;  // each start held to the bounds themselves at first
     if (!AllFinite(start)) return candidate;
     const std::vector<int> labels = LabelsNear(task, start);
     DyadBlocks input_blocks = start.input, output_blocks = start.output;
@@ -1112,7 +1113,12 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
                    kTransmissionSlack;
       };
       for (int bound_round = 0; bound_round < kBoundRounds && !kept(); ++bound_round) {
-        bounds_weight *= std::sqrt(kBoundGrowth);
+        const double violation = Violation(task.bounds, input_blocks, output_blocks);
+        if (violation > kBoundSlack) {
+          NextBoundRound(violation, &task.bounds, &bounds_weight);
+        } else {
+          bounds_weight *= std::sqrt(kBoundGrowth);  // the transmission angle's
+        }
         candidate.short_of_coincidence |=
             SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
                            &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
@@ -1161,6 +1167,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   penalty_options.parameter_tolerance = kPenaltyTolerance;
   std::string penalty_message;
   const double first_bounds_weight = std::sqrt(kBoundFirstWeight);
+  task.bounds.inset = 0.0;
   SolvePenalty(task, kPenaltyWeight, &first_bounds_weight, penalty_options, &relaxed,
                &summary.iterations, &penalty_message);
   Candidate relaxed_candidate = refine_from(relaxed, "exact elimination after a penalty stage");

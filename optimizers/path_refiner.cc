@@ -635,9 +635,10 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   }
   task.bounds = ScaleBounds(options.constraints, length, to_scaled);
   task.bounds_weight = std::sqrt(kBoundFirstWeight);
-  // A held transmission angle: prescribed timing only (free timing moves the turns), no RP
-  // output (no transmission angle defined).
-  if (options.min_transmission_deg && !free_timing && four_bar->output.type != DyadType::kRP) {
+  // A held transmission angle: no RP output (no transmission angle defined). Free timing holds
+  // it at the start's turns (the turns move little in a refinement from a projected timing; the
+  // result is judged over its own sweep, and refused below the minimum when the start keeps it).
+  if (options.min_transmission_deg && four_bar->output.type != DyadType::kRP) {
     task.transmission_sin_min = HeldTransmissionSine(*options.min_transmission_deg);
     for (size_t j = 0; j < points.size(); ++j) {
       const int samples = j + 1 < points.size() ? kTransmissionSamples : 1;
@@ -686,7 +687,12 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   while (bound_rounds < kBoundRounds &&
          (Violation(task, state) > kBoundSlack ||
           TransmissionShortfall(task, state, sign) > kTransmissionSlack)) {
-    task.bounds_weight *= std::sqrt(kBoundGrowth);
+    const double violation = Violation(task, state);
+    if (violation > kBoundSlack) {
+      NextBoundRound(violation, &task.bounds, &task.bounds_weight);
+    } else {
+      task.bounds_weight *= std::sqrt(kBoundGrowth);  // the transmission angle's
+    }
     Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
     ++bound_rounds;
   }

@@ -47,10 +47,10 @@ struct PathRefinerOptions {
   // (by default at most 100 L), the fixed pivots' box, the coupler point's offset, a crank input.
   // A result that keeps them replaces a seed that does not, whatever its cost.
   DesignConstraints constraints;
-  // When set (prescribed timing, no RP output), the transmission angle over the crank's sweep is
-  // held at or above it (degrees, plus a 1 degree margin) as the bounds are: a penalty raised
-  // with theirs at the points' crank angles and between them, and a result that keeps it counts
-  // as keeping the bounds.
+  // When set (no RP output), the transmission angle over the crank's sweep is held at or above
+  // it (degrees, plus a 1 degree margin) as the bounds are: a penalty raised with theirs at the
+  // points' crank angles and between them (free timing: the start's), and a result that keeps it
+  // counts as keeping the bounds.
   std::optional<double> min_transmission_deg;
 };
 

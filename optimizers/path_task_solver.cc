@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "fitting/model_choice.h"
 #include "fitting/nine_point_path.h"
@@ -74,8 +75,9 @@ constexpr int kNinePointRefined = 8;
 constexpr int kNinePointNearMax = 32;
 
 // Free timing: atlas candidates (optimizers/coupler_atlas.h) refined per effort (fast lists
-// them unrefined), and a curve whose last point is within this many median steps of its first
-// is matched as closed as well as open.
+// them unrefined; balanced refines thorough's further ones when its own do not find the curve;
+// with constraints, as many again that keep them), and a curve whose last point is within this
+// many median steps of its first is matched as closed as well as open.
 constexpr int kAtlasFast = 3;
 constexpr int kAtlasBalanced = 6;
 constexpr int kAtlasThorough = 16;
@@ -348,6 +350,60 @@ std::optional<double> BestDefectFreeMaxError(const std::vector<PathMechanismRepo
     }
   }
   return best;
+}
+
+// The defect-free report that keeps the task's constraints with the smallest RMS point error
+// (null when there is none).
+const PathMechanismReport* BestKeeper(const std::vector<PathMechanismReport>& reports) {
+  const PathMechanismReport* best = nullptr;
+  for (const PathMechanismReport& report : reports) {
+    if (HasKinematicDefect(report.defects) || !report.violates.empty() || !report.rms_point_error ||
+        report.input_angles.empty()) {
+      continue;
+    }
+    if (!best || *report.rms_point_error < *best->rms_point_error) best = &report;
+  }
+  return best;
+}
+
+// Whether a four-bar's misses of the points look like noise in the points (true) rather than a
+// coupler curve of another shape (false): a curve of another shape runs on one side of the
+// points over whole stretches. The signs of the misses' components normal to the path (its
+// direction at a point taken from the neighbouring points) are tested for too few runs (the
+// Wald-Wolfowitz runs test, one-sided, kRunsSigmas standard deviations); points the curve passes
+// within 1e-9 L are left out. Absent (undecided) with fewer than kRunsMinPoints signed misses.
+constexpr double kRunsSigmas = 2.0;
+constexpr int kRunsMinPoints = 20;
+std::optional<bool> MissesLookLikeNoise(const PathMechanismReport& report, const PathData& data) {
+  const size_t count = data.points.size();
+  if (static_cast<int>(count) < kRunsMinPoints || report.input_angles.size() != count) return {};
+  PathAnalysisOptions options;
+  options.closed = data.closed;
+  const PathFourBarAnalysis analysis =
+      AnalyzePathFourBar(report.design, data.points, report.input_angles, data.length, options);
+  if (analysis.configurations.size() != count) return {};
+  std::vector<int> signs;
+  for (size_t j = 0; j < count; ++j) {
+    const size_t before = j > 0 ? j - 1 : (data.closed ? count - 1 : 0);
+    const size_t after = j + 1 < count ? j + 1 : (data.closed ? 0 : count - 1);
+    const Eigen::Vector2d tangent = data.points[after] - data.points[before];
+    if (!(tangent.norm() > 0.0)) continue;
+    const Eigen::Vector2d normal(-tangent.y(), tangent.x());
+    const Eigen::Vector2d miss =
+        data.points[j] - analysis.configurations[j].ToFixed(report.design.coupler_point);
+    if (miss.norm() <= 1e-9 * data.length) continue;
+    signs.push_back(miss.dot(normal) >= 0.0 ? 1 : -1);
+  }
+  const double n = static_cast<double>(signs.size());
+  if (static_cast<int>(signs.size()) < kRunsMinPoints) return {};
+  const double plus = static_cast<double>(std::count(signs.begin(), signs.end(), 1));
+  const double minus = n - plus;
+  if (plus == 0.0 || minus == 0.0) return false;  // all on one side: a curve of another shape
+  int runs = 1;
+  for (size_t j = 1; j < signs.size(); ++j) runs += signs[j] != signs[j - 1] ? 1 : 0;
+  const double mean = 1.0 + 2.0 * plus * minus / n;
+  const double variance = 2.0 * plus * minus * (2.0 * plus * minus - n) / (n * n * (n - 1.0));
+  return runs >= mean - kRunsSigmas * std::sqrt(std::max(0.0, variance));
 }
 
 StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point start,
@@ -673,9 +729,11 @@ bool Monotonic(const std::vector<double>& angles) {
 }
 
 // Free timing: steps of `angles` against the crank's direction between points closer to each
-// other than twice the four-bar's errors at them are the data's noise, not an order the crank
-// must go back for (issue 34): such a step becomes a zero step. Returns whether the angles are
-// then monotonic (unchanged when some backward step is beyond the noise).
+// other than twice the four-bar's errors at them (at least twice its RMS error) and their
+// precision (PassTolerance) are the data's noise, not an order the crank must go back for
+// (issue 34): such a step becomes a zero step; so does a point next to the first that the
+// projection puts a turn ahead. Returns whether the angles are then monotonic (unchanged when
+// some backward step is beyond the noise).
 bool MonotonicWithinNoise(const PathFourBar& design, const PathData& data,
                           std::vector<double>* angles) {
   if (Monotonic(*angles)) return true;
@@ -683,12 +741,32 @@ bool MonotonicWithinNoise(const PathFourBar& design, const PathData& data,
       AnalyzePathFourBar(design, data.points, *angles, data.length);
   if (analysis.point_errors.size() != data.points.size()) return false;
   const double direction = angles->back() >= angles->front() ? 1.0 : -1.0;
+  const double tolerance = PassTolerance(data);  // the points' own rounding
+  // The noise's width between two points: the errors at them, and at least twice the fit's RMS
+  // error (one point's small error says little about its neighbour's).
+  double squares = 0.0;
+  for (const double error : analysis.point_errors) squares += error * error;
+  const double width = 2.0 * std::sqrt(squares / static_cast<double>(data.points.size()));
   std::vector<double> clamped = *angles;
+  // The points next to the first within the noise (leading ones, closer to it than twice the
+  // errors at both and the precision): one the projection put a turn ahead (just behind the
+  // first point, read from the curve's other end) gets the first's angle.
+  for (size_t j = 1; j < clamped.size(); ++j) {
+    const double noise = analysis.point_errors[j] + analysis.point_errors[0];
+    if (!(noise <= kNoiseResidualCap * data.length &&
+          (data.points[j] - data.points[0]).norm() <= 2.0 * (std::max(noise, width) + tolerance))) {
+      break;
+    }
+    if (direction * (clamped[j] - clamped[0]) > kPi) clamped[j] = clamped[0];
+  }
   for (size_t j = 1; j < clamped.size(); ++j) {
     if (direction * (clamped[j] - clamped[j - 1]) >= 0.0) continue;
     const double apart = (data.points[j] - data.points[j - 1]).norm();
-    const double residual = analysis.point_errors[j] + analysis.point_errors[j - 1];
-    if (!(residual <= kNoiseResidualCap * data.length && apart <= 2.0 * residual)) return false;
+    const double noise = analysis.point_errors[j] + analysis.point_errors[j - 1];
+    if (!(noise <= kNoiseResidualCap * data.length &&
+          apart <= 2.0 * (std::max(noise, width) + tolerance))) {
+      return false;
+    }
     clamped[j] = clamped[j - 1];
   }
   if (!Monotonic(clamped)) return false;
@@ -720,9 +798,22 @@ void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
   if (MonotonicWithinNoise(design, data, &angles)) {
     PathRefinerOptions free_options = options;
     free_options.max_iterations = free_iterations;
+    // A long, flat valley of the fit (an ill-conditioned four-bar) can take more than one
+    // round of iterations: further rounds (up to kRefineRounds in all, as a refine's) while a
+    // round runs out of iterations and lowers the cost by a thousandth; `linkfit refine` then
+    // finds the design refined.
+    double cost = std::numeric_limits<double>::infinity();
     try {
-      RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &angles, &design,
-                        free_options);
+      for (int round = 0; round < kRefineRounds; ++round) {
+        const RefinerSummary summary =
+            RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &angles,
+                              &design, free_options);
+        if (summary.iterations < free_iterations || !(summary.final_cost < 0.999 * cost) ||
+            !(summary.final_cost > 0.0)) {
+          break;
+        }
+        cost = summary.final_cost;
+      }
     } catch (const std::invalid_argument&) {
     }
   }
@@ -821,23 +912,26 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
 }
 
 // Free timing: the candidates of the coupler-curve atlas for the points' curve, timed by
-// projection (ProjectTiming) in their direction and measured; `kept` of them. With constraints
-// the task gives, three times as many are aligned and those that keep them come first (the
-// search shaped by the bounds; the refiners then hold them).
-std::vector<PathMechanismReport> AtlasSeeds(const PathData& data, int kept) {
-  const size_t count = data.points.size();
+// projection (ProjectTiming) in their direction and measured: the `count` best matches after the
+// first `skip`. With constraints the task gives, as many again that keep them as aligned, from
+// the next best matches (the search shaped by the bounds; the refiners then hold them, and pull
+// a close match that breaks one inside).
+std::vector<PathMechanismReport> AtlasSeeds(const PathData& data, int skip, int count) {
+  const size_t points = data.points.size();
   std::vector<double> steps;
-  for (size_t j = 1; j < count; ++j) steps.push_back((data.points[j] - data.points[j - 1]).norm());
+  for (size_t j = 1; j < points; ++j) steps.push_back((data.points[j] - data.points[j - 1]).norm());
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   const double median = steps[steps.size() / 2];
   const double gap = (data.points.back() - data.points.front()).norm();
   AtlasMatchOptions options;
-  options.kept = data.constraints.given ? 3 * kept : kept;
+  options.kept = data.constraints.given ? skip + 3 * count : skip + count;
   options.match_closed = data.closed || gap <= kNearlyClosedSteps * median;
   options.match_open = !data.closed;
   std::vector<PathMechanismReport> seeds;
+  int rank = 0, keepers = 0;
   for (const AtlasMatch& match :
        CouplerAtlas::Shared().Match(data.points, options.match_closed, options)) {
+    if (rank++ < skip) continue;
     std::optional<std::vector<double>> angles =
         ProjectTiming(match.four_bar, data, match.direction);
     if (!angles) continue;
@@ -845,18 +939,32 @@ std::vector<PathMechanismReport> AtlasSeeds(const PathData& data, int kept) {
     PathMechanismReport report = Report(match.four_bar, data, *angles);
     report.input_angles = *angles;
     if (!Monotonic(*angles)) report.defects.push_back("order");
-    if (report.rms_point_error) seeds.push_back(report);
+    if (!report.rms_point_error) continue;
+    if (rank <= skip + count) {
+      seeds.push_back(report);
+    } else if (report.violates.empty() && keepers < count) {
+      seeds.push_back(report);
+      ++keepers;
+    }
   }
-  std::stable_partition(seeds.begin(), seeds.end(),
-                        [](const PathMechanismReport& seed) { return seed.violates.empty(); });
-  if (static_cast<int>(seeds.size()) > kept) seeds.resize(kept);
   return seeds;
+}
+
+// The free-timing refiners' options: a minimum transmission angle the task gives is held by
+// every refinement (the search shaped by it, not only a filter afterwards); the default is not.
+PathRefinerOptions FreeTimingRefiner(const Task& task, const TaskSolverOptions& options) {
+  PathRefinerOptions refiner = options.path_refiner;
+  if (task.constraints.min_transmission_angle_deg) {
+    refiner.min_transmission_deg = *task.constraints.min_transmission_angle_deg;
+  }
+  return refiner;
 }
 
 // Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
 // four-bars of each guess, refined with the angles free (RefineFreeTiming).
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
                      PathResult* result, std::vector<PathFourBar>* fits) {
+  const PathRefinerOptions refiner = FreeTimingRefiner(task, options);
   const int count = static_cast<int>(data.points.size());
   const double tolerance = PassTolerance(data);  // a four-bar through the points
   const auto stage_start = std::chrono::steady_clock::now();
@@ -901,66 +1009,87 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   // The curve as a whole: candidates from the coupler-curve atlas; above fast, refined first (a
   // few refinements from seeds near the curve).
   const auto atlas_start = std::chrono::steady_clock::now();
-  std::vector<PathMechanismReport> atlas_seeds =
-      AtlasSeeds(data, task.effort == Effort::kFast       ? kAtlasFast
-                       : task.effort == Effort::kBalanced ? kAtlasBalanced
-                                                          : kAtlasThorough);
-  if (task.effort != Effort::kFast) {
-    std::vector<PathMechanismReport> refined = atlas_seeds;
+  const int atlas_count = task.effort == Effort::kFast       ? kAtlasFast
+                          : task.effort == Effort::kBalanced ? kAtlasBalanced
+                                                             : kAtlasThorough;
+  std::vector<PathMechanismReport> atlas_seeds = AtlasSeeds(data, 0, atlas_count);
+  const auto refine_atlas = [&](std::vector<PathMechanismReport>* seeds) {
+    std::vector<PathMechanismReport> refined = *seeds;
     for (PathMechanismReport& candidate : refined) {
-      RefineFreeTiming(data, options.path_refiner, &candidate);
+      RefineFreeTiming(data, refiner, &candidate);
     }
-    atlas_seeds.insert(atlas_seeds.end(), refined.begin(), refined.end());
-  }
+    seeds->insert(seeds->end(), refined.begin(), refined.end());
+  };
+  if (task.effort != Effort::kFast) refine_atlas(&atlas_seeds);
   result->stages.push_back(Stage("atlas", atlas_start, atlas_seeds));
   const std::vector<PathMechanismReport> subset_seeds = candidates;
   candidates.insert(candidates.end(), atlas_seeds.begin(), atlas_seeds.end());
-  // Balanced: a refined atlas four-bar through every point within the data's precision is the
-  // curve; the subset seeds' refinement can only come to it or to a worse fit. The nine-point
-  // solve (a second or more) runs at balanced only when the atlas gave no defect-free four-bar.
-  // Thorough runs them always.
-  const std::optional<double> atlas_best = BestDefectFreeMaxError(atlas_seeds);
-  const bool atlas_passes = atlas_best && *atlas_best <= tolerance;
-  const bool search_more = task.effort == Effort::kThorough || !atlas_passes;
-  const bool homotopy = task.effort == Effort::kThorough || !atlas_best;
+  // Balanced stops where the search has found the curve: a keeper of the constraints whose
+  // misses look like the points' noise (MissesLookLikeNoise), or where that cannot be told (few
+  // points, or all passed within 1e-9 L), a defect-free four-bar through every point within the
+  // data's precision; the other stages can only come to the same curve or to
+  // a worse fit. Otherwise the nine-point solve, then the subset seeds' refinement, then the
+  // other nine points (on a near miss), each only while the search has not found it. Thorough
+  // runs them all.
+  const auto found = [&](const std::vector<PathMechanismReport>& reports) {
+    const PathMechanismReport* keeper = BestKeeper(reports);
+    const std::optional<bool> noise =
+        keeper != nullptr ? MissesLookLikeNoise(*keeper, data) : std::nullopt;
+    if (noise) return *noise;  // within the precision or not, its shape decides
+    const std::optional<double> best = BestDefectFreeMaxError(reports);
+    return best && *best <= tolerance;
+  };
+  const bool thorough = task.effort == Effort::kThorough;
+  // Balanced, not found (from kRunsMinPoints points: fewer get the nine-point solve below):
+  // thorough's further atlas candidates first (a restart of the global stage: a few
+  // refinements, against the nine-point solve's fixed cost).
+  const bool few = count < kRunsMinPoints;
+  if (task.effort == Effort::kBalanced && !few && !found(atlas_seeds)) {
+    const auto more_start = std::chrono::steady_clock::now();
+    std::vector<PathMechanismReport> more =
+        AtlasSeeds(data, kAtlasBalanced, kAtlasThorough - kAtlasBalanced);
+    refine_atlas(&more);
+    result->stages.push_back(Stage("atlas, further candidates", more_start, more));
+    atlas_seeds.insert(atlas_seeds.end(), more.begin(), more.end());
+    candidates.insert(candidates.end(), more.begin(), more.end());
+  }
+  // Fewer points than the runs test needs: distinct coupler curves may pass them all within
+  // their precision (the nine-point solve lists them; the error bounds and the note depend on
+  // seeing them), so the nine-point solve runs whatever the atlas found.
+  const bool search_more = task.effort != Effort::kFast && (thorough || few || !found(atlas_seeds));
   std::vector<PathMechanismReport> homotopy_seeds;
-  if (task.effort != Effort::kFast && count >= 9 && homotopy) {
+  if (search_more && count >= 9) {
     const auto homotopy_start = std::chrono::steady_clock::now();
     homotopy_seeds = NinePointSeeds(data, false);
     result->stages.push_back(Stage("nine-point homotopy", homotopy_start, homotopy_seeds));
   }
-  if (task.effort != Effort::kFast && search_more) {
+  if (search_more) {
     const auto refine_start = std::chrono::steady_clock::now();
     for (PathMechanismReport& candidate : homotopy_seeds) {
-      RefineFreeTiming(data, options.path_refiner, &candidate);
+      RefineFreeTiming(data, refiner, &candidate);
     }
-    // A four-bar through every point within the data's precision: the guessed timings' seeds
-    // can only come to the same curve or to a worse fit; they are not refined (thorough
-    // refines them). Refined ones join the seeds rather than replace them (fast's answer stays a
-    // candidate).
-    const std::optional<double> best = BestDefectFreeMaxError(homotopy_seeds);
+    candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
+    // Refined ones join the seeds rather than replace them (fast's answer stays a candidate).
     std::vector<PathMechanismReport> refined;
-    if (task.effort == Effort::kThorough || !(best && *best <= tolerance)) {
+    if (thorough || !found(candidates)) {
       refined = subset_seeds;  // the atlas seeds were refined already
       for (PathMechanismReport& candidate : refined) {
-        RefineFreeTiming(data, options.path_refiner, &candidate);
+        RefineFreeTiming(data, refiner, &candidate);
       }
     }
     candidates.insert(candidates.end(), refined.begin(), refined.end());
-    candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
     result->stages.push_back(Stage("refine", refine_start, candidates));
-    // Still no four-bar through the points: the nine-point solve again on the other nine (a
-    // path the tracker lost, or a curve coarse data moved out of reach of the refinement from
-    // one set, is found from the other). Balanced does it when the miss is small
-    // (kSecondNineMiss); thorough always.
+    // Still not found: the nine-point solve again on the other nine (a path the tracker lost, or
+    // a curve coarse data moved out of reach of the refinement from one set, is found from the
+    // other). Balanced does it when the miss is small (kSecondNineMiss); thorough always.
     const std::optional<double> refined_best = BestDefectFreeMaxError(candidates);
     const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * tolerance;
     if (count >= 10 && !(refined_best && *refined_best <= tolerance) &&
-        (near_miss || task.effort == Effort::kThorough)) {
+        (thorough || (near_miss && !found(candidates)))) {
       const auto second_start = std::chrono::steady_clock::now();
       std::vector<PathMechanismReport> second = NinePointSeeds(data, true);
       for (PathMechanismReport& candidate : second) {
-        RefineFreeTiming(data, options.path_refiner, &candidate);
+        RefineFreeTiming(data, refiner, &candidate);
       }
       result->stages.push_back(Stage("nine-point homotopy, other nine", second_start, second));
       candidates.insert(candidates.end(), second.begin(), second.end());
@@ -1002,6 +1131,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
 void SolveFreeTimingScreened(const Task& task, const PathData& data,
                              const TaskSolverOptions& options, PathResult* result,
                              std::vector<PathFourBar>* fits) {
+  const PathRefinerOptions refiner = FreeTimingRefiner(task, options);
   const std::vector<size_t> picked =
       SpreadIndices(data.points.size(), kFreeTimingScreenPoints, data.exact);
   PathData screen = data;
@@ -1031,7 +1161,7 @@ void SolveFreeTimingScreened(const Task& task, const PathData& data,
     if (!Monotonic(*angles)) report.defects.push_back("order");
     // From the screened optimum, timed on every point: one alternation, then the angles free.
     if (task.effort != Effort::kFast && refined < kScreenRefined) {
-      RefineFreeTiming(data, options.path_refiner, &report, 1, kScreenFreeIterations);
+      RefineFreeTiming(data, refiner, &report, 1, kScreenFreeIterations);
       ++refined;
     }
     candidates.push_back(report);
@@ -1198,8 +1328,16 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   const bool free_timing = StartResult(task, data, &result);
   const int count = static_cast<int>(data.points.size());
   std::vector<PathFourBar> fits;  // free timing: the four-bars through the points
-  if (count < 5) {
-    result.notes.push_back(std::to_string(count) + " point(s): a four-bar has 10 parameters, so " +
+  // Untimed points may repeat in print (a dense trace): the distinct ones count.
+  std::vector<std::pair<double, double>> distinct;
+  for (const Eigen::Vector2d& point : data.points) distinct.emplace_back(point.x(), point.y());
+  std::sort(distinct.begin(), distinct.end());
+  const int distinct_count =
+      static_cast<int>(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
+  if (distinct_count < 5) {
+    result.notes.push_back(std::to_string(distinct_count) +
+                           (distinct_count < count ? " distinct" : "") +
+                           " point(s): a four-bar has 10 parameters, so " +
                            (free_timing ? "fewer than nine untimed points leave"
                                         : "fewer than five timed points leave") +
                            " a family of solutions; give at least five points");

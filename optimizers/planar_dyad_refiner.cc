@@ -287,15 +287,17 @@ Attempt RefineModel(const ScaledTask& task, const PlanarDyad& start,
       break;
   }
   double bounds_weight = std::sqrt(kBoundFirstWeight);
-  problem.AddResidualBlock(DyadBoundsResidual::Create(p.type, &task.bounds, &bounds_weight),
-                           nullptr, first, second, third);
+  ScaledBounds held = task.bounds;  // the bounds as the penalty holds them (NextBoundRound)
+  problem.AddResidualBlock(DyadBoundsResidual::Create(p.type, &held, &bounds_weight), nullptr,
+                           first, second, third);
 
   // The exact poses' penalty rounds, then the design bounds' (design_bounds.h).
   const int rounds = task.exact_count > 0 ? 1 + std::max(0, options.max_penalty_rounds) : 1;
   for (int round = 0; round < rounds + kBoundRounds; ++round) {
     if (round >= rounds) {
-      if (Violation(task, p) <= kBoundSlack) break;
-      bounds_weight *= std::sqrt(kBoundGrowth);
+      const double violation = Violation(task, p);
+      if (violation <= kBoundSlack) break;
+      NextBoundRound(violation, &held, &bounds_weight);
     } else if (round > 0) {
       penalty *= kPenaltyGrowth;
       set_weights();

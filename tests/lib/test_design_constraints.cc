@@ -135,6 +135,12 @@ TEST(DesignConstraints, MotionViolationsNameEachConstraint) {
   on_bound.max_link_length = 4.0;
   on_bound.fixed_pivots_box = PlanarBox{{0, 0}, {4, 0}};
   EXPECT_TRUE(MotionViolations(on_bound, input, output, kind, 1.0).empty());
+  // Past it by 1e-9 relative breaks it (issue 34: a link of 80.0000001 breaks 80), at a task
+  // length of the links' order.
+  DesignConstraints just_under;
+  just_under.max_link_length = 4.0 / (1.0 + 1.25e-9);
+  EXPECT_EQ(MotionViolations(just_under, input, output, kind, 2.0),
+            (std::vector<std::string>{"max_link_length"}));
   // Without max_link_length the default bounds the links: 100 L.
   EXPECT_EQ(MotionViolations(DesignConstraints(), input, output, kind, 0.039),
             (std::vector<std::string>{"max_link_length"}));

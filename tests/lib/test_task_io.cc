@@ -603,6 +603,18 @@ TEST(TaskIoErrors, PathPoints) {
   // The same point at another input angle is a crossing of the curve, not a duplicate.
   json["points"][3]["input_deg"] = 90.0;
   EXPECT_EQ(ErrorOf(json), "<no error>");
+  // Untimed, points equal in print are a dense trace, or a curve crossing itself (issue 34):
+  // kept, and noted.
+  json = PathTaskJson();
+  for (auto& point : json["points"]) point.erase("input_deg");
+  json["points"][3] = json["points"][2];
+  json["points"][4] = json["points"][1];
+  EXPECT_EQ(ErrorOf(json), "<no error>");
+  const Task repeated = ParseTask(json.dump(), "task.json");
+  EXPECT_EQ(repeated.points.size(), json["points"].size());
+  ASSERT_FALSE(repeated.input_notes.empty());
+  EXPECT_NE(repeated.input_notes.back().find("2 point(s) equal in print to another"),
+            std::string::npos);
 
   json = PathTaskJson();
   json["space"] = "spatial";

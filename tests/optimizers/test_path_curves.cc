@@ -3,11 +3,13 @@
 // decimals, give back a four-bar that fits them as well as the generator does, listed first.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <random>
 #include <string>
 
+#include "lib/design_constraints.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_curve.h"
@@ -37,8 +39,11 @@ struct CurveCase {
 };
 
 // The first listed four-bar's untimed fit (RMS distance of the printed points from its coupler
-// curve) against the generator's own.
-void ExpectFirstFitsAsTheGenerator(const CurveCase& c, std::uint64_t seed, Effort effort) {
+// curve) against the generator's own; `bounded`: with bounds the generator keeps (links at most
+// 1.25 times its longest, both fixed pivots in its pivots' box grown by 30 % of the curve's
+// size), which the first keeps to 1e-9 relative.
+void ExpectFirstFitsAsTheGenerator(const CurveCase& c, std::uint64_t seed, Effort effort,
+                                   bool bounded = false) {
   std::mt19937_64 rng(seed);
   testing::CurveOptions options;
   options.count = c.count;
@@ -48,15 +53,33 @@ void ExpectFirstFitsAsTheGenerator(const CurveCase& c, std::uint64_t seed, Effor
   // Three decimals of a curve scaled to about 10 across.
   std::vector<Eigen::Vector2d> scaled;
   for (const Eigen::Vector2d& p : curve.points) scaled.push_back(p * (4.0 / curve.size));
-  const Task task = testing::ReadRounded(FixedDecimalsText(scaled, 3), effort);
+  Similarity2 scaling;
+  scaling.scale = 4.0 / curve.size;
+  const PathFourBar generator = TransformPathFourBar(curve.four_bar, scaling);
+  std::string bounds;
+  double max_link = 0.0;
+  if (bounded) {
+    const std::vector<double> links = PathFourBarLinks(generator).All();
+    max_link = 1.25 * *std::max_element(links.begin(), links.end());
+    Eigen::Vector2d low = generator.input.fixed_pivot, high = low;
+    if (generator.output.type != DyadType::kPR) {
+      low = low.cwiseMin(generator.output.fixed_pivot);
+      high = high.cwiseMax(generator.output.fixed_pivot);
+    }
+    const double grow = 0.3 * 4.0;
+    char buffer[256];
+    std::snprintf(buffer, sizeof(buffer),
+                  R"(, "constraints": {"max_link_length": %.17g, "fixed_pivots_box": )"
+                  R"([[%.17g, %.17g], [%.17g, %.17g]]})",
+                  max_link, low.x() - grow, low.y() - grow, high.x() + grow, high.y() + grow);
+    bounds = buffer;
+  }
+  const Task task = testing::ReadRounded(FixedDecimalsText(scaled, 3, bounds), effort);
   ASSERT_DOUBLE_EQ(task.precision.length, 5e-4);
   const PathResult result = SolvePathTask(task);
   ASSERT_FALSE(result.mechanisms.empty());
   std::vector<Eigen::Vector2d> printed;
   for (const TimedPoint& point : task.points) printed.push_back(point.point_in_fixed);
-  Similarity2 scaling;
-  scaling.scale = 4.0 / curve.size;
-  const PathFourBar generator = TransformPathFourBar(curve.four_bar, scaling);
   const double own = testing::CurveRmsDistance(generator, printed, result.scale);
   const PathMechanismReport& first = result.mechanisms.front();
   const double fit = testing::CurveRmsDistance(first.design, printed, result.scale);
@@ -81,6 +104,12 @@ void ExpectFirstFitsAsTheGenerator(const CurveCase& c, std::uint64_t seed, Effor
                                    << ", generator's own " << own;
   EXPECT_TRUE(first.defects.empty() || first.defects == std::vector<std::string>{"transmission"})
       << "seed " << seed;
+  if (bounded) {
+    EXPECT_TRUE(first.violates.empty()) << "seed " << seed;
+    const std::vector<double> links = PathFourBarLinks(first.design).All();
+    EXPECT_LE(*std::max_element(links.begin(), links.end()), max_link * (1.0 + 1e-9))
+        << "seed " << seed;
+  }
 }
 
 TEST(PathCurves, ClosedCurvesOfEveryTypeAtBalanced) {
@@ -99,6 +128,30 @@ TEST(PathCurves, OpenArcsOfEveryTypeAtBalanced) {
       ExpectFirstFitsAsTheGenerator({output, false, arc, 25}, seed++, Effort::kBalanced);
     }
   }
+}
+
+// Bounds the generator keeps (issue 34): the first listed keeps them and fits as well.
+TEST(PathCurves, BoundedCurvesOfEveryTypeAtBalanced) {
+  std::uint64_t seed = 3440;
+  for (const DyadType output : {DyadType::kRR, DyadType::kPR, DyadType::kRP}) {
+    ExpectFirstFitsAsTheGenerator({output, true, 1.0, 30}, seed++, Effort::kBalanced, true);
+    ExpectFirstFitsAsTheGenerator({output, false, 0.5, 30}, seed++, Effort::kBalanced, true);
+  }
+}
+
+// Untimed points equal in print (a dense trace) are kept (issue 34); fewer than five distinct
+// ones leave a family of four-bars, said in a note, nothing listed.
+TEST(PathCurves, RepeatedPointsCountOnce) {
+  const PathResult result = SolvePathTask(testing::ReadRounded(
+      R"({"problem": "path", "points": [{"x": 0, "y": 0}, {"x": 1, "y": 0}, {"x": 1, "y": 0},)"
+      R"( {"x": 1, "y": 1}, {"x": 0, "y": 1}, {"x": 0, "y": 1}]})",
+      Effort::kBalanced));
+  EXPECT_TRUE(result.mechanisms.empty());
+  bool noted = false;
+  for (const std::string& note : result.notes) {
+    noted = noted || note.find("4 distinct point(s)") != std::string::npos;
+  }
+  EXPECT_TRUE(noted);
 }
 
 // A closed curve whose generator has a poor transmission angle: the task gives no minimum, so

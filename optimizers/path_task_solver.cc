@@ -1095,6 +1095,32 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       candidates.insert(candidates.end(), second.begin(), second.end());
     }
   }
+  // Thorough: the NLopt crank search (optimizers/path_search.h) under the timing of the best
+  // keeper found, its crank angles at the points: other basins of the fit near that timing,
+  // their four-bars refined with the angles free.
+  const PathMechanismReport* keeper = thorough ? BestKeeper(candidates) : nullptr;
+  if (keeper != nullptr && Monotonic(keeper->input_angles)) {
+    const auto search_start = std::chrono::steady_clock::now();
+    const std::vector<double> timing = keeper->input_angles;
+    PathSearchOptions search = options.path_search;
+    search.refiner = refiner;
+    std::vector<PathFourBar> found;
+    try {
+      SearchPathFourBars(data.points, data.weights, data.exact, timing, data.length, search,
+                         &found);
+    } catch (const std::invalid_argument&) {
+    }
+    std::vector<PathMechanismReport> searched;
+    for (const PathFourBar& four_bar : found) {
+      PathMechanismReport report = Report(four_bar, data, timing);
+      if (!report.max_point_error) continue;
+      report.input_angles = timing;
+      RefineFreeTiming(data, refiner, &report);
+      searched.push_back(report);
+    }
+    result->stages.push_back(Stage("search, the best's timing", search_start, searched));
+    candidates.insert(candidates.end(), searched.begin(), searched.end());
+  }
   for (const PathMechanismReport& candidate : candidates) {
     if (candidate.defects.empty() && candidate.max_point_error &&
         *candidate.max_point_error <= tolerance) {

@@ -177,6 +177,62 @@ TEST(PathCurves, NoisyCurvesStopWhereTheMissesLookLikeNoise) {
   EXPECT_GE(stopped, 3);
 }
 
+// The decisions the digits drive (issue 34, item 6), on a slider-crank's closed curve of 40
+// points printed to 1, 2 and 3 fixed decimals at 1, 10 and 100 units across: the table is read
+// at its finest decimal and never refused; the first listed fits as well as the generator; it
+// is a slider-crank unless a 4R fits clearly better (beyond a near tie); and no note calls a
+// four-bar meaningless, the undetermined-dimensions note only where a listed bound says so.
+TEST(PathCurves, FixedDecimalTablesOfEverySize) {
+  std::mt19937_64 rng(3480);
+  testing::CurveOptions options;
+  options.count = 40;
+  const testing::GeneratedCurve curve = testing::RandomCurve(rng, DyadType::kPR, options);
+  for (const double across : {1.0, 10.0, 100.0}) {
+    for (const int decimals : {1, 2, 3}) {
+      SCOPED_TRACE(std::to_string(across) + " across, " + std::to_string(decimals) + " decimals");
+      Similarity2 scaling;
+      scaling.scale = across / (4.0 * curve.size);
+      std::vector<Eigen::Vector2d> scaled;
+      for (const Eigen::Vector2d& p : curve.points) scaled.push_back(scaling.Apply(p));
+      const Task task =
+          testing::ReadRounded(FixedDecimalsText(scaled, decimals), Effort::kBalanced);
+      EXPECT_DOUBLE_EQ(task.precision.length, 0.5 * std::pow(10.0, -decimals));
+      const PathResult result = SolvePathTask(task);
+      ASSERT_FALSE(result.mechanisms.empty());
+      std::vector<Eigen::Vector2d> printed;
+      for (const TimedPoint& point : task.points) printed.push_back(point.point_in_fixed);
+      const PathFourBar generator = TransformPathFourBar(curve.four_bar, scaling);
+      const double size = across / 4.0;
+      const double own = testing::CurveRmsDistance(generator, printed, size);
+      const PathMechanismReport& first = result.mechanisms.front();
+      EXPECT_LE(testing::CurveRmsDistance(first.design, printed, size), 1.1 * own + 1e-6 * size);
+      if (first.type != FourBarType::kSliderCrank) {
+        for (const PathMechanismReport& listed : result.mechanisms) {
+          if (listed.type != FourBarType::kSliderCrank || !listed.violates.empty() ||
+              HasKinematicDefect(listed.defects)) {
+            continue;
+          }
+          EXPECT_GT(*listed.rms_point_error, kNearTieRatio * *first.rms_point_error)
+              << "a slider-crank in a near tie with the first " << FourBarTypeName(first.type);
+        }
+      }
+      bool undetermined = false;
+      for (const PathMechanismReport& listed : result.mechanisms) {
+        undetermined = undetermined ||
+                       (listed.error_bound &&
+                        !(*listed.error_bound <= PathFourBarSize(listed.design, printed, size)));
+      }
+      bool noted = false;
+      for (const std::string& note : result.notes) {
+        EXPECT_EQ(note.find("meaning"), std::string::npos) << note;
+        noted = noted ||
+                note.find("not determined by the points at this precision") != std::string::npos;
+      }
+      EXPECT_EQ(noted, undetermined);
+    }
+  }
+}
+
 // Untimed points equal in print (a dense trace) are kept (issue 34); fewer than five distinct
 // ones leave a family of four-bars, said in a note, nothing listed.
 TEST(PathCurves, RepeatedPointsCountOnce) {

@@ -373,7 +373,7 @@ const PathMechanismReport* BestKeeper(const std::vector<PathMechanismReport>& re
 // Wald-Wolfowitz runs test, one-sided, kRunsSigmas standard deviations); points the curve passes
 // within 1e-9 L are left out. Absent (undecided) with fewer than kRunsMinPoints signed misses.
 constexpr double kRunsSigmas = 2.0;
-constexpr int kRunsMinPoints = 20;
+constexpr int kRunsMinPoints = 40;
 std::optional<bool> MissesLookLikeNoise(const PathMechanismReport& report, const PathData& data) {
   const size_t count = data.points.size();
   if (static_cast<int>(count) < kRunsMinPoints || report.input_angles.size() != count) return {};

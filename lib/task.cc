@@ -1,5 +1,9 @@
 #include "lib/task.h"
 
+#include <algorithm>
+#include <utility>
+#include <vector>
+
 namespace linkfit {
 
 const char* ProblemKindName(ProblemKind kind) {
@@ -18,6 +22,15 @@ const char* EffortName(Effort effort) {
       return "thorough";
   }
   return "balanced";
+}
+
+int DistinctPoints(const std::vector<TimedPoint>& points) {
+  std::vector<std::pair<double, double>> locations;
+  for (const TimedPoint& point : points) {
+    locations.emplace_back(point.point_in_fixed.x(), point.point_in_fixed.y());
+  }
+  std::sort(locations.begin(), locations.end());
+  return static_cast<int>(std::unique(locations.begin(), locations.end()) - locations.begin());
 }
 
 Task PlanarMotionTask(const std::vector<PlanarPose>& poses, Effort effort) {

@@ -1672,17 +1672,7 @@ class TaskParser {
                          coincide);
       return;
     }
-    std::vector<size_t> order(task->points.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-      const Eigen::Vector2d &p = task->points[a].point_in_fixed,
-                            &q = task->points[b].point_in_fixed;
-      return std::make_tuple(p.x(), p.y(), a) < std::make_tuple(q.x(), q.y(), b);
-    });
-    int repeats = 0;
-    for (size_t k = 1; k < order.size(); ++k) {
-      repeats += task->points[order[k]].point_in_fixed == task->points[order[k - 1]].point_in_fixed;
-    }
+    const int repeats = static_cast<int>(task->points.size()) - DistinctPoints(task->points);
     if (repeats > 0) {
       task->input_notes.push_back(
           std::to_string(repeats) +

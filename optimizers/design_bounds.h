@@ -308,11 +308,12 @@ void BoundPenalties(const ScaledBounds& bounds, const BoundGeometry<T>& geometry
 
 // The next round onto the bounds of a design `violation` (scaled) past them: a violation over
 // kBoundShiftFrom raises the penalty's weight sqrt(mu) by sqrt(kBoundGrowth); a smaller one
-// holds the bounds that much further in (the penalty's optimum moves in by about as much, onto
-// the bound: the result keeps it to kBoundSlack, 1e-10 L, without a weight that stiffens the
-// solve).
+// (over kBoundSlack) holds the bounds that much further in (the penalty's optimum moves in by
+// about as much, onto the bound: the result keeps it to kBoundSlack, 1e-10 L, without a weight
+// that stiffens the solve). Bounds kept, the round is the held transmission angle's: the weight
+// it shares with them is raised.
 inline void NextBoundRound(double violation, ScaledBounds* bounds, double* sqrt_weight) {
-  if (violation > kBoundShiftFrom) {
+  if (violation > kBoundShiftFrom || violation <= kBoundSlack) {
     *sqrt_weight *= std::sqrt(kBoundGrowth);
   } else {
     bounds->inset += violation;

@@ -1113,12 +1113,8 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
                    kTransmissionSlack;
       };
       for (int bound_round = 0; bound_round < kBoundRounds && !kept(); ++bound_round) {
-        const double violation = Violation(task.bounds, input_blocks, output_blocks);
-        if (violation > kBoundSlack) {
-          NextBoundRound(violation, &task.bounds, &bounds_weight);
-        } else {
-          bounds_weight *= std::sqrt(kBoundGrowth);  // the transmission angle's
-        }
+        NextBoundRound(Violation(task.bounds, input_blocks, output_blocks), &task.bounds,
+                       &bounds_weight);
         candidate.short_of_coincidence |=
             SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
                            &input_blocks, &output_blocks, &summary.iterations, &candidate.message);

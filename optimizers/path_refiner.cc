@@ -687,12 +687,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   while (bound_rounds < kBoundRounds &&
          (Violation(task, state) > kBoundSlack ||
           TransmissionShortfall(task, state, sign) > kTransmissionSlack)) {
-    const double violation = Violation(task, state);
-    if (violation > kBoundSlack) {
-      NextBoundRound(violation, &task.bounds, &task.bounds_weight);
-    } else {
-      task.bounds_weight *= std::sqrt(kBoundGrowth);  // the transmission angle's
-    }
+    NextBoundRound(Violation(task, state), &task.bounds, &task.bounds_weight);
     Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
     ++bound_rounds;
   }

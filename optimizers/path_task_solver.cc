@@ -1044,7 +1044,8 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   // thorough's further atlas candidates first (a restart of the global stage: a few
   // refinements, against the nine-point solve's fixed cost).
   const bool few = count < kRunsMinPoints;
-  if (task.effort == Effort::kBalanced && !few && !found(atlas_seeds)) {
+  bool atlas_found = task.effort != Effort::kFast && found(atlas_seeds);
+  if (task.effort == Effort::kBalanced && !few && !atlas_found) {
     const auto more_start = std::chrono::steady_clock::now();
     std::vector<PathMechanismReport> more =
         AtlasSeeds(data, kAtlasBalanced, kAtlasThorough - kAtlasBalanced);
@@ -1052,11 +1053,12 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     result->stages.push_back(Stage("atlas, further candidates", more_start, more));
     atlas_seeds.insert(atlas_seeds.end(), more.begin(), more.end());
     candidates.insert(candidates.end(), more.begin(), more.end());
+    atlas_found = found(atlas_seeds);
   }
   // Fewer points than the runs test needs: distinct coupler curves may pass them all within
   // their precision (the nine-point solve lists them; the error bounds and the note depend on
   // seeing them), so the nine-point solve runs whatever the atlas found.
-  const bool search_more = task.effort != Effort::kFast && (thorough || few || !found(atlas_seeds));
+  const bool search_more = task.effort != Effort::kFast && (thorough || few || !atlas_found);
   std::vector<PathMechanismReport> homotopy_seeds;
   if (search_more && count >= 9) {
     const auto homotopy_start = std::chrono::steady_clock::now();
@@ -1104,14 +1106,14 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     const std::vector<double> timing = keeper->input_angles;
     PathSearchOptions search = options.path_search;
     search.refiner = refiner;
-    std::vector<PathFourBar> found;
+    std::vector<PathFourBar> four_bars;
     try {
       SearchPathFourBars(data.points, data.weights, data.exact, timing, data.length, search,
-                         &found);
+                         &four_bars);
     } catch (const std::invalid_argument&) {
     }
     std::vector<PathMechanismReport> searched;
-    for (const PathFourBar& four_bar : found) {
+    for (const PathFourBar& four_bar : four_bars) {
       PathMechanismReport report = Report(four_bar, data, timing);
       if (!report.max_point_error) continue;
       report.input_angles = timing;
@@ -1355,11 +1357,7 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
   const int count = static_cast<int>(data.points.size());
   std::vector<PathFourBar> fits;  // free timing: the four-bars through the points
   // Untimed points may repeat in print (a dense trace): the distinct ones count.
-  std::vector<std::pair<double, double>> distinct;
-  for (const Eigen::Vector2d& point : data.points) distinct.emplace_back(point.x(), point.y());
-  std::sort(distinct.begin(), distinct.end());
-  const int distinct_count =
-      static_cast<int>(std::unique(distinct.begin(), distinct.end()) - distinct.begin());
+  const int distinct_count = DistinctPoints(task.points);
   if (distinct_count < 5) {
     result.notes.push_back(std::to_string(distinct_count) +
                            (distinct_count < count ? " distinct" : "") +

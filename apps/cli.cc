@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "apps/output_file.h"
-#include "apps/parallel.h"
+#include "lib/parallel.h"
 #include "apps/picture.h"
 #include "apps/trade_bench.h"
 #include "lib/result_io.h"
@@ -274,6 +274,9 @@ void SolveBatch(const std::string& task_path, const SolveOutputs& options, unsig
       });
     });
   }
+  // A task a thread: each solve on one (TaskSolverOptions::threads) when the batch runs on more.
+  TaskSolverOptions solver;
+  solver.threads = jobs > 1 ? 1 : 0;
   std::vector<std::string> texts;
   ForEachChunk(task_path,
                [&](const std::vector<std::string>& lines, const std::vector<std::string>& sources) {
@@ -281,7 +284,7 @@ void SolveBatch(const std::string& task_path, const SolveOutputs& options, unsig
                  RunChunk(lines.size(), jobs, [&](size_t i) {
                    Task task = ParseTask(lines[i], sources[i]);
                    ApplyOverrides(options, task_path, &task);
-                   texts[i] = ResultToJson(SolveTask(task), -1) + "\n";
+                   texts[i] = ResultToJson(SolveTask(task, solver), -1) + "\n";
                  });
                  for (const std::string& text : texts) out->Write(text);
                });

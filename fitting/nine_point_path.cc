@@ -7,6 +7,7 @@
 #include <random>
 
 #include "lib/dyad.h"
+#include "lib/parallel.h"
 
 namespace linkfit {
 namespace {
@@ -549,9 +550,17 @@ int SolveNinePointPath(const std::vector<Eigen::Vector2d>& points, const NinePoi
     target[Dh(j)] = std::conj(d);
   }
   const NinePointStart& start = BuiltInNinePointStart();
-  for (State state : start.solutions) {
+  // The paths are independent: tracked on options.threads, then read in the start's order.
+  const size_t count = start.solutions.size();
+  std::vector<State> ends = start.solutions;
+  std::vector<char> tracked(count, 0);
+  ParallelFor(count, ThreadCount(options.threads), [&](size_t i) {
+    tracked[i] = TrackNinePoint(start.parameters, target, options.track, &ends[i]);
+  });
+  for (size_t i = 0; i < count; ++i) {
+    const State& state = ends[i];
     ++local.paths;
-    if (!TrackNinePoint(start.parameters, target, options.track, &state)) {
+    if (!tracked[i]) {
       ++local.paths_failed;
       continue;
     }

@@ -70,6 +70,9 @@ struct NinePointOptions {
   // Both labelings of every real four-bar (either dyad as the crank), and its cognates.
   bool swap_dyads = true;
   bool cognates = false;
+  // Threads the paths are tracked on (lib/parallel.h; 0: the machine's). The result does not
+  // depend on them.
+  int threads = 0;
 };
 
 struct NinePointSummary {

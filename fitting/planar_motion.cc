@@ -333,7 +333,7 @@ RankKey MechanismRankKey(const MechanismReport& mechanism, double precision_fit,
   // Not assembling at the first pose, it cannot be driven through the poses at all.
   JudgeWithDefaults(constraints, mechanism.violates, mechanism.defects,
                     mechanism.max_pose_error.has_value(), &key);
-  key.transmission_min_deg = mechanism.transmission_min_deg;
+  key.transmission_min_deg = TransmissionTieBreak(constraints, mechanism.transmission_min_deg);
   return key;
 }
 

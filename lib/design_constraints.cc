@@ -371,6 +371,12 @@ void JudgeWithDefaults(const DesignConstraints& constraints,
   key->defect_level = driven ? DefectLevel(given_defects) : 2;
 }
 
+std::optional<double> TransmissionTieBreak(const DesignConstraints& constraints,
+                                           const std::optional<double>& angle) {
+  if (constraints.min_transmission_angle_deg) return std::nullopt;
+  return angle;
+}
+
 std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit) {
   if (ranked.empty() || ranked.front().breaks_default.empty()) return "";
   const RankKey& first = ranked.front();

@@ -148,7 +148,8 @@ bool GrashofClassKeeps(const std::string& required, const std::string& grashof);
 // absent last), fits within kNearTieRatio of the first of their run a near tie. Within a tie,
 // those keeping the defaults the task did not give (breaks_default) first, then by the worst
 // transmission angle; angles within kTransmissionTie of each other are a tie, the better fit
-// first (fits equal to rounding or below fit_floor: the smaller size first); absent ones last.
+// first (fits equal to rounding or below fit_floor: the smaller size first); absent ones last
+// (all absent where the task gives its own limit: TransmissionTieBreak; the fit decides).
 struct RankKey {
   // Misses an item the task marks exact (a pose or point) by more than the promised 1e-9 L:
   // listed after every one that meets them, whatever its fit.
@@ -158,6 +159,7 @@ struct RankKey {
   std::optional<double> fit;
   bool within_precision = false;  // its largest error is within the data's precision
   int parameters = 0;             // FourBarParameters
+  // The worst transmission angle, a near tie's tie-break (TransmissionTieBreak; absent: none).
   std::optional<double> transmission_min_deg;
   // The mechanism's size (JointSpread), the last tie-break: between fits equal to rounding (the
   // timed cognates of one curve, a design found twice) or all within the data's precision, the
@@ -180,6 +182,13 @@ struct RankKey {
 void JudgeWithDefaults(const DesignConstraints& constraints,
                        const std::vector<std::string>& violates,
                        const std::vector<std::string>& defects, bool driven, RankKey* key);
+
+// The worst transmission angle as a near tie's tie-break (RankKey::transmission_min_deg):
+// `angle`, unless the task gives min_transmission_angle_deg. The preference for a better angle
+// is the default's; a task that states the angle it needs has made it a rule (kept or violated),
+// and the fit decides its near ties.
+std::optional<double> TransmissionTieBreak(const DesignConstraints& constraints,
+                                           const std::optional<double>& angle);
 
 // The note a result gives when its first mechanism (ranked[0]) breaks a default the task did not
 // give: which, and what the best-fitting listed mechanism that keeps the defaults (and is in the

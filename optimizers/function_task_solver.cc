@@ -249,7 +249,7 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
     key.within_precision = report.max_angle_error && *report.max_angle_error <= pass;
     key.fit_floor = 1e-3 * pass;
     key.parameters = FourBarParameters(FourBarType::k4R);
-    key.transmission_min_deg = report.transmission_min_deg;
+    key.transmission_min_deg = TransmissionTieBreak(task.constraints, report.transmission_min_deg);
     if (report.first) {
       key.size = JointSpread({report.first->input_pivot, report.first->input_moving,
                               report.first->output_pivot, report.first->output_moving});

@@ -457,10 +457,11 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
     *iterations += used;
     *message = summary.message;
     budget -= std::max(used, 1);
-    if (budget <= 0) return;
     if (!free_timing) return;
     if (!windowed) {
-      // In order: every point solved for at or ahead of the one before it.
+      // In order: every point solved for at or ahead of the one before it (checked before the
+      // budget: a round 0 that runs out of iterations out of order is redone in order, never
+      // returned).
       bool in_order = true;
       double previous = 0.0;
       for (size_t j = 1; j < count; ++j) {
@@ -469,10 +470,18 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
         previous = state->turns[j - 1];
       }
       if (in_order || summary.termination_type == ceres::FAILURE) return;
-      *state = start;  // out of order: the windowed rounds, which keep the order
+      // Out of order: the windowed rounds, which keep the order, from the start; from this
+      // round's four-bar at the start's (ordered) turns when it ran out of iterations (it was
+      // still on its way, not at an optimum out of order).
+      if (budget > 0) {
+        *state = start;
+      } else {
+        state->turns = start.turns;
+      }
       budget = options.max_num_iterations;
       continue;
     }
+    if (budget <= 0) return;
     // Another round when a turn stopped at a window's edge that is not a real limit (the first
     // point's turn behind, one turn ahead).
     bool at_edge = false;

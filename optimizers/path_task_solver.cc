@@ -16,6 +16,7 @@
 #include "lib/four_bar_motion.h"
 #include "lib/golden_section.h"
 #include "lib/mechanism.h"
+#include "lib/parallel.h"
 #include "lib/path_motion.h"
 #include "lib/precision.h"
 #include "optimizers/coupler_atlas.h"
@@ -206,7 +207,7 @@ RankKey PathRankKey(bool least_squares, double precision_fit, const DesignConstr
   // Not driven through every point, it cannot pass them at all.
   JudgeWithDefaults(constraints, report.violates, report.defects,
                     report.max_point_error.has_value(), &key);
-  key.transmission_min_deg = report.transmission_min_deg;
+  key.transmission_min_deg = TransmissionTieBreak(constraints, report.transmission_min_deg);
   const PathFourBar& design = report.design;
   std::vector<Eigen::Vector2d> joints = {design.input.fixed_pivot, design.input.moving_pivot,
                                          design.coupler_point};
@@ -728,12 +729,121 @@ bool Monotonic(const std::vector<double>& angles) {
   return true;
 }
 
+// The indices of a longest run (a subsequence) of `offsets` that never decreases, `offsets[0]`
+// (the smallest) first: patience sorting, O(n log n).
+std::vector<size_t> LongestInOrder(const std::vector<double>& offsets) {
+  std::vector<size_t> tails;  // tails[k]: the last index of the best run of k + 1
+  std::vector<size_t> before(offsets.size(), 0);  // each index's predecessor in its run
+  for (size_t j = 0; j < offsets.size(); ++j) {
+    const auto at = std::upper_bound(tails.begin(), tails.end(), offsets[j],
+                                     [&](double value, size_t k) { return value < offsets[k]; });
+    if (at != tails.begin()) before[j] = *(at - 1);
+    if (at == tails.end()) {
+      tails.push_back(j);
+    } else {
+      *at = j;
+    }
+  }
+  std::vector<size_t> run;
+  if (tails.empty()) return run;
+  for (size_t j = tails.back(), k = tails.size(); k > 0; --k, j = before[j]) run.push_back(j);
+  std::reverse(run.begin(), run.end());
+  return run;
+}
+
+// Free timing, the second look of MonotonicWithinNoise: where the coupler curve passes close to
+// itself, a point's nearest crank angle can fall on the other stretch, a large step back or
+// ahead that no neighbour's nearness excuses. The longest in-order run of the projected offsets
+// stays; every other point is timed anew between its in-order neighbours' offsets (the window),
+// and is the data's noise when
+//   - it misses the coupler curve there by at most its own error plus `allowance` (twice the
+//     fit's RMS error and the precision), timed at its nearest crank angle in the window; or
+//   - its own offset lies beyond the window's end, and the point at that end is closer to it
+//     than twice the noise between them (their errors, at least `width`) and the precision: two
+//     neighbours swapped by the noise, as MonotonicWithinNoise's first look has it. It is
+//     timed at that end.
+// Returns false, leaving `angles`, when some point is further off than that on the in-order
+// stretch: an order the crank would have to go back for.
+bool RetimeOutOfOrder(const PathFourBar& design, const PathData& data,
+                      const std::vector<double>& errors, double width, double tolerance,
+                      std::vector<double>* angles) {
+  if (!(width <= kNoiseResidualCap * data.length)) return false;  // too poor a fit to judge
+  CouplerTurn turn;
+  if (!turn.Sample(design, data.length)) return false;
+  const double direction = angles->back() >= angles->front() ? 1.0 : -1.0;
+  const size_t count = angles->size();
+  std::vector<double> offsets(count);  // crank offsets from the first point's, turning ahead
+  for (size_t j = 0; j < count; ++j)
+    offsets[j] = std::max(0.0, direction * ((*angles)[j] - (*angles)[0]));
+  std::vector<bool> kept(count, false);
+  for (const size_t j : LongestInOrder(offsets)) kept[j] = true;
+  kept[0] = true;
+  // Two points swapped within the noise (MonotonicWithinNoise's rule).
+  const auto swapped = [&](size_t j, size_t k) {
+    const double noise = errors[j] + errors[k];
+    return noise <= kNoiseResidualCap * data.length &&
+           (data.points[j] - data.points[k]).norm() <= 2.0 * (std::max(noise, width) + tolerance);
+  };
+  const double step = CouplerTurn::Step();
+  double previous = 0.0;  // the offset of the point before, and its index
+  size_t before = 0;
+  for (size_t j = 1; j < count; ++j) {
+    if (kept[j] && offsets[j] >= previous) {
+      previous = offsets[j];
+      before = j;
+      continue;
+    }
+    // The window ends at the next kept point's offset (a full turn past the first when none
+    // follows).
+    double next = 2.0 * kPi;
+    size_t after = count;
+    for (size_t k = j + 1; k < count; ++k) {
+      if (kept[k] && offsets[k] >= previous) {
+        next = offsets[k];
+        after = k;
+        break;
+      }
+    }
+    const auto distance = [&](double t) {
+      Eigen::Vector2d point;
+      return turn.At(direction * t, &point) ? (point - data.points[j]).norm()
+                                            : std::numeric_limits<double>::infinity();
+    };
+    // The window's ends and its samples, then golden section about the nearest.
+    double best_t = previous, best = distance(previous);
+    if (const double at_next = distance(next); at_next < best) best = at_next, best_t = next;
+    for (double t = (std::floor(previous / step) + 1.0) * step; t < next; t += step) {
+      if (const double here = distance(t); here < best) best = here, best_t = t;
+    }
+    constexpr int kShrinks = 30;
+    const GoldenSection search = GoldenSectionSearch(distance, std::max(previous, best_t - step),
+                                                     std::min(next, best_t + step), kShrinks);
+    const double middle = 0.5 * (search.low + search.high);
+    if (const double here = distance(middle); here < best) best = here, best_t = middle;
+    if (!(best <= errors[j] + width + tolerance)) {
+      if (offsets[j] < previous && swapped(j, before)) {
+        best_t = previous;
+      } else if (offsets[j] > next && after < count && swapped(j, after)) {
+        best_t = next;
+      } else {
+        return false;
+      }
+    }
+    offsets[j] = best_t;
+    previous = best_t;
+    before = j;
+  }
+  for (size_t j = 0; j < count; ++j) (*angles)[j] = (*angles)[0] + direction * offsets[j];
+  return true;
+}
+
 // Free timing: steps of `angles` against the crank's direction between points closer to each
 // other than twice the four-bar's errors at them (at least twice its RMS error) and their
 // precision (PassTolerance) are the data's noise, not an order the crank must go back for
 // (issue 34): such a step becomes a zero step; so does a point next to the first that the
 // projection puts a turn ahead. Returns whether the angles are then monotonic (unchanged when
-// some backward step is beyond the noise).
+// some backward step is beyond the noise), after RetimeOutOfOrder's second look where the
+// first finds a step beyond the noise.
 bool MonotonicWithinNoise(const PathFourBar& design, const PathData& data,
                           std::vector<double>* angles) {
   if (Monotonic(*angles)) return true;
@@ -765,11 +875,13 @@ bool MonotonicWithinNoise(const PathFourBar& design, const PathData& data,
     const double noise = analysis.point_errors[j] + analysis.point_errors[j - 1];
     if (!(noise <= kNoiseResidualCap * data.length &&
           apart <= 2.0 * (std::max(noise, width) + tolerance))) {
-      return false;
+      return RetimeOutOfOrder(design, data, analysis.point_errors, width, tolerance, angles);
     }
     clamped[j] = clamped[j - 1];
   }
-  if (!Monotonic(clamped)) return false;
+  if (!Monotonic(clamped)) {
+    return RetimeOutOfOrder(design, data, analysis.point_errors, width, tolerance, angles);
+  }
   *angles = clamped;
   return true;
 }
@@ -849,16 +961,19 @@ std::vector<Eigen::Vector2d> NinePointSubset(const std::vector<Eigen::Vector2d>&
 // gives all the points (ProjectTiming, either direction) of smallest error, defect-free first,
 // a crank and compact among equals. Returned: the kNinePointRefined curves of smallest error,
 // and near misses (kNearMiss) beyond them, up to kNinePointNearMax in all.
-std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool second) {
+std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool second, int threads) {
   const std::vector<Eigen::Vector2d> nine = NinePointSubset(data.points, second);
   if (nine.empty()) return {};
   std::vector<PathFourBar> four_bars;
   NinePointOptions nine_options;
   nine_options.swap_dyads = false;  // CurveCognates gives every design of each curve
+  nine_options.threads = threads;
   SolveNinePointPath(nine, nine_options, &four_bars);
   const double tolerance = PassTolerance(data);
-  std::vector<PathMechanismReport> seeds;
-  for (const PathFourBar& four_bar : four_bars) {
+  // Each curve's design (on `threads`, then in the solver's order).
+  std::vector<std::optional<PathMechanismReport>> bests(four_bars.size());
+  ParallelFor(four_bars.size(), ThreadCount(threads), [&](size_t i) {
+    const PathFourBar& four_bar = four_bars[i];
     std::vector<PathMechanismReport> designs;
     for (const PathFourBar& design : CurveCognates(four_bar)) {
       // One turn's samples for both directions.
@@ -894,6 +1009,10 @@ std::vector<PathMechanismReport> NinePointSeeds(const PathData& data, bool secon
         best_size = size;
       }
     }
+    bests[i] = best;
+  });
+  std::vector<PathMechanismReport> seeds;
+  for (const std::optional<PathMechanismReport>& best : bests) {
     if (best) seeds.push_back(*best);
   }
   std::sort(seeds.begin(), seeds.end(),
@@ -960,6 +1079,13 @@ PathRefinerOptions FreeTimingRefiner(const Task& task, const TaskSolverOptions& 
   return refiner;
 }
 
+// RefineFreeTiming of every report, each independent: on `threads` (lib/parallel.h).
+void RefineEach(const PathData& data, const PathRefinerOptions& refiner, int threads,
+                std::vector<PathMechanismReport>* reports) {
+  ParallelFor(reports->size(), ThreadCount(threads),
+              [&](size_t i) { RefineFreeTiming(data, refiner, &(*reports)[i]); });
+}
+
 // Free timing: evenly spaced timing guesses (spans kGuessSpans, both directions), the seed
 // four-bars of each guess, refined with the angles free (RefineFreeTiming).
 void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOptions& options,
@@ -1015,9 +1141,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   std::vector<PathMechanismReport> atlas_seeds = AtlasSeeds(data, 0, atlas_count);
   const auto refine_atlas = [&](std::vector<PathMechanismReport>* seeds) {
     std::vector<PathMechanismReport> refined = *seeds;
-    for (PathMechanismReport& candidate : refined) {
-      RefineFreeTiming(data, refiner, &candidate);
-    }
+    RefineEach(data, refiner, options.threads, &refined);
     seeds->insert(seeds->end(), refined.begin(), refined.end());
   };
   if (task.effort != Effort::kFast) refine_atlas(&atlas_seeds);
@@ -1062,22 +1186,18 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
   std::vector<PathMechanismReport> homotopy_seeds;
   if (search_more && count >= 9) {
     const auto homotopy_start = std::chrono::steady_clock::now();
-    homotopy_seeds = NinePointSeeds(data, false);
+    homotopy_seeds = NinePointSeeds(data, false, options.threads);
     result->stages.push_back(Stage("nine-point homotopy", homotopy_start, homotopy_seeds));
   }
   if (search_more) {
     const auto refine_start = std::chrono::steady_clock::now();
-    for (PathMechanismReport& candidate : homotopy_seeds) {
-      RefineFreeTiming(data, refiner, &candidate);
-    }
+    RefineEach(data, refiner, options.threads, &homotopy_seeds);
     candidates.insert(candidates.end(), homotopy_seeds.begin(), homotopy_seeds.end());
     // Refined ones join the seeds rather than replace them (fast's answer stays a candidate).
     std::vector<PathMechanismReport> refined;
     if (thorough || !found(candidates)) {
       refined = subset_seeds;  // the atlas seeds were refined already
-      for (PathMechanismReport& candidate : refined) {
-        RefineFreeTiming(data, refiner, &candidate);
-      }
+      RefineEach(data, refiner, options.threads, &refined);
     }
     candidates.insert(candidates.end(), refined.begin(), refined.end());
     result->stages.push_back(Stage("refine", refine_start, candidates));
@@ -1089,10 +1209,8 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     if (count >= 10 && !(refined_best && *refined_best <= tolerance) &&
         (thorough || (near_miss && !found(candidates)))) {
       const auto second_start = std::chrono::steady_clock::now();
-      std::vector<PathMechanismReport> second = NinePointSeeds(data, true);
-      for (PathMechanismReport& candidate : second) {
-        RefineFreeTiming(data, refiner, &candidate);
-      }
+      std::vector<PathMechanismReport> second = NinePointSeeds(data, true, options.threads);
+      RefineEach(data, refiner, options.threads, &second);
       result->stages.push_back(Stage("nine-point homotopy, other nine", second_start, second));
       candidates.insert(candidates.end(), second.begin(), second.end());
     }
@@ -1117,9 +1235,9 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       PathMechanismReport report = Report(four_bar, data, timing);
       if (!report.max_point_error) continue;
       report.input_angles = timing;
-      RefineFreeTiming(data, refiner, &report);
       searched.push_back(report);
     }
+    RefineEach(data, refiner, options.threads, &searched);
     result->stages.push_back(Stage("search, the best's timing", search_start, searched));
     candidates.insert(candidates.end(), searched.begin(), searched.end());
   }
@@ -1176,24 +1294,31 @@ void SolveFreeTimingScreened(const Task& task, const PathData& data,
   SolveFreeTiming(task, screen, options, &screened, &screened_fits);
   result->stages = screened.stages;
   const auto stage_start = std::chrono::steady_clock::now();
-  std::vector<PathMechanismReport> candidates;
-  int refined = 0;
-  for (const PathMechanismReport& listed : screened.mechanisms) {
-    if (listed.input_angles.size() != screen.points.size()) continue;
+  // Each listed four-bar timed on every point (on options.threads), in the listed order.
+  std::vector<std::optional<PathMechanismReport>> timed(screened.mechanisms.size());
+  ParallelFor(timed.size(), ThreadCount(options.threads), [&](size_t i) {
+    const PathMechanismReport& listed = screened.mechanisms[i];
+    if (listed.input_angles.size() != screen.points.size()) return;
     const double direction = listed.input_angles.back() >= listed.input_angles.front() ? 1.0 : -1.0;
     std::optional<std::vector<double>> angles = ProjectTiming(listed.design, data, direction);
-    if (!angles) continue;
+    if (!angles) return;
     MonotonicWithinNoise(listed.design, data, &*angles);
     PathMechanismReport report = Report(listed.design, data, *angles);
     report.input_angles = *angles;
     if (!Monotonic(*angles)) report.defects.push_back("order");
-    // From the screened optimum, timed on every point: one alternation, then the angles free.
-    if (task.effort != Effort::kFast && refined < kScreenRefined) {
-      RefineFreeTiming(data, refiner, &report, 1, kScreenFreeIterations);
-      ++refined;
-    }
-    candidates.push_back(report);
+    timed[i] = report;
+  });
+  std::vector<PathMechanismReport> candidates;
+  for (const std::optional<PathMechanismReport>& report : timed) {
+    if (report) candidates.push_back(*report);
   }
+  // From the screened optimum, timed on every point: the first kScreenRefined refined, one
+  // alternation, then the angles free.
+  const int refined =
+      task.effort == Effort::kFast ? 0 : std::min<int>(kScreenRefined, candidates.size());
+  ParallelFor(refined, ThreadCount(options.threads), [&](size_t i) {
+    RefineFreeTiming(data, refiner, &candidates[i], 1, kScreenFreeIterations);
+  });
   result->stages.push_back(Stage("every point", stage_start, candidates));
   const double tolerance = PassTolerance(data);
   for (const PathMechanismReport& candidate : candidates) {

@@ -69,6 +69,10 @@ struct TaskSolverOptions {
   FunctionSearchOptions function_search;    // function problems, effort thorough
   int function_seed_subsets = 8;  // exact solves of spread subsets (3 or 5 pairs) for seeds
   int function_reported = 12;     // four-bars listed at most (least squares)
+  // Threads one solve may use (lib/parallel.h; 0: the machine's): the nine-point homotopy's
+  // paths and a free-timing stage's refinements, each independent (the result does not depend
+  // on them). The batch modes run a task a thread, each with one.
+  int threads = 0;
 };
 
 // Never throws for numerical trouble: what could not be done is said in the result's notes.

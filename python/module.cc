@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "apps/parallel.h"
+#include "lib/parallel.h"
 #include "apps/picture.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
@@ -114,7 +114,10 @@ std::vector<std::string> SolveMany(const std::vector<std::string>& texts,
     }
   };
   run([&](size_t i) { tasks[i] = ParseTask(texts[i], sources[i]); });
-  run([&](size_t i) { results[i] = ResultToJson(SolveTask(tasks[i]), 2); });
+  // A task a thread: each solve on one (TaskSolverOptions::threads) when the pool has more.
+  TaskSolverOptions solver;
+  solver.threads = jobs > 1 ? 1 : 0;
+  run([&](size_t i) { results[i] = ResultToJson(SolveTask(tasks[i], solver), 2); });
   return results;
 }
 

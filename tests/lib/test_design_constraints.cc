@@ -47,6 +47,23 @@ TEST(RankOrder, NearTiesGoByTransmissionAngle) {
   EXPECT_EQ(RankOrder({no_angle, Key(1.01, 35), no_fit}), (std::vector<int>{1, 0, 2}));
 }
 
+// A task that gives min_transmission_angle_deg has made the angle a rule (kept or violated):
+// near ties then go by fit, as the optimizers of the classic path problems rank them; without
+// it the better angle (the default's preference) decides them.
+TEST(RankOrder, TheTasksOwnTransmissionLimitLeavesNearTiesToTheFit) {
+  DesignConstraints given;
+  given.min_transmission_angle_deg = 0.0;
+  DesignConstraints none;
+  for (const DesignConstraints* constraints : {&given, &none}) {
+    std::vector<RankKey> keys = {Key(1.05, 43), Key(1.00, 38), Key(1.30, 80)};
+    for (RankKey& key : keys) {
+      key.transmission_min_deg = TransmissionTieBreak(*constraints, key.transmission_min_deg);
+    }
+    EXPECT_EQ(RankOrder(keys),
+              constraints == &given ? (std::vector<int>{1, 0, 2}) : (std::vector<int>{0, 1, 2}));
+  }
+}
+
 // Issue 34: defaults the task did not give (the 30 degree transmission angle, links of 100 L)
 // order near ties only; the note says what keeping them costs.
 TEST(RankOrder, DefaultsTheTaskDidNotGiveOrderNearTiesOnly) {

@@ -266,7 +266,7 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
   // Runs of near ties: from the first of a run every later one of the group (and of its
   // within-precision standing) whose fit is within kNearTieRatio of it (kPrecisionTieRatio among
   // those within the data's precision).
-  const auto angle = [&](int i) { return keys[i].transmission_min_deg.value_or(-1.0); };
+  const auto angle = [&](int i) { return keys[i].transmission_min_deg; };
   size_t begin = 0;
   while (begin < order.size()) {
     const int first = order[begin];
@@ -306,10 +306,16 @@ std::vector<int> RankOrder(const std::vector<RankKey>& keys) {
       keeping.erase(keeps_defaults, keeping.end());
       for (size_t placed = class_begin; placed < class_end; ++placed) {
         if (keeping.empty()) keeping.swap(breaking);
+        // Next: the best fit of those within kTransmissionTie of the best angle left and of those
+        // without one (an inverted slider-crank's is not defined; none where the task gives its
+        // own limit), which are not compared by angle.
         double best = -kInfinity;
-        for (int i : keeping) best = std::max(best, angle(i));
-        const auto pick = std::find_if(keeping.begin(), keeping.end(),
-                                       [&](int i) { return angle(i) >= best - kTransmissionTie; });
+        for (int i : keeping) {
+          if (angle(i)) best = std::max(best, *angle(i));
+        }
+        const auto pick = std::find_if(keeping.begin(), keeping.end(), [&](int i) {
+          return !angle(i) || *angle(i) >= best - kTransmissionTie;
+        });
         order[slot++] = *pick;
         keeping.erase(pick);
       }

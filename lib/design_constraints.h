@@ -148,8 +148,10 @@ bool GrashofClassKeeps(const std::string& required, const std::string& grashof);
 // absent last), fits within kNearTieRatio of the first of their run a near tie. Within a tie,
 // those keeping the defaults the task did not give (breaks_default) first, then by the worst
 // transmission angle; angles within kTransmissionTie of each other are a tie, the better fit
-// first (fits equal to rounding or below fit_floor: the smaller size first); absent ones last
-// (all absent where the task gives its own limit: TransmissionTieBreak; the fit decides).
+// first (fits equal to rounding or below fit_floor: the smaller size first); an absent angle (an
+// inverted slider-crank's; every one where the task gives its own limit: TransmissionTieBreak)
+// is not compared (each next one listed is the best fit of those within kTransmissionTie of the
+// best angle left and those without one).
 struct RankKey {
   // Misses an item the task marks exact (a pose or point) by more than the promised 1e-9 L:
   // listed after every one that meets them, whatever its fit.

@@ -39,12 +39,15 @@ TEST(RankOrder, NearTiesGoByTransmissionAngle) {
   // kTransmissionTie of each other are a tie, the better fit first.
   const std::vector<RankKey> keys = {Key(1.00, 40), Key(1.05, 70), Key(1.08, 69.5), Key(1.20, 89)};
   EXPECT_EQ(RankOrder(keys), (std::vector<int>{1, 2, 0, 3}));
-  // An absent angle goes last in its run; an absent fit last in its group.
+  // An absent angle (an inverted slider-crank's) is not compared: each next one listed is the
+  // best fit of those without an angle or within kTransmissionTie of the best angle left. An
+  // absent fit goes last in its group.
   RankKey no_angle = Key(1.0, 0);
   no_angle.transmission_min_deg.reset();
   RankKey no_fit = Key(0, 90);
   no_fit.fit.reset();
-  EXPECT_EQ(RankOrder({no_angle, Key(1.01, 35), no_fit}), (std::vector<int>{1, 0, 2}));
+  EXPECT_EQ(RankOrder({no_angle, Key(1.01, 35), no_fit}), (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(RankOrder({Key(0.99, 35), no_angle, Key(1.02, 60)}), (std::vector<int>{1, 2, 0}));
 }
 
 // A task that gives min_transmission_angle_deg has made the angle a rule (kept or violated):

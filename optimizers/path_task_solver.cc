@@ -79,6 +79,11 @@ constexpr int kNinePointNearMax = 32;
 // them unrefined; balanced refines thorough's further ones when its own do not find the curve;
 // with constraints, as many again that keep them), and a curve whose last point is within this
 // many median steps of its first is matched as closed as well as open.
+// Free timing, balanced: the subset seeds refined when neither the atlas nor the nine-point
+// solve has found the curve, those of smallest RMS point error at their timing guess (thorough
+// refines all: 8 per span and direction pair, 32 for an arc). Measured on the curves benchmark
+// (2026-11-28): see README, "Path synthesis from target curves".
+constexpr int kSubsetRefinedBalanced = 8;
 constexpr int kAtlasFast = 3;
 constexpr int kAtlasBalanced = 6;
 constexpr int kAtlasThorough = 16;
@@ -1197,6 +1202,15 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     std::vector<PathMechanismReport> refined;
     if (thorough || !found(candidates)) {
       refined = subset_seeds;  // the atlas seeds were refined already
+      if (!thorough && refined.size() > static_cast<size_t>(kSubsetRefinedBalanced)) {
+        std::stable_sort(
+            refined.begin(), refined.end(),
+            [](const PathMechanismReport& a, const PathMechanismReport& b) {
+              return a.rms_point_error.value_or(std::numeric_limits<double>::infinity()) <
+                     b.rms_point_error.value_or(std::numeric_limits<double>::infinity());
+            });
+        refined.resize(kSubsetRefinedBalanced);
+      }
       RefineEach(data, refiner, options.threads, &refined);
     }
     candidates.insert(candidates.end(), refined.begin(), refined.end());

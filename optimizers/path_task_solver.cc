@@ -69,6 +69,9 @@ constexpr double kNearMiss = 10.0;
 // 20-90 tolerances off, four-digit data 1.5; noise of 1e-3 L on data given as exact misses by
 // 1e5 tolerances and more (both sets' curves move alike; thorough solves both).
 constexpr double kSecondNineMiss = 1000.0;
+// Free timing, balanced: two stages' best four-bars whose coupler curves are this close (times
+// L; CurveDistance) came to one curve.
+constexpr double kStagesAgree = 1e-3;
 // Free timing from nine points or more (balanced and thorough): the four-bars through nine of
 // the points (fitting/nine_point_path.h) with the smallest error on all of them, refined; and
 // near misses beyond them, up to kNinePointNearMax in all.
@@ -1218,10 +1221,18 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     // Still not found: the nine-point solve again on the other nine (a path the tracker lost, or
     // a curve coarse data moved out of reach of the refinement from one set, is found from the
     // other). Balanced does it when the miss is small (kSecondNineMiss); thorough always.
+    // Not when the atlas and the first nine's homotopy, two independent global stages, came to
+    // the same best curve (their best keepers' curves within kStagesAgree L): the other nine
+    // are for a curve the first nine missed.
     const std::optional<double> refined_best = BestDefectFreeMaxError(candidates);
     const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * tolerance;
+    const PathMechanismReport* atlas_best = BestKeeper(atlas_seeds);
+    const PathMechanismReport* nine_best = BestKeeper(homotopy_seeds);
+    const bool agree =
+        atlas_best != nullptr && nine_best != nullptr &&
+        CurveDistance(atlas_best->design, nine_best->design) <= kStagesAgree * data.length;
     if (count >= 10 && !(refined_best && *refined_best <= tolerance) &&
-        (thorough || (near_miss && !found(candidates)))) {
+        (thorough || (near_miss && !agree && !found(candidates)))) {
       const auto second_start = std::chrono::steady_clock::now();
       std::vector<PathMechanismReport> second = NinePointSeeds(data, true, options.threads);
       RefineEach(data, refiner, options.threads, &second);

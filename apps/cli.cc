@@ -20,9 +20,9 @@
 #include <vector>
 
 #include "apps/output_file.h"
-#include "lib/parallel.h"
 #include "apps/picture.h"
 #include "apps/trade_bench.h"
+#include "lib/parallel.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"

@@ -105,11 +105,11 @@ struct SpatialDesign {
 // Motion tasks of the given poses, each of weight 1 and not exact (what a task file without
 // "weight" and "exact" gives).
 Task PlanarMotionTask(const std::vector<PlanarPose>& poses, Effort effort = Effort::kBalanced);
+Task SpatialMotionTask(const std::vector<DualQuaternion>& poses, Effort effort = Effort::kBalanced);
 
 // How many of a path task's points differ from each other (untimed points may repeat in print:
 // a curve traced finer than its digits, or one that crosses itself).
 int DistinctPoints(const std::vector<TimedPoint>& points);
-Task SpatialMotionTask(const std::vector<DualQuaternion>& poses, Effort effort = Effort::kBalanced);
 
 }  // namespace linkfit
 

@@ -759,23 +759,40 @@ std::vector<size_t> LongestInOrder(const std::vector<double>& offsets) {
   return run;
 }
 
+// The data's noise as an order judgement sees it (MonotonicWithinNoise): a four-bar's errors at
+// the points, the noise's width between two points (at least twice the fit's RMS error: one
+// point's small error says little about its neighbour's) and the points' precision
+// (PassTolerance).
+struct OrderNoise {
+  const std::vector<double>& errors;
+  double width = 0.0;
+  double tolerance = 0.0;
+  double length = 1.0;
+  // Points j and k closer to each other than twice the noise between them (their errors, at
+  // least the width) and the precision, the errors within kNoiseResidualCap L: noise may swap
+  // them.
+  bool Swapped(const PathData& data, size_t j, size_t k) const {
+    const double noise = errors[j] + errors[k];
+    return noise <= kNoiseResidualCap * length &&
+           (data.points[j] - data.points[k]).norm() <= 2.0 * (std::max(noise, width) + tolerance);
+  }
+};
+
 // Free timing, the second look of MonotonicWithinNoise: where the coupler curve passes close to
 // itself, a point's nearest crank angle can fall on the other stretch, a large step back or
 // ahead that no neighbour's nearness excuses. The longest in-order run of the projected offsets
 // stays; every other point is timed anew between its in-order neighbours' offsets (the window),
 // and is the data's noise when
-//   - it misses the coupler curve there by at most its own error plus `allowance` (twice the
-//     fit's RMS error and the precision), timed at its nearest crank angle in the window; or
-//   - its own offset lies beyond the window's end, and the point at that end is closer to it
-//     than twice the noise between them (their errors, at least `width`) and the precision: two
-//     neighbours swapped by the noise, as MonotonicWithinNoise's first look has it. It is
-//     timed at that end.
+//   - it misses the coupler curve there by at most its own error plus the noise's width and the
+//     precision, timed at its nearest crank angle in the window; or
+//   - its own offset lies beyond the window's end, and it and the point at that end are
+//     swapped by the noise (OrderNoise::Swapped, as MonotonicWithinNoise's first look has it).
+//     It is timed at that end.
 // Returns false, leaving `angles`, when some point is further off than that on the in-order
 // stretch: an order the crank would have to go back for.
-bool RetimeOutOfOrder(const PathFourBar& design, const PathData& data,
-                      const std::vector<double>& errors, double width, double tolerance,
+bool RetimeOutOfOrder(const PathFourBar& design, const PathData& data, const OrderNoise& noise,
                       std::vector<double>* angles) {
-  if (!(width <= kNoiseResidualCap * data.length)) return false;  // too poor a fit to judge
+  if (!(noise.width <= kNoiseResidualCap * data.length)) return false;  // too poor a fit to judge
   CouplerTurn turn;
   if (!turn.Sample(design, data.length)) return false;
   const double direction = angles->back() >= angles->front() ? 1.0 : -1.0;
@@ -786,12 +803,6 @@ bool RetimeOutOfOrder(const PathFourBar& design, const PathData& data,
   std::vector<bool> kept(count, false);
   for (const size_t j : LongestInOrder(offsets)) kept[j] = true;
   kept[0] = true;
-  // Two points swapped within the noise (MonotonicWithinNoise's rule).
-  const auto swapped = [&](size_t j, size_t k) {
-    const double noise = errors[j] + errors[k];
-    return noise <= kNoiseResidualCap * data.length &&
-           (data.points[j] - data.points[k]).norm() <= 2.0 * (std::max(noise, width) + tolerance);
-  };
   const double step = CouplerTurn::Step();
   double previous = 0.0;  // the offset of the point before, and its index
   size_t before = 0;
@@ -828,10 +839,10 @@ bool RetimeOutOfOrder(const PathFourBar& design, const PathData& data,
                                                      std::min(next, best_t + step), kShrinks);
     const double middle = 0.5 * (search.low + search.high);
     if (const double here = distance(middle); here < best) best = here, best_t = middle;
-    if (!(best <= errors[j] + width + tolerance)) {
-      if (offsets[j] < previous && swapped(j, before)) {
+    if (!(best <= noise.errors[j] + noise.width + noise.tolerance)) {
+      if (offsets[j] < previous && noise.Swapped(data, j, before)) {
         best_t = previous;
-      } else if (offsets[j] > next && after < count && swapped(j, after)) {
+      } else if (offsets[j] > next && after < count && noise.Swapped(data, j, after)) {
         best_t = next;
       } else {
         return false;
@@ -859,39 +870,29 @@ bool MonotonicWithinNoise(const PathFourBar& design, const PathData& data,
       AnalyzePathFourBar(design, data.points, *angles, data.length);
   if (analysis.point_errors.size() != data.points.size()) return false;
   const double direction = angles->back() >= angles->front() ? 1.0 : -1.0;
-  const double tolerance = PassTolerance(data);  // the points' own rounding
-  // The noise's width between two points: the errors at them, and at least twice the fit's RMS
-  // error (one point's small error says little about its neighbour's).
   double squares = 0.0;
   for (const double error : analysis.point_errors) squares += error * error;
-  const double width = 2.0 * std::sqrt(squares / static_cast<double>(data.points.size()));
+  const OrderNoise noise{analysis.point_errors,
+                         2.0 * std::sqrt(squares / static_cast<double>(data.points.size())),
+                         PassTolerance(data), data.length};
   std::vector<double> clamped = *angles;
-  // The points next to the first within the noise (leading ones, closer to it than twice the
-  // errors at both and the precision): one the projection put a turn ahead (just behind the
-  // first point, read from the curve's other end) gets the first's angle.
-  for (size_t j = 1; j < clamped.size(); ++j) {
-    const double noise = analysis.point_errors[j] + analysis.point_errors[0];
-    if (!(noise <= kNoiseResidualCap * data.length &&
-          (data.points[j] - data.points[0]).norm() <= 2.0 * (std::max(noise, width) + tolerance))) {
-      break;
-    }
+  // The points next to the first within the noise (leading ones, swapped with it by the
+  // noise): one the projection put a turn ahead (just behind the first point, read from the
+  // curve's other end) gets the first's angle.
+  for (size_t j = 1; j < clamped.size() && noise.Swapped(data, j, 0); ++j) {
     if (direction * (clamped[j] - clamped[0]) > kPi) clamped[j] = clamped[0];
   }
-  for (size_t j = 1; j < clamped.size(); ++j) {
+  bool within = true;
+  for (size_t j = 1; j < clamped.size() && within; ++j) {
     if (direction * (clamped[j] - clamped[j - 1]) >= 0.0) continue;
-    const double apart = (data.points[j] - data.points[j - 1]).norm();
-    const double noise = analysis.point_errors[j] + analysis.point_errors[j - 1];
-    if (!(noise <= kNoiseResidualCap * data.length &&
-          apart <= 2.0 * (std::max(noise, width) + tolerance))) {
-      return RetimeOutOfOrder(design, data, analysis.point_errors, width, tolerance, angles);
-    }
+    within = noise.Swapped(data, j, j - 1);
     clamped[j] = clamped[j - 1];
   }
-  if (!Monotonic(clamped)) {
-    return RetimeOutOfOrder(design, data, analysis.point_errors, width, tolerance, angles);
+  if (within && Monotonic(clamped)) {
+    *angles = clamped;
+    return true;
   }
-  *angles = clamped;
-  return true;
+  return RetimeOutOfOrder(design, data, noise, angles);
 }
 
 // Free timing, one seed: alternately refine the four-bar under the timing (prescribed) and
@@ -1226,13 +1227,14 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
     // are for a curve the first nine missed.
     const std::optional<double> refined_best = BestDefectFreeMaxError(candidates);
     const bool near_miss = refined_best && *refined_best <= kSecondNineMiss * tolerance;
-    const PathMechanismReport* atlas_best = BestKeeper(atlas_seeds);
-    const PathMechanismReport* nine_best = BestKeeper(homotopy_seeds);
-    const bool agree =
-        atlas_best != nullptr && nine_best != nullptr &&
-        CurveDistance(atlas_best->design, nine_best->design) <= kStagesAgree * data.length;
+    const auto agree = [&]() {
+      const PathMechanismReport* atlas_best = BestKeeper(atlas_seeds);
+      const PathMechanismReport* nine_best = BestKeeper(homotopy_seeds);
+      return atlas_best != nullptr && nine_best != nullptr &&
+             CurveDistance(atlas_best->design, nine_best->design) <= kStagesAgree * data.length;
+    };
     if (count >= 10 && !(refined_best && *refined_best <= tolerance) &&
-        (thorough || (near_miss && !agree && !found(candidates)))) {
+        (thorough || (near_miss && !found(candidates) && !agree()))) {
       const auto second_start = std::chrono::steady_clock::now();
       std::vector<PathMechanismReport> second = NinePointSeeds(data, true, options.threads);
       RefineEach(data, refiner, options.threads, &second);

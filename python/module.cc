@@ -17,8 +17,8 @@
 #include <utility>
 #include <vector>
 
-#include "lib/parallel.h"
 #include "apps/picture.h"
+#include "lib/parallel.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"

@@ -118,9 +118,8 @@ FourBarLinks PathFourBarLinks(const PathFourBar& four_bar) {
 }
 
 bool HasKinematicDefect(const std::vector<std::string>& defects) {
-  return std::any_of(defects.begin(), defects.end(), [](const std::string& defect) {
-    return defect == "circuit" || defect == "branch" || defect == "order";
-  });
+  return std::any_of(defects.begin(), defects.end(),
+                     [](const std::string& defect) { return defect != "transmission"; });
 }
 
 bool OnOneBranch(const std::vector<std::string>& defects) {
@@ -407,6 +406,23 @@ std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& 
   return note +
          "; no listed four-bar of its kind keeps them; give \"constraints\" to require "
          "them";
+}
+
+std::string GivenConstraintsNote(const DesignConstraints& constraints,
+                                 const std::vector<std::string>& violates,
+                                 const std::vector<std::string>& defects) {
+  std::string broken;
+  const auto add = [&](const std::string& name) { broken += (broken.empty() ? "" : ", ") + name; };
+  for (const std::string& violation : violates) {
+    if (violation != "max_link_length" || constraints.max_link_length) add(violation);
+  }
+  if (constraints.min_transmission_angle_deg &&
+      std::find(defects.begin(), defects.end(), "transmission") != defects.end()) {
+    add("min_transmission_angle_deg");
+  }
+  if (broken.empty()) return "";
+  return "no listed four-bar keeps every constraint the task gave: the first breaks " + broken +
+         " (its \"violates\" and \"defects\" say how)";
 }
 
 std::string DroppedNote(int dropped) {

@@ -122,8 +122,9 @@ void JudgeTransmission(const DesignConstraints& constraints,
                        const std::optional<double>& transmission_min_deg,
                        std::vector<std::string>* defects);
 
-// Whether `defects` holds a kinematic defect ("circuit", "branch" or "order"): the four-bar
-// cannot be driven through the task as listed. "transmission" is not one.
+// Whether `defects` holds a kinematic defect (any but "transmission": "circuit", "branch",
+// "order"; function four-bars' "assembly" and "range"): the four-bar cannot be driven through the
+// task as listed.
 bool HasKinematicDefect(const std::vector<std::string>& defects);
 
 // Whether `defects` lets the mechanism follow the task on one branch: no "circuit" or "branch"
@@ -197,6 +198,13 @@ std::optional<double> TransmissionTieBreak(const DesignConstraints& constraints,
 // first one's group otherwise) costs in fit; empty when the first keeps them. `unit` names the
 // fit ("RMS point error" and the like).
 std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit);
+
+// The note a result gives when its first mechanism breaks a constraint the task gave (its
+// `violates`, or "transmission" under the task's own min_transmission_angle_deg): the ranking
+// lists keepers first, so none keeps them all; which the first breaks. Empty when it keeps them.
+std::string GivenConstraintsNote(const DesignConstraints& constraints,
+                                 const std::vector<std::string>& violates,
+                                 const std::vector<std::string>& defects);
 
 // The sum of the distances between every two of `joints` (a mechanism's pivots, pins and
 // coupler point in one configuration): its size, which no move or turn of the data changes and

@@ -8,6 +8,7 @@
 #include "lib/dyad.h"
 #include "lib/four_bar_closure.h"
 #include "lib/mechanism.h"
+#include "lib/text_format.h"
 
 namespace linkfit {
 namespace {
@@ -111,6 +112,7 @@ FunctionAnalysis AnalyzeFunctionFourBar(const FunctionFourBar& four_bar,
   const int first = ClosureIntervalOf(closure, f.input_offset + pairs[0].input, kInputSlack);
   if (first < 0 || !PairError(f, pairs[0], f.assembly)) {
     analysis.error_note = "does not assemble at the first pair's input angle";
+    analysis.defects.push_back("assembly");
     return analysis;
   }
   analysis.assembles_first = true;
@@ -171,6 +173,59 @@ FunctionAnalysis AnalyzeFunctionFourBar(const FunctionFourBar& four_bar,
           ? 90.0
           : kRadToDeg * std::acos(std::min(std::abs(at_low), std::abs(at_high)));
   return analysis;
+}
+
+FunctionRangeAnalysis AnalyzeFunctionRange(const FunctionFourBar& four_bar,
+                                           const FunctionPair& first,
+                                           const std::vector<FunctionPair>& samples) {
+  FunctionRangeAnalysis range;
+  std::vector<FunctionPair> pairs = {first};
+  pairs.insert(pairs.end(), samples.begin(), samples.end());
+  const FunctionAnalysis over = AnalyzeFunctionFourBar(four_bar, pairs);
+  range.transmission_min_deg = over.transmission_min_deg;
+  range.transmission_max_deg = over.transmission_max_deg;
+  if (!over.assembles_first) {
+    range.note = over.error_note;
+    return range;
+  }
+  if (over.defects.empty()) {
+    double largest = 0.0;
+    for (size_t k = 1; k < over.errors.size(); ++k) {
+      largest = std::max(largest, std::abs(over.errors[k]));
+    }
+    range.max_error = largest;
+    return range;
+  }
+  // Where it stops: the first sample off the first pair's interval or assembly.
+  const FunctionFourBar& f = four_bar;
+  const FourBarClosure closure = Closure(f);
+  constexpr double kInputSlack = 1e-9;
+  const int circuit = ClosureIntervalOf(closure, f.input_offset + first.input, kInputSlack);
+  const auto degrees = [](double angle) { return Format("%.4g", angle * kRadToDeg); };
+  for (size_t k = 0; k < samples.size(); ++k) {
+    const FunctionPair& sample = samples[k];
+    const std::string where = "at input " + degrees(sample.input) + " deg (sample " +
+                              std::to_string(k + 1) + " of the function)";
+    const int interval = ClosureIntervalOf(closure, f.input_offset + sample.input, kInputSlack);
+    const std::optional<double> error = PairError(f, sample, f.assembly);
+    if (interval != circuit || !error) {
+      range.note =
+          "does not run over the function's input range from the first pair: it does "
+          "not reach the output " +
+          where;
+      return range;
+    }
+    const std::optional<double> other = PairError(f, sample, -f.assembly);
+    if (other && std::abs(*other) < 0.5 * std::abs(*error)) {
+      range.note =
+          "does not run over the function's input range from the first pair: it needs "
+          "the other assembly " +
+          where;
+      return range;
+    }
+  }
+  range.note = "does not run over the function's input range from the first pair";
+  return range;
 }
 
 std::optional<double> LargestOutputError(const FunctionFourBar& four_bar,

@@ -120,12 +120,13 @@ std::optional<FunctionConfiguration> ConfigurationAt(const FunctionFourBar& four
 //     [0, 90]) over the inputs from the smallest to the largest pair input, as given;
 //   - the Grashof class with the input driven (lib/mechanism.h GrashofType).
 struct FunctionAnalysis {
-  bool assembles_first = false;      // the first pair's input assembles
-  std::vector<double> errors;        // psi(phi_j) - psi_j, wrapped; empty when !assembles_first
-  std::optional<double> max_error;   // over the pairs (radians), absent: !assembles_first
-  std::optional<double> rms_error;   // weighted RMS
-  std::string error_note;            // why max_error is absent
-  std::vector<std::string> defects;  // "circuit", "branch"
+  bool assembles_first = false;     // the first pair's input assembles
+  std::vector<double> errors;       // psi(phi_j) - psi_j, wrapped; empty when !assembles_first
+  std::optional<double> max_error;  // over the pairs (radians), absent: !assembles_first
+  std::optional<double> rms_error;  // weighted RMS
+  std::string error_note;           // why max_error is absent
+  // "assembly" (the first pair's input does not assemble), "circuit", "branch"
+  std::vector<std::string> defects;
   bool input_rotates_fully = false;
   bool output_rotates_fully = false;
   std::string grashof;
@@ -135,6 +136,22 @@ struct FunctionAnalysis {
 
 FunctionAnalysis AnalyzeFunctionFourBar(const FunctionFourBar& four_bar,
                                         const std::vector<FunctionPair>& pairs);
+
+// A function's whole input range (its samples, e.g. Task::function_samples), driven from the
+// first pair's configuration as AnalyzeFunctionFourBar drives the pairs: the largest output error
+// over the samples (the structural error between the precision points, radians) when it reaches
+// every one on that circuit and assembly; otherwise absent, and `note` names the first sample it
+// does not reach. The transmission angle over the samples' input span (and the first pair's).
+struct FunctionRangeAnalysis {
+  std::optional<double> max_error;
+  std::string note;
+  std::optional<double> transmission_min_deg;
+  std::optional<double> transmission_max_deg;
+};
+
+FunctionRangeAnalysis AnalyzeFunctionRange(const FunctionFourBar& four_bar,
+                                           const FunctionPair& first,
+                                           const std::vector<FunctionPair>& samples);
 
 // The assembly that meets `pair` best (the smaller output error), or 0 when the pair's input does
 // not assemble.

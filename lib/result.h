@@ -269,19 +269,23 @@ struct FunctionMechanismReport {
   std::optional<double> exact_angle_error;
   bool misses_exact = false;
   // A function given as samples: the largest output error over every sample (the structural
-  // error between the precision points), radians; absent when a sample's input does not
-  // assemble.
+  // error between the precision points), radians; absent when the four-bar does not run over the
+  // function's whole input range on the first pair's circuit and branch (the defect "range"),
+  // and function_error_note says where.
   std::optional<double> function_max_error;
+  std::string function_error_note;
   // How far the data's precision can move the four-bar (lib/function_four_bar.h
   // FunctionErrorBound; infinity: the pairs do not determine it); absent when it does not meet
   // the pairs.
   std::optional<double> error_bound;
-  std::vector<std::string> defects;   // "circuit", "branch", "transmission"
+  // "assembly" (not at the first pair), "circuit", "branch", "range", "transmission"
+  std::vector<std::string> defects;
   std::vector<std::string> violates;  // the task's design constraints it breaks
   std::string grashof;
   bool input_rotates_fully = false;
   bool output_rotates_fully = false;
-  std::optional<double> transmission_min_deg;  // over the pairs' input range
+  // Over the pairs' input range, or a function's whole input range (its samples).
+  std::optional<double> transmission_min_deg;
   std::optional<double> transmission_max_deg;
 };
 

@@ -296,6 +296,8 @@ Json FunctionMechanismToJson(const FunctionMechanismReport& report) {
   }
   if (report.function_max_error) {
     PutNumber(&object, "function_max_error_deg", *report.function_max_error * kDeg);
+  } else if (!report.function_error_note.empty()) {
+    object["function_max_error_deg_note"] = report.function_error_note;
   }
   PutErrorBound(&object, report.error_bound,
                 "the pairs do not determine this four-bar at the data's precision");

@@ -1453,11 +1453,31 @@ class TaskParser {
                                   : "missing field (give \"pairs\" or a \"function\")");
     }
     const bool samples = root.contains("function");
+    // A function's pairs are relative (the start angles free) by default, but fewer than five
+    // relative pairs fix no four-bar: three or four precision points are read as the textbooks
+    // read them, absolute (measured from the ground line), and a note says so (issue 35).
+    bool few_points = false;
+    if (samples && root.at("function").is_object()) {
+      const Json& function = root.at("function");
+      if (function.contains("precision_points")) {
+        const Json& count = function.at("precision_points");
+        few_points =
+            count.is_number_integer() && count.get<long long>() >= 3 && count.get<long long>() < 5;
+      } else if (function.contains("x") && function.at("x").is_array()) {
+        few_points = function.at("x").size() >= 3 && function.at("x").size() < 5;
+      }
+    }
     const std::string angles =
         root.contains("angles")
             ? ParseEnum<std::string>(root, "", "angles", "absolute",
                                      {{"absolute", "absolute"}, {"relative", "relative"}})
-            : (samples ? "relative" : "absolute");
+            : (samples && !few_points ? "relative" : "absolute");
+    if (samples && few_points && !root.contains("angles")) {
+      task->input_notes.push_back(
+          "angles read as absolute (from the ground line, as the input and output ranges give "
+          "them): fewer than five precision points fix no four-bar with free start angles; give "
+          "five or more for \"angles\": \"relative\"");
+    }
     task->relative_angles = angles == "relative";
     const size_t minimum = task->relative_angles ? 5 : 3;
     const std::string purpose =

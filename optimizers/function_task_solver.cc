@@ -85,8 +85,22 @@ FunctionMechanismReport Report(const Task& task, const FunctionFourBar& four_bar
     report.error_bound =
         FunctionErrorBound(four_bar, task.pairs, task.relative_angles, task.precision.angle);
   }
-  if (!task.function_samples.empty()) {
-    report.function_max_error = LargestOutputError(four_bar, task.function_samples);
+  // A function given as samples: the four-bar runs over its whole input range (between and
+  // beyond the precision points), or has the defect "range"; the transmission angle is then the
+  // range's (else the pairs').
+  if (!task.function_samples.empty() && analysis.assembles_first) {
+    const FunctionRangeAnalysis range =
+        AnalyzeFunctionRange(four_bar, task.pairs[0], task.function_samples);
+    report.function_max_error = range.max_error;
+    report.function_error_note = range.note;
+    if (!range.max_error) {
+      report.defects.push_back("range");
+    } else {
+      report.transmission_min_deg = range.transmission_min_deg;
+      report.transmission_max_deg = range.transmission_max_deg;
+    }
+  } else if (!task.function_samples.empty()) {
+    report.function_error_note = analysis.error_note;
   }
   FourBarLinks links;
   links.ground = four_bar.ground;
@@ -265,6 +279,12 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
     for (const FunctionMechanismReport& report : result.mechanisms) keys.push_back(key_of(report));
     const std::string note = DefaultsNote(keys, "an RMS angle error (radians) of");
     if (!note.empty()) result.notes.push_back(note);
+    if (!result.mechanisms.empty()) {
+      const FunctionMechanismReport& first = result.mechanisms.front();
+      const std::string given =
+          GivenConstraintsNote(task.constraints, first.violates, first.defects);
+      if (!given.empty()) result.notes.push_back(given);
+    }
   }
   if (result.mechanisms.empty()) {
     result.notes.push_back("no four-bar meets the pairs" + (why.empty() ? "" : ": " + why));

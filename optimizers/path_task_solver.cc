@@ -247,6 +247,11 @@ void NoteDefaults(bool least_squares, const PathData& data, PathResult* result) 
   const std::string note =
       DefaultsNote(keys, least_squares ? "an RMS point error of" : "a largest point error of");
   if (!note.empty()) result->notes.push_back(note);
+  if (!result->mechanisms.empty()) {
+    const PathMechanismReport& first = result->mechanisms.front();
+    const std::string given = GivenConstraintsNote(data.constraints, first.violates, first.defects);
+    if (!given.empty()) result->notes.push_back(given);
+  }
 }
 
 // Two four-bars are one when their crank, coupler point and output agree within kSameFourBar

@@ -960,6 +960,12 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     }
     const std::string note = DefaultsNote(keys, "an RMS pose error of");
     if (!note.empty()) result.notes.push_back(note);
+    if (!result.mechanisms.empty()) {
+      const MechanismReport& first = result.mechanisms.front();
+      const std::string given =
+          GivenConstraintsNote(task.constraints, first.violates, first.defects);
+      if (!given.empty()) result.notes.push_back(given);
+    }
     const long swapped =
         std::count_if(result.mechanisms.begin(), result.mechanisms.end(),
                       [](const MechanismReport& m) { return m.order_within_noise; });

@@ -818,6 +818,37 @@ TEST(TaskIoFunction, FunctionSamplesMapOntoTheRanges) {
   EXPECT_NEAR(task.pairs[2].input, 50.0 * M_PI / 180.0, 1e-12);
 }
 
+// Three or four precision points of a function are absolute angles unless the task says
+// otherwise (issue 35: the textbooks' three points were refused as "needs at least 5"), with a
+// note; five or more keep the relative default; "angles" given decides.
+TEST(TaskIoFunction, FewPrecisionPointsAreAbsoluteAngles) {
+  const auto task_with = [](const std::string& count, const std::string& extra) {
+    return ParseTask(R"({"problem": "function", )" + extra +
+                         R"("function": {"x": [0, 1, 2, 3, 4, 5], "y": [0, 1, 4, 9, 16, 25],
+        "input_range_deg": [30, 90], "output_range_deg": [60, 150], "precision_points": )" +
+                         count + "}}",
+                     "t");
+  };
+  for (const char* count : {"3", "4"}) {
+    const Task task = task_with(count, "");
+    EXPECT_FALSE(task.relative_angles) << count;
+    EXPECT_EQ(task.pairs.size(), static_cast<size_t>(std::stoi(count)));
+    ASSERT_EQ(task.input_notes.size(), 1u);
+    EXPECT_NE(task.input_notes[0].find("angles read as absolute"), std::string::npos);
+  }
+  const Task five = task_with("5", "");
+  EXPECT_TRUE(five.relative_angles);
+  EXPECT_TRUE(five.input_notes.empty());
+  const Task said = task_with("3", R"("angles": "absolute", )");
+  EXPECT_FALSE(said.relative_angles);
+  EXPECT_TRUE(said.input_notes.empty());
+  EXPECT_NE(ErrorOf(R"({"problem": "function", "angles": "relative", "function": {"x": [0, 1, 2],
+      "y": [0, 1, 4], "input_range_deg": [0, 90], "output_range_deg": [0, 90],
+      "precision_points": 3}})")
+                .find("needs at least 5"),
+            std::string::npos);
+}
+
 TEST(TaskIoFunction, BadFunctionTasksSayWhatIsWrong) {
   const std::string pairs3 =
       R"("pairs": [{"input_deg": 10, "output_deg": 40}, {"input_deg": 30, "output_deg": 50},

@@ -2,7 +2,9 @@
 // tables print them; SolveTask gives the generator back within the error the precision allows.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "lib/function_samples.h"
@@ -188,6 +190,101 @@ TEST(FunctionTask, ConstraintsRankAndHoldTheTransmissionAngle) {
                           "\"defects\"", "\"grashof\"", "\"transmission_angle_min_deg\""}) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
   }
+}
+
+// A function's four-bars over its whole input range (issue 35): each listed four-bar gives its
+// structural error over every sample, or the defect "range" and where it stops; the
+// transmission angle is the range's, and a task's own limit broken by the first is said.
+TEST(FunctionTask, EveryFourBarRunsOverTheRangeOrSaysWhereItStops) {
+  std::string x = "[", y = "[";
+  for (int i = 0; i <= 20; ++i) {
+    x += (i ? ", " : "") + std::to_string(0.05 * i);
+    y += (i ? ", " : "") + std::to_string(0.0025 * i * i);
+  }
+  const auto task = [&](const std::string& ranges, const std::string& extra) {
+    return "{\"problem\": \"function\", \"function\": {\"x\": " + x + "], \"y\": " + y + "], " +
+           ranges + ", \"precision_points\": 3}" + extra + "}";
+  };
+  int stopped = 0, ran = 0;
+  for (const std::string& text :
+       {task("\"input_range_deg\": [30, 90], \"output_range_deg\": [60, 150]", ""),
+        task("\"input_range_deg\": [0, 60], \"output_range_deg\": [0, 90]", ""),
+        task("\"input_range_deg\": [60, 120], \"output_range_deg\": [90, 135]", ""),
+        LogTask(", \"precision_points\": 5")}) {
+    SCOPED_TRACE(text.substr(text.size() - 120));
+    const FunctionResult result = Solve(text);
+    for (const FunctionMechanismReport& listed : result.mechanisms) {
+      const auto has = [&](const char* defect) {
+        return std::find(listed.defects.begin(), listed.defects.end(), defect) !=
+               listed.defects.end();
+      };
+      const bool range_defect = has("range") || has("assembly");
+      EXPECT_NE(listed.function_max_error.has_value(), range_defect);
+      EXPECT_NE(listed.function_max_error.has_value(), !listed.function_error_note.empty());
+      if (range_defect) {
+        ++stopped;
+        EXPECT_NE(listed.function_error_note.find("of the function)"), std::string::npos)
+            << listed.function_error_note;
+      } else {
+        ++ran;
+        EXPECT_LT(*listed.function_max_error, kPi);
+      }
+      const std::string json = ResultToJson(result, 2);
+      EXPECT_NE(json.find(range_defect ? "\"function_max_error_deg_note\""
+                                       : "\"function_max_error_deg\""),
+                std::string::npos);
+    }
+  }
+  // Both cases occur among these ranges.
+  EXPECT_GT(stopped, 0);
+  EXPECT_GT(ran, 0);
+  // The task's own transmission limit, broken by the only four-bar: listed with the defect, and
+  // a note says that none keeps it.
+  const FunctionResult held =
+      Solve(task("\"input_range_deg\": [30, 90], \"output_range_deg\": [60, 150]",
+                 ", \"constraints\": {\"min_transmission_angle_deg\": 30}"));
+  ASSERT_FALSE(held.mechanisms.empty());
+  const FunctionMechanismReport& first = held.mechanisms.front();
+  ASSERT_NE(std::find(first.defects.begin(), first.defects.end(), "transmission"),
+            first.defects.end());
+  EXPECT_TRUE(std::any_of(held.notes.begin(), held.notes.end(), [](const std::string& note) {
+    return note.find("the first breaks min_transmission_angle_deg") != std::string::npos;
+  }));
+}
+
+// Over the range: a four-bar's own outputs give no error; an input beyond a rocker's reach is
+// named (AnalyzeFunctionRange).
+TEST(FunctionTask, RangeAnalysisNamesTheFirstInputOutOfReach) {
+  std::mt19937_64 rng(3517);
+  int checked = 0;
+  for (int trial = 0; trial < 200 && checked < 10; ++trial) {
+    const testing::FunctionTask generated = testing::RandomFunctionTask(rng, 12, false);
+    const FunctionFourBar& f = generated.four_bar;
+    if (AnalyzeFunctionFourBar(f, generated.pairs).input_rotates_fully) continue;
+    const FunctionRangeAnalysis own = AnalyzeFunctionRange(f, generated.pairs[0], generated.pairs);
+    ASSERT_TRUE(own.max_error);
+    EXPECT_LT(*own.max_error, 1e-9);
+    EXPECT_TRUE(own.note.empty());
+    // An input the four-bar does not assemble at, appended as the last sample.
+    std::optional<double> beyond;
+    for (int k = 0; k < 360 && !beyond; ++k) {
+      double psi;
+      const double input = generated.pairs.back().input + k * kPi / 180.0;
+      if (!f.Output(input, &psi)) beyond = input;
+    }
+    ASSERT_TRUE(beyond);
+    std::vector<FunctionPair> samples = generated.pairs;
+    FunctionPair out;
+    out.input = *beyond;
+    samples.push_back(out);
+    const FunctionRangeAnalysis past = AnalyzeFunctionRange(f, generated.pairs[0], samples);
+    EXPECT_FALSE(past.max_error);
+    EXPECT_NE(past.note.find("(sample " + std::to_string(samples.size()) + " of the function)"),
+              std::string::npos)
+        << past.note;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 10);
 }
 
 }  // namespace

@@ -125,16 +125,47 @@ double PoseFitTolerance(const DataPrecision& precision, double length) {
   return std::max(1e-8 * length, kModelUnits * PointUncertainty(precision, length, length, 2));
 }
 
-void JudgeMechanism(const DesignConstraints& constraints, const std::vector<DyadReport>& dyads,
-                    double length, MechanismReport* mechanism) {
-  const PlanarDyad& input = dyads[mechanism->input_dyad].dyad;
-  const PlanarDyad& output = dyads[mechanism->output_dyad].dyad;
+void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, double length,
+                    MechanismReport* mechanism) {
+  const DyadReport& input_report = dyads[mechanism->input_dyad];
+  const DyadReport& output_report = dyads[mechanism->output_dyad];
+  const PlanarDyad& input = input_report.dyad;
+  const PlanarDyad& output = output_report.dyad;
   FourBarClass kind;
   kind.type = mechanism->type;
   kind.grashof = mechanism->grashof;
   kind.input_rotates_fully = mechanism->input_rotates_fully;
-  mechanism->violates = MotionViolations(constraints, input, output, kind, length);
-  JudgeTransmission(constraints, mechanism->transmission_min_deg, &mechanism->defects);
+  mechanism->violates = MotionViolations(task.constraints, input, output, kind, length);
+  std::vector<std::string>& defects = mechanism->defects;
+  const auto add = [&](const char* defect) {
+    if (std::find(defects.begin(), defects.end(), defect) == defects.end()) {
+      defects.push_back(defect);
+    }
+  };
+  // A link the data's precision cannot resolve (issue 35): no longer than how far that precision
+  // can move its pivots (the dyads' finite error bounds) plus kModelUnits of the data's rounding.
+  const auto bound = [](const DyadReport& report) {
+    return report.error_bound && std::isfinite(*report.error_bound) ? *report.error_bound : 0.0;
+  };
+  const double rounding = kModelUnits * task.precision.length;
+  const FourBarLinks links = MotionFourBarLinks(input, output);
+  const auto unresolved = [&](const std::optional<double>& link, double moves) {
+    return link && *link <= moves + rounding;
+  };
+  if (unresolved(links.coupler, bound(input_report) + bound(output_report)) ||
+      unresolved(links.ground, bound(input_report) + bound(output_report)) ||
+      unresolved(links.input, bound(input_report)) ||
+      unresolved(links.output, bound(output_report))) {
+    add("degenerate");
+  }
+  // Minimal data (five poses or fewer) are met exactly by every dyad: a four-bar that misses
+  // them by more than their precision on its one circuit and branch does not do the task.
+  if (task.planar_poses.size() <= 5 && mechanism->max_pose_error &&
+      *mechanism->max_pose_error > PoseFitTolerance(task.precision, length) &&
+      !HasKinematicDefect(defects)) {
+    add("misses");
+  }
+  JudgeTransmission(task.constraints, mechanism->transmission_min_deg, &defects);
 }
 
 namespace {
@@ -376,7 +407,7 @@ void BuildMechanisms(const Task& task, double length, PlanarMotionResult* result
                            const std::vector<bool>& exact,
                            const MechanismReport* screened = nullptr) {
     MechanismReport mechanism = AnalyzeDyadPair(result->dyads, i, j, on, length, exact, screened);
-    JudgeMechanism(task.constraints, result->dyads, length, &mechanism);
+    JudgeMechanism(task, result->dyads, length, &mechanism);
     return mechanism;
   };
   result->mechanisms.clear();

@@ -76,10 +76,13 @@ bool SameDyad(const PlanarDyad& a, const PlanarDyad& b, const DataPrecision& pre
 // near tie in the ranking.
 double PoseFitTolerance(const DataPrecision& precision, double length);
 
-// A four-bar judged against the task's constraints: the ones it violates, and the defect
+// A four-bar judged against the task: the constraints it violates; the defect "degenerate" when
+// a link is no longer than the data's precision can resolve (the dyads' error bounds and
+// kModelUnits of the rounding), "misses" when of five poses or fewer it misses one by more than
+// PoseFitTolerance on its circuit and branch (no other kinematic defect to say why), and
 // "transmission" when its worst transmission angle is below min_transmission_angle_deg.
-void JudgeMechanism(const DesignConstraints& constraints, const std::vector<DyadReport>& dyads,
-                    double length, MechanismReport* mechanism);
+void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, double length,
+                    MechanismReport* mechanism);
 
 // Every four-bar made of two of result->dyads (of those pairs i < j whose `levels` mask is not
 // 0, when given: bit k set when both dyads are among effort level k's), each analysed under both

@@ -878,7 +878,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         MechanismReport refined;
         if (index[0] != index[1]) {
           refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length, exact);
-          JudgeMechanism(task.constraints, result.dyads, length, &refined);
+          JudgeMechanism(task, result.dyads, length, &refined);
         }
         const bool adds_defect = std::any_of(
             refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
@@ -1060,7 +1060,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
       result.dyads.push_back(report);
     }
     MechanismReport mechanism = AnalyzeDyadPair(result.dyads, 0, 1, poses, length, task.pose_exact);
-    JudgeMechanism(task.constraints, result.dyads, length, &mechanism);
+    JudgeMechanism(task, result.dyads, length, &mechanism);
     result.mechanisms.push_back(mechanism);
     return result;
   };
@@ -1115,7 +1115,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
   seed_dyads[0].dyad = input;
   seed_dyads[1].dyad = output;
   MechanismReport seed = AnalyzeDyadPair(seed_dyads, 0, 1, poses, length, task.pose_exact);
-  JudgeMechanism(task.constraints, seed_dyads, length, &seed);
+  JudgeMechanism(task, seed_dyads, length, &seed);
   const bool seed_transmission_kept = seed.max_pose_error && !has(seed, "transmission");
   if (task.constraints.given && seed_transmission_kept) {
     refiner.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);

@@ -135,6 +135,56 @@ TEST(PlanarMotion, CrankRockerTaskComesBackWithoutDefects) {
   }
 }
 
+// Issue 35: a four-bar with a link the data's precision cannot resolve is "degenerate", and one
+// that misses minimal data by more than their precision on its circuit "misses"; both are
+// kinematic defects (never ranked among the defect-free), and neither is said of a sound one.
+TEST(PlanarMotion, UnresolvedLinksAndMissedPosesAreDefects) {
+  std::mt19937_64 rng(3529);
+  for (int t = 0; t < 20; ++t) {
+    testing::GeneratedTask generated = testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, 5);
+    Task task = TaskOf(generated.poses);
+    task.precision.length = 5e-4;  // printed to three decimals
+    const double length = CharacteristicLength(generated.poses);
+    std::vector<DyadReport> dyads = {DyadReport(generated.input, 0.0),
+                                     DyadReport(generated.output, 0.0)};
+    dyads[0].error_bound = dyads[1].error_bound = 1e-6;
+    const auto judged = [&](double max_pose_error) {
+      MechanismReport mechanism;
+      mechanism.input_dyad = 0;
+      mechanism.output_dyad = 1;
+      mechanism.max_pose_error = max_pose_error;
+      JudgeMechanism(task, dyads, length, &mechanism);
+      return mechanism.defects;
+    };
+    const auto has = [](const std::vector<std::string>& defects, const char* name) {
+      return std::find(defects.begin(), defects.end(), name) != defects.end();
+    };
+    const double coupler = (generated.input.moving_pivot - generated.output.moving_pivot).norm();
+    const double tolerance = PoseFitTolerance(task.precision, length);
+    EXPECT_FALSE(has(judged(0.5 * tolerance), "degenerate"));
+    EXPECT_FALSE(has(judged(0.5 * tolerance), "misses"));
+    const std::vector<std::string> missed = judged(2.0 * tolerance);
+    EXPECT_TRUE(has(missed, "misses"));
+    EXPECT_TRUE(HasKinematicDefect(missed));
+    // The error bounds grown past the coupler's length: the data cannot resolve it.
+    dyads[0].error_bound = dyads[1].error_bound = 0.6 * coupler;
+    const std::vector<std::string> unresolved = judged(0.5 * tolerance);
+    EXPECT_TRUE(has(unresolved, "degenerate"));
+    EXPECT_TRUE(HasKinematicDefect(unresolved));
+    // More than five poses are fitted, not met: a miss there is the fit's error, not a defect.
+    Task six = task;
+    six.planar_poses.push_back(six.planar_poses.back());
+    six.planar_poses.back().origin_in_fixed.x() += 0.1;
+    dyads[0].error_bound = dyads[1].error_bound = 1e-6;
+    MechanismReport fitted;
+    fitted.input_dyad = 0;
+    fitted.output_dyad = 1;
+    fitted.max_pose_error = 2.0 * tolerance;
+    JudgeMechanism(six, dyads, length, &fitted);
+    EXPECT_FALSE(has(fitted.defects, "misses"));
+  }
+}
+
 TEST(PlanarMotion, PosesOnTwoCircuitsReportTheCircuitDefect) {
   const PlanarMotionResult result =
       SolvePlanarMotion(TaskOf(CrankRockerPoses({-150, -80, 10, 95, 170}, {0, 0, 0, 1, 1})));

@@ -171,7 +171,7 @@ std::array<double, 3> MultistartBest(const Task& task, int starts, uint64_t seed
     }
     RefineFourBar(poses, {}, {}, length, &dyads[0].dyad, &dyads[1].dyad, options);
     MechanismReport mechanism = AnalyzeDyadPair(dyads, 0, 1, poses, length);
-    JudgeMechanism(task.constraints, dyads, length, &mechanism);
+    JudgeMechanism(task, dyads, length, &mechanism);
     if (!mechanism.violates.empty() || !mechanism.rms_pose_error) continue;
     double& level_best = best[DefectLevel(mechanism.defects)];
     level_best = std::min(level_best, *mechanism.rms_pose_error);

@@ -24,6 +24,7 @@
 #include "apps/trade_bench.h"
 #include "lib/parallel.h"
 #include "lib/result_io.h"
+#include "lib/result_summary.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 
@@ -158,6 +159,8 @@ struct SolveOutputs {
   std::vector<int> platform;  // --platform: five dyad indices (spatial motion)
   std::string effort;         // --effort: overrides the task's options.effort
   int jobs = 0;               // --jobs: threads of a .jsonl batch (0: the machine's)
+  bool summary = false;       // --summary: the table on stdout (lib/result_summary.h)
+  int curve_points = kDefaultCurvePoints;  // --curve-points: Burmester curves' points written
 };
 
 // The command line's overrides of a task: --platform and --effort.
@@ -310,15 +313,26 @@ int Solve(const std::string& task_path, const SolveOutputs& options) {
   if (batch && (!options.svg_path.empty() || !options.animate_path.empty())) {
     throw InputError(task_path + ": --svg and --animate draw one task; a .jsonl file holds many");
   }
+  if (batch && options.summary) {
+    throw InputError(task_path +
+                     ": --summary shows one task; for a batch, write it with -o and "
+                     "run 'linkfit show' on that file");
+  }
+  if (options.summary && options.result_path == "-") {
+    throw InputError("-o -: --summary prints the table on stdout; write the JSON to a file");
+  }
   OutputSet outputs;
   outputs.AddInput(task_path);
-  OutputFile& result_file = outputs.Add(options.result_path, "-o");
+  // With --summary and no -o, stdout takes the table and the JSON is not written.
+  OutputFile* result_file = options.summary && options.result_path.empty()
+                                ? nullptr
+                                : &outputs.Add(options.result_path, "-o");
   OutputFile* svg_file =
       options.svg_path.empty() ? nullptr : &outputs.Add(options.svg_path, "--svg");
   OutputFile* animation_file =
       options.animate_path.empty() ? nullptr : &outputs.Add(options.animate_path, "--animate");
   if (batch) {
-    SolveBatch(task_path, options, ThreadCount(options.jobs), &result_file);
+    SolveBatch(task_path, options, ThreadCount(options.jobs), result_file);
     outputs.CommitAll();
     return kExitOk;
   }
@@ -329,9 +343,12 @@ int Solve(const std::string& task_path, const SolveOutputs& options) {
   for (Task task : tasks) {
     ApplyOverrides(options, task_path, &task);
     results.push_back(SolveTask(task));
+    if (auto* planar = std::get_if<PlanarMotionResult>(&results.back())) {
+      planar->curve_points = options.curve_points;
+    }
     text += ResultToJson(results.back(), indent) + "\n";
   }
-  result_file.Write(text);
+  if (result_file != nullptr) result_file->Write(text);
   // Everything is rendered before anything is written.
   if (svg_file != nullptr || animation_file != nullptr) {
     const std::string title = std::filesystem::path(task_path).filename().string();
@@ -363,6 +380,45 @@ int Solve(const std::string& task_path, const SolveOutputs& options) {
     }
   }
   outputs.CommitAll();
+  if (options.summary) {
+    const std::string title = std::filesystem::path(task_path).filename().string();
+    for (const TaskResult& result : results)
+      std::cout << ResultSummary(ResultToJson(result, -1), title);
+  }
+  return kExitOk;
+}
+
+// `linkfit show RESULT`: the summary table of each result in a file (.json, or one per line of a
+// .jsonl), as `linkfit solve --summary` prints it.
+int Show(const std::string& result_path) {
+  std::error_code error;
+  if (std::filesystem::is_directory(result_path, error)) {
+    throw InputError(result_path + ": is a directory, not a result file");
+  }
+  std::ifstream file(result_path, std::ios::binary);
+  if (!file) throw InputError(result_path + ": cannot open file");
+  const std::string title = std::filesystem::path(result_path).filename().string();
+  std::vector<std::string> texts;
+  if (IsJsonLines(result_path)) {
+    std::string line;
+    while (std::getline(file, line)) {
+      if (line.find_first_not_of(" \t\r") != std::string::npos) texts.push_back(line);
+    }
+  } else {
+    texts.emplace_back(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+  }
+  if (texts.empty()) throw InputError(result_path + ": empty file, expected a result");
+  std::string out;
+  for (size_t i = 0; i < texts.size(); ++i) {
+    try {
+      out +=
+          ResultSummary(texts[i], texts.size() > 1 ? title + ":" + std::to_string(i + 1) : title);
+    } catch (const std::invalid_argument& bad) {
+      throw InputError(result_path + (texts.size() > 1 ? ":" + std::to_string(i + 1) : "") + ": " +
+                       bad.what());
+    }
+  }
+  std::cout << out;
   return kExitOk;
 }
 
@@ -410,8 +466,21 @@ int Run(int argc, char** argv) {
                     "animate one mechanism through its cycle: an .svg (SMIL) or .html file");
   solve
       ->add_option("--mechanism", outputs.animate_index,
-                   "which listed mechanism --animate shows (1 = the first, the best ranked)")
+                   "which listed mechanism --animate shows: its rank, counted from 1 as in "
+                   "--summary (1 = the first, the best ranked; Python's mechanism= is a list "
+                   "index, from 0)")
       ->check(WholeNumber(1, kMaxIndex));
+  solve
+      ->add_option("--curve-points", outputs.curve_points,
+                   "four poses: how many points of each kind of Burmester curve the result file "
+                   "carries (default " +
+                       std::to_string(kDefaultCurvePoints) +
+                       ", a drawing's resolution; the curves are solved far more densely)")
+      ->check(WholeNumber(2, 10000000));
+  solve->add_flag("--summary", outputs.summary,
+                  "print a table of the listed mechanisms (rank, type, Grashof class, link "
+                  "lengths, fit, worst transmission angle, defects, violations) on stdout; the "
+                  "JSON goes to -o FILE when given");
   solve
       ->add_option("--effort", outputs.effort,
                    "more poses than the minimum: fast (algebraic seeds), balanced (seeds refined "
@@ -452,9 +521,15 @@ int Run(int argc, char** argv) {
   refine->add_option("-o,--output", refine_output, "write the result to this file");
   refine
       ->add_option("--mechanism", refine_index,
-                   "which mechanism (spatial: platform) of the design to refine (1 = the first "
-                   "listed)")
+                   "which mechanism (spatial: platform) of the design to refine: its rank, "
+                   "counted from 1 as in --summary (1 = the first listed)")
       ->check(WholeNumber(1, kMaxIndex));
+
+  std::string show_path;
+  CLI::App* show = app.add_subcommand(
+      "show", "Print the summary table of a result file, as 'linkfit solve --summary' does.");
+  show->add_option("RESULT", show_path, "result file: .json (one result) or .jsonl (one per line)")
+      ->required();
 
   BenchOptions bench_options;
   bool trade_only = false, extremes_only = false, constrained_only = false;
@@ -494,9 +569,9 @@ int Run(int argc, char** argv) {
   // A first word that is no command (CLI11 would say "A subcommand is required").
   const std::string first = argc > 1 ? argv[1] : "";
   if (!first.empty() && first[0] != '-' && first != "solve" && first != "refine" &&
-      first != "bench") {
+      first != "bench" && first != "show") {
     PrintError("error", std::string("unknown command '") + argv[1] +
-                            "': solve, refine or bench (see 'linkfit --help')");
+                            "': solve, refine, show or bench (see 'linkfit --help')");
     return kExitBadInput;
   }
   try {
@@ -510,6 +585,7 @@ int Run(int argc, char** argv) {
   }
   if (solve->parsed()) return Solve(task_path, outputs);
   if (refine->parsed()) return Refine(refine_task, design_path, refine_output, refine_index);
+  if (show->parsed()) return Show(show_path);
   if (bench->parsed()) {
     bench_options.trade = !extremes_only && !constrained_only;
     bench_options.extremes = !trade_only && !constrained_only;

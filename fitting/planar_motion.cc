@@ -66,6 +66,19 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   mechanism.grashof = GrashofType(input, output, length);
   mechanism.cycle = chosen.cycle;
   if (!poses.empty()) {
+    std::vector<PlanarPose> configurations;
+    double value = 0.0;
+    const int count =
+        AssembleFourBarAtPose(input, output, poses[0], 1e-9 * length, &configurations, &value);
+    mechanism.first_configuration = poses[0];
+    for (int l = 0; l < count; ++l) {
+      if (l == 0 || PoseError(configurations[l], poses[0], length) <
+                        PoseError(*mechanism.first_configuration, poses[0], length)) {
+        mechanism.first_configuration = configurations[l];
+      }
+    }
+  }
+  if (!poses.empty()) {
     std::vector<Eigen::Vector2d> joints;
     for (const PlanarDyad* dyad : {&input, &output}) {
       if (dyad->type != DyadType::kPR) joints.push_back(dyad->fixed_pivot);

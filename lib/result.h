@@ -44,10 +44,16 @@ struct StageReport {
   std::optional<double> best_max_angle_error;  // function problems: the output's, radians
 };
 
+// The points of each kind of Burmester curve a result file carries by default (about 40 KB).
+inline constexpr int kDefaultCurvePoints = 400;
+
 struct MechanismReport {
   FourBarType type = FourBarType::k4R;
   int input_dyad = 0;   // index into the result's dyads; the driven dyad
   int output_dyad = 1;  // index into the result's dyads
+  // The coupler's pose in Sigma in the four-bar's configuration nearest the first task pose (the
+  // task pose itself where it does not assemble there): where the result's "linkage" shows it.
+  std::optional<PlanarPose> first_configuration;
   // Largest pose error when assembled at every task pose on one circuit (four_bar_motion.h);
   // absent when the mechanism does not assemble at the first pose.
   std::optional<double> max_pose_error;
@@ -93,6 +99,10 @@ struct PlanarMotionResult {
   // points in E.
   std::vector<std::vector<Eigen::Vector2d>> center_point_curves;
   std::vector<std::vector<Eigen::Vector2d>> circle_point_curves;
+  // How many points of each kind of curve the result file carries (ResultToJson simplifies the
+  // polylines to at most this many, Ramer-Douglas-Peucker: a drawing's resolution; the solver
+  // samples them far more densely). `linkfit solve --curve-points N` sets it.
+  int curve_points = kDefaultCurvePoints;
   int roots_total = 0;  // roots of the constraint-space system, complex ones included
   int roots_real = 0;   // of which real
   std::vector<std::string> notes;

@@ -2,6 +2,7 @@
 // the design; a value that is not finite is left out and a "<field>_note" says why.
 #include "lib/result_io.h"
 
+#include <Eigen/Geometry>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -180,6 +181,61 @@ Json SphericalDyadToJson(const SphericalDyadReport& report) {
   }
   PutLeastSquares(&object, report.rms_residual, report.seed_rms_residual);
   return object;
+}
+
+// The four-bar as a designer reads it, one layout for every problem (issue 35): its joints in
+// Sigma in one configuration and its links by name. `input` and `output` hold that configuration
+// in Sigma (their moving pivots, and an RP's line on the coupler, where the coupler has them);
+// `coupler_point` is the coupler's traced point (path) or the body frame's origin (motion).
+Json LinkageToJson(const PlanarDyad& input, const PlanarDyad& output,
+                   const std::optional<Eigen::Vector2d>& coupler_point) {
+  Json joints, links;
+  const FourBarLinks named = MotionFourBarLinks(input, output);
+  if (named.ground) PutNumber(&links, "ground", *named.ground);
+  if (named.input) PutNumber(&links, "input", *named.input);
+  if (named.coupler) PutNumber(&links, "coupler", *named.coupler);
+  if (named.output) PutNumber(&links, "output", *named.output);
+  for (const auto& [side, dyad] : {std::pair<std::string, const PlanarDyad*>{"input", &input},
+                                   std::pair<std::string, const PlanarDyad*>{"output", &output}}) {
+    if (dyad->type != DyadType::kPR) PutPoint(&joints, side + "_pivot", dyad->fixed_pivot);
+    if (dyad->type != DyadType::kRP) PutPoint(&joints, side + "_pin", dyad->moving_pivot);
+    if (dyad->type == DyadType::kRR) continue;
+    // A slider's line: fixed in Sigma (PR), or carried by the coupler (RP), where it is now;
+    // its offset, how far it passes from the other side's pivot (PR) or pin (RP).
+    Json line;
+    PutPoint(&line, "point", dyad->LineFoot());
+    PutNumber(&line, "angle_deg", dyad->LineAngleDeg());
+    line["on"] = dyad->type == DyadType::kPR ? "ground" : "coupler";
+    joints[side + "_slider_line"] = line;
+    const PlanarDyad& other = dyad == &input ? output : input;
+    if (other.type == DyadType::kRR) {
+      const Eigen::Vector2d normal =
+          Eigen::Vector2d(-dyad->line_direction.y(), dyad->line_direction.x()).normalized();
+      const Eigen::Vector2d& reference =
+          dyad->type == DyadType::kPR ? other.fixed_pivot : other.moving_pivot;
+      PutNumber(&links, side + "_slider_offset",
+                std::abs(normal.dot(reference - dyad->LineFoot())));
+    }
+  }
+  if (coupler_point) {
+    PutPoint(&joints, "coupler_point", *coupler_point);
+    // The coupler point from the input pin: its distance, and its angle from the coupler line
+    // (input pin to output pin), counter-clockwise; 0 for a point at the pin.
+    if (input.type != DyadType::kRP && output.type != DyadType::kRP) {
+      const Eigen::Vector2d along = output.moving_pivot - input.moving_pivot;
+      const Eigen::Vector2d to_point = *coupler_point - input.moving_pivot;
+      const bool at_pin = !(to_point.norm() > 1e-9 * std::max(1.0, along.norm()));
+      Json offset;
+      PutNumber(&offset, "distance", to_point.norm());
+      PutNumber(&offset, "angle_deg",
+                at_pin ? 0.0
+                       : std::atan2(along.x() * to_point.y() - along.y() * to_point.x(),
+                                    along.dot(to_point)) *
+                             180.0 / M_PI);
+      links["coupler_point"] = offset;
+    }
+  }
+  return Json{{"joints", joints}, {"links", links}};
 }
 
 Json MechanismToJson(const MechanismReport& report) {
@@ -543,6 +599,78 @@ std::string ResultToJson(const TaskResult& result, int indent) {
   return std::visit([indent](const auto& value) { return ResultToJson(value, indent); }, result);
 }
 
+// The polylines simplified (Ramer-Douglas-Peucker) to at most `max_points` points in all, each
+// keeping its ends: the tolerance is the smallest (by bisection on the extent's scale) that
+// leaves no more. Unchanged when they have no more already.
+std::vector<std::vector<Eigen::Vector2d>> SimplifiedPolylines(
+    const std::vector<std::vector<Eigen::Vector2d>>& polylines, size_t max_points) {
+  size_t total = 0;
+  Eigen::AlignedBox2d box;
+  for (const std::vector<Eigen::Vector2d>& polyline : polylines) {
+    total += polyline.size();
+    for (const Eigen::Vector2d& point : polyline) {
+      if (point.allFinite()) box.extend(point);
+    }
+  }
+  if (total <= max_points || box.isEmpty()) return polylines;
+  const auto simplify = [&](double tolerance) {
+    std::vector<std::vector<Eigen::Vector2d>> out;
+    for (const std::vector<Eigen::Vector2d>& polyline : polylines) {
+      const size_t n = polyline.size();
+      std::vector<char> keep(n, n <= 2);
+      if (n > 2) {
+        keep[0] = keep[n - 1] = 1;
+        std::vector<std::pair<size_t, size_t>> stack = {{0, n - 1}};
+        while (!stack.empty()) {
+          const auto [first, last] = stack.back();
+          stack.pop_back();
+          const Eigen::Vector2d a = polyline[first], b = polyline[last];
+          const Eigen::Vector2d chord = b - a;
+          double farthest = -1.0;
+          size_t at = first;
+          for (size_t k = first + 1; k < last; ++k) {
+            const Eigen::Vector2d p = polyline[k] - a;
+            const double t = chord.squaredNorm() > 0.0
+                                 ? std::clamp(p.dot(chord) / chord.squaredNorm(), 0.0, 1.0)
+                                 : 0.0;
+            const double distance = (p - t * chord).norm();
+            if (!(distance <= farthest)) farthest = distance, at = k;
+          }
+          if (at > first && !(farthest <= tolerance)) {
+            keep[at] = 1;
+            stack.push_back({first, at});
+            stack.push_back({at, last});
+          }
+        }
+      }
+      std::vector<Eigen::Vector2d> kept;
+      for (size_t k = 0; k < n; ++k) {
+        if (keep[k]) kept.push_back(polyline[k]);
+      }
+      out.push_back(kept);
+    }
+    return out;
+  };
+  const auto count = [](const std::vector<std::vector<Eigen::Vector2d>>& lines) {
+    size_t points = 0;
+    for (const auto& line : lines) points += line.size();
+    return points;
+  };
+  double low = 0.0, high = box.diagonal().norm();
+  std::vector<std::vector<Eigen::Vector2d>> best = simplify(high);
+  for (int round = 0; round < 40; ++round) {
+    const double middle = 0.5 * (low + high);
+    std::vector<std::vector<Eigen::Vector2d>> trial = simplify(middle);
+    if (count(trial) <= max_points) {
+      high = middle;
+      best = std::move(trial);
+    } else {
+      low = middle;
+    }
+  }
+  return best;
+}
+
 std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   Json root;
   root["problem"] = ProblemKindName(result.problem);
@@ -555,7 +683,20 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
   for (const DyadReport& dyad : result.dyads) root["dyads"].push_back(DyadToJson(dyad));
   root["mechanisms"] = Json::array();
   for (const MechanismReport& mechanism : result.mechanisms) {
-    root["mechanisms"].push_back(MechanismToJson(mechanism));
+    Json object = MechanismToJson(mechanism);
+    if (mechanism.first_configuration) {
+      // The dyads where the coupler is in its configuration nearest the first task pose.
+      const PlanarPose& pose = *mechanism.first_configuration;
+      Similarity2 coupler;
+      coupler.angle = pose.theta;
+      coupler.translation = pose.origin_in_fixed;
+      const auto at_pose = [&](int index) {
+        return TransformDyad(result.dyads[index].dyad, Similarity2(), coupler);
+      };
+      object["linkage"] = LinkageToJson(at_pose(mechanism.input_dyad),
+                                        at_pose(mechanism.output_dyad), pose.origin_in_fixed);
+    }
+    root["mechanisms"].push_back(object);
   }
   if (result.roots_total > 0) {
     root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};
@@ -566,7 +707,8 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
          {std::pair{"center_points", &result.center_point_curves},
           std::pair{"circle_points", &result.circle_point_curves}}) {
       Json list = Json::array();
-      for (const std::vector<Eigen::Vector2d>& polyline : *polylines) {
+      for (const std::vector<Eigen::Vector2d>& polyline :
+           SimplifiedPolylines(*polylines, static_cast<size_t>(std::max(result.curve_points, 2)))) {
         Json points = Json::array();
         for (const Eigen::Vector2d& point : polyline) {
           if (point.allFinite()) points.push_back(Json::array({point.x(), point.y()}));
@@ -596,7 +738,10 @@ std::string ResultToJson(const PathResult& result, int indent) {
   PutConstraints(&root, result.constraints, result.scale);
   root["mechanisms"] = Json::array();
   for (const PathMechanismReport& mechanism : result.mechanisms) {
-    root["mechanisms"].push_back(PathMechanismToJson(mechanism));
+    Json object = PathMechanismToJson(mechanism);
+    object["linkage"] = LinkageToJson(mechanism.design.input, mechanism.design.output,
+                                      mechanism.design.coupler_point);
+    root["mechanisms"].push_back(object);
   }
   if (result.four_bars_total > 0) {
     root["roots"] = Json{{"cranks", result.crank_roots_total},
@@ -630,7 +775,15 @@ std::string ResultToJson(const FunctionResult& result, int indent) {
   }
   root["mechanisms"] = Json::array();
   for (const FunctionMechanismReport& mechanism : result.mechanisms) {
-    root["mechanisms"].push_back(FunctionMechanismToJson(mechanism));
+    Json object = FunctionMechanismToJson(mechanism);
+    if (mechanism.first) {
+      const FunctionConfiguration& at = *mechanism.first;
+      object["linkage"] = LinkageToJson(
+          PlanarDyad::RR(at.input_pivot, at.input_moving, mechanism.design.input_length),
+          PlanarDyad::RR(at.output_pivot, at.output_moving, mechanism.design.output_length),
+          std::nullopt);
+    }
+    root["mechanisms"].push_back(object);
   }
   if (!result.effort.empty()) root["effort"] = result.effort;
   if (!result.stages.empty()) root["stages"] = StagesToJson(result.stages);

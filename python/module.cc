@@ -20,6 +20,7 @@
 #include "apps/picture.h"
 #include "lib/parallel.h"
 #include "lib/result_io.h"
+#include "lib/result_summary.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 
@@ -177,4 +178,15 @@ PYBIND11_MODULE(_linkfit, m) {
          int threads) { return linkfit::SolveMany(texts, sources, threads); },
       py::arg("texts"), py::arg("sources"), py::arg("threads") = 0,
       "Solves tasks (JSON texts) on `threads` threads (0: all cores); results in input order.");
+  m.def(
+      "summary_json",
+      [](const std::string& result, const std::string& title) {
+        try {
+          return linkfit::ResultSummary(result, title);
+        } catch (const std::invalid_argument& error) {
+          throw linkfit::InputError(std::string("result: ") + error.what());
+        }
+      },
+      py::arg("result"), py::arg("title") = "",
+      "The summary table of a result (JSON text), as `linkfit show` prints it.");
 }

@@ -16,10 +16,11 @@ Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses
 
 import json
 
-from ._linkfit import InputError, refine_drawn_json, solve_drawn_json, solve_many_json
+from ._linkfit import (InputError, refine_drawn_json, solve_drawn_json, solve_many_json,
+                       summary_json)
 
-__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "planar_poses",
-           "spatial_poses", "path_points"]
+__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "summary",
+           "planar_poses", "spatial_poses", "path_points"]
 
 
 class Result(dict):
@@ -196,7 +197,8 @@ def refine(task, design, mechanism=0):
     ``{"mechanisms": [{"type": "4R", "input_pivot", "input_moving", "output_pivot",
     "output_moving", "coupler_point"}]}``, spatial ``{"dyads": [SS, PS or SP dyads],
     "mechanisms": [{"dyads": [five indices]}]}``. `mechanism` picks which of the design's
-    mechanisms (0, the first listed; a spatial design's platform). The task's weights, exact
+    mechanisms: a list index (0, the first listed; a spatial design's platform), where the CLI's
+    --mechanism and the summary's rank count from 1. The task's weights, exact
     items and constraints hold; the errors before and after are in the result's notes and in
     each design's "before_refinement".
     """
@@ -215,8 +217,17 @@ def solve_many(tasks, threads=0):
     return [json.loads(text) for text in solve_many_json(texts, sources, threads)]
 
 
-def plot(result, ax=None, mechanism=None):
-    """Draws a result of :func:`solve` or :func:`refine` with matplotlib (see
-    :func:`linkfit.drawing.plot`)."""
+def summary(result, title=""):
+    """The table `linkfit show` prints for a result (a dict from :func:`solve`, :func:`refine`
+    or a file, or its JSON text): per listed mechanism its rank (from 1), type, Grashof class,
+    link lengths, fit, worst transmission angle, defects and violations. ``print`` it."""
+    return summary_json(result if isinstance(result, str) else json.dumps(_plain(dict(result))),
+                        title)
+
+
+def plot(result, ax=None, mechanism=None, task=None):
+    """Draws a result of :func:`solve` or :func:`refine`, or one read back from a file, with
+    matplotlib (see :func:`linkfit.drawing.plot`). `mechanism` is a list index (0, the first
+    listed; the CLI's --mechanism and the summary's rank count from 1)."""
     from .drawing import plot as draw
-    return draw(result, ax=ax, mechanism=mechanism)
+    return draw(result, ax=ax, mechanism=mechanism, task=task)

@@ -243,7 +243,63 @@ def _draw_spherical_panel(ax, picture, mechanism):
     ax.set_axis_off()
 
 
-def plot(result, ax=None, mechanism=None):
+def _draw_linkage_panel(ax, number, mechanism, task_points):
+    """One panel of a result read back from a file: the mechanism's "linkage" (its joints in
+    Sigma at the first task pose, pose, point or pair), the task's points or pose origins when
+    given, in the result's own coordinates."""
+    joints = mechanism.get("linkage", {}).get("joints", {})
+    if task_points:
+        ax.plot([p[0] for p in task_points], [p[1] for p in task_points], "x", color=PATH_POINT,
+                markersize=6, zorder=3)
+    pins = [joints.get("input_pin"), joints.get("output_pin")]
+    body = [p for p in pins + [joints.get("coupler_point")] if p is not None]
+    if len(body) >= 2:
+        ax.fill([p[0] for p in body], [p[1] for p in body], color=COUPLER_FILL, alpha=0.5,
+                edgecolor=COUPLER_STROKE, zorder=2)
+    for side in ("input", "output"):
+        pivot, pin = joints.get(side + "_pivot"), joints.get(side + "_pin")
+        if pivot is not None and pin is not None:
+            ax.plot([pivot[0], pin[0]], [pivot[1], pin[1]], "-", color=LINK, linewidth=2.5,
+                    zorder=4)
+        if pivot is not None:
+            ax.plot([pivot[0]], [pivot[1]], "^", color=GROUND, markersize=9, zorder=5)
+            ax.annotate(side, pivot, textcoords="offset points", xytext=(7, 4), fontsize=8,
+                        color=LINK)
+        if pin is not None:
+            ax.plot([pin[0]], [pin[1]], "o", color=LINK, markersize=5, zorder=5)
+        line = joints.get(side + "_slider_line")
+        if line is not None:
+            angle = math.radians(line["angle_deg"])
+            anchor = pin if line.get("on") == "ground" and pin is not None else pivot
+            anchor = anchor if anchor is not None else line["point"]
+            reach = max(1e-9, max(abs(v) for p in body + [anchor] for v in p)) * 0.3
+            dx, dy = reach * math.cos(angle), reach * math.sin(angle)
+            ax.plot([anchor[0] - dx, anchor[0] + dx], [anchor[1] - dy, anchor[1] + dy], "--",
+                    color=GROUND, linewidth=1, zorder=3)
+    point = joints.get("coupler_point")
+    if point is not None:
+        ax.plot([point[0]], [point[1]], "s", color=COUPLER_CURVE, markersize=5, zorder=6)
+    labels = [mechanism.get("type", "")]
+    if mechanism.get("grashof"):
+        labels.append(mechanism["grashof"])
+    labels.append(", ".join(mechanism.get("defects") or []) or "no defects")
+    ax.set_title("%d. %s" % (number, " · ".join(labels)), fontsize=9, loc="left")
+    ax.set_aspect("equal", adjustable="datalim")
+
+
+def _task_points(task):
+    """The points (path) or pose origins (planar motion) of a task dict, for the overlay."""
+    if not task:
+        return []
+    if isinstance(task, str):
+        import json
+        task = json.loads(task)
+    items = task.get("points") or task.get("poses") or []
+    return [(item["x"], item["y"]) for item in items
+            if isinstance(item, dict) and "x" in item and "y" in item]
+
+
+def plot(result, ax=None, mechanism=None, task=None):
     """Draws a result of :func:`linkfit.solve` or :func:`linkfit.refine` with matplotlib.
 
     With ``ax`` (a matplotlib Axes), draws one panel on it: the task and mechanism number
@@ -254,14 +310,47 @@ def plot(result, ax=None, mechanism=None):
     A spherical result's four-bars are drawn as the SVG draws them, each on an orthographic view
     of the unit sphere about the centre (a panel's coordinates are those of the sphere's points
     projected on its view, the picture's "right" and "up"). Spatial platforms are not drawn (as
-    ``linkfit solve --svg``): ValueError says so. A result read back from a file carries no
-    drawing: solve or refine it again from Python.
+    ``linkfit solve --svg``): ValueError says so.
+
+    A result read back from a file (a plain dict, e.g. ``json.load``) is drawn from each planar
+    mechanism's ``"linkage"``: its joints at the first task pose, point or pair, without the
+    coupler curve; ``task`` (the task dict) adds its points or pose origins.
     """
     picture = getattr(result, "picture", None)  # made here, on first use
+    if picture is None and not isinstance(result, dict):
+        raise ValueError("linkfit.plot: expected a result (a dict), got %s" % type(result).__name__)
     if picture is None:
         reason = getattr(result, "picture_note", "")
-        raise ValueError("linkfit.plot: " + (reason or "this result carries no drawing; plot the "
-                                             "result of linkfit.solve or linkfit.refine"))
+        listed = result.get("mechanisms", [])
+        drawable = [(k, m) for k, m in enumerate(listed) if isinstance(m, dict) and "linkage" in m]
+        if reason or not drawable:
+            raise ValueError("linkfit.plot: " + (reason or "this result has no planar mechanism "
+                                                 "with a \"linkage\" to draw"))
+        if mechanism is not None and not 0 <= mechanism < len(listed):
+            raise ValueError("linkfit.plot: mechanism %d: the result lists %d mechanisms"
+                             % (mechanism, len(listed)))
+        if mechanism is not None:
+            drawable = [(k, m) for k, m in drawable if k == mechanism]
+            if not drawable:
+                raise ValueError("linkfit.plot: mechanism %d has no \"linkage\" to draw"
+                                 % mechanism)
+        points = _task_points(task)
+        if ax is not None:
+            _draw_linkage_panel(ax, drawable[0][0] + 1, drawable[0][1], points)
+            return ax
+        pyplot = _pyplot()
+        drawable = drawable[:12]
+        columns = min(3, len(drawable))
+        rows = (len(drawable) + columns - 1) // columns
+        figure, axes = pyplot.subplots(rows, columns, figsize=(4.3 * columns, 4.3 * rows),
+                                       squeeze=False)
+        for k, axis in enumerate(axes.flat):
+            if k < len(drawable):
+                _draw_linkage_panel(axis, drawable[k][0] + 1, drawable[k][1], points)
+            else:
+                axis.set_visible(False)
+        figure.tight_layout()
+        return figure
     spherical = picture.get("kind") == "spherical"
     draw_panel = _draw_spherical_panel if spherical else _draw_panel
     mechanisms = picture["mechanisms"]

@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <Eigen/Dense>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -188,6 +189,121 @@ TEST_F(CliTest, Help) {
   EXPECT_EQ(run.status, 0);
   EXPECT_NE(run.out.find("theta_deg"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("rotation"), std::string::npos) << run.out;
+  // Every problem kind and how --mechanism counts (issue 35).
+  for (const char* text :
+       {"\"function\"", "\"path\"", "input_range_deg", "--summary", "counted from 1", "from 0"}) {
+    EXPECT_NE(run.out.find(text), std::string::npos) << text;
+  }
+}
+
+// `linkfit solve --summary` and `linkfit show` (issue 35): the table a designer reads first, the
+// bundled five poses' generating four-bar (ground 100, crank 37.5, coupler 87.5, rocker 75) first.
+TEST_F(CliTest, SummaryAndShowPrintTheTable) {
+  const std::string task = std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json";
+  const RunResult alone = Run("solve --summary '" + task + "'");
+  ASSERT_EQ(alone.status, 0) << alone.err;
+  EXPECT_EQ(alone.out.rfind("four_bar_5_poses.json: motion (planar), exact: ", 0), 0u) << alone.out;
+  for (const char* column :
+       {"type", "grashof", "ground", "input", "coupler", "output", "largest pose error",
+        "worst transmission, deg", "defects", "violates"}) {
+    EXPECT_NE(alone.out.find(column), std::string::npos) << column;
+  }
+  const size_t first_row = alone.out.find("\n1  ");
+  ASSERT_NE(first_row, std::string::npos) << alone.out;
+  const std::string row =
+      alone.out.substr(first_row + 1, alone.out.find('\n', first_row + 1) - first_row - 1);
+  std::istringstream cells(row);
+  std::string rank, type, grashof, ground, input, coupler, output;
+  cells >> rank >> type >> grashof >> ground >> input >> coupler >> output;
+  EXPECT_EQ(type, "4R");
+  EXPECT_EQ(grashof, "crank-rocker");
+  EXPECT_EQ(ground + " " + input + " " + coupler + " " + output, "100 37.5 87.5 75") << row;
+  // With -o the JSON goes to the file and the table to stdout; `show` prints the same table.
+  const std::string output_path = Path("result.json");
+  const RunResult with_file = Run("solve --summary '" + task + "' -o '" + output_path + "'");
+  ASSERT_EQ(with_file.status, 0) << with_file.err;
+  EXPECT_EQ(with_file.out, alone.out);
+  const nlohmann::json written = nlohmann::json::parse(ReadFile(output_path));
+  EXPECT_EQ(written["mechanisms"].size(), 6u);
+  const RunResult shown = Run("show '" + output_path + "'");
+  ASSERT_EQ(shown.status, 0) << shown.err;
+  EXPECT_EQ(shown.out.substr(shown.out.find(':')), alone.out.substr(alone.out.find(':')));
+  // A file that is not a result: one line, exit 2.
+  const RunResult bad = Run("show '" + task + "'");
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("not a linkfit result"), std::string::npos) << bad.err;
+  EXPECT_EQ(Run("solve --summary -o - '" + task + "'").status, 2);
+}
+
+// Four poses' Burmester curves are written at a drawing's resolution (issue 35: a four-pose
+// result was 569 KB): the file under 50 KB, each polyline a subset of the dense one with its
+// ends; --curve-points asks for more.
+TEST_F(CliTest, FourPoseCurvesAreWrittenAtADrawingsResolution) {
+  const std::string task = std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_4_poses.json";
+  const std::string small_path = Path("small.json"), dense_path = Path("dense.json");
+  ASSERT_EQ(Run("solve '" + task + "' -o '" + small_path + "'").status, 0);
+  ASSERT_EQ(Run("solve '" + task + "' --curve-points 10000000 -o '" + dense_path + "'").status, 0);
+  EXPECT_LT(std::filesystem::file_size(small_path), 50000u);
+  const nlohmann::json small = nlohmann::json::parse(ReadFile(small_path));
+  const nlohmann::json dense = nlohmann::json::parse(ReadFile(dense_path));
+  for (const char* kind : {"center_points", "circle_points"}) {
+    const nlohmann::json& few = small["burmester_curves"][kind];
+    const nlohmann::json& many = dense["burmester_curves"][kind];
+    ASSERT_EQ(few.size(), many.size()) << kind;
+    size_t written = 0, solved = 0;
+    for (size_t k = 0; k < few.size(); ++k) {
+      written += few[k].size();
+      solved += many[k].size();
+      EXPECT_EQ(few[k].front(), many[k].front());
+      EXPECT_EQ(few[k].back(), many[k].back());
+      size_t at = 0;  // each written point is one of the dense polyline's, in order
+      for (const nlohmann::json& point : few[k]) {
+        while (at < many[k].size() && many[k][at] != point) ++at;
+        EXPECT_LT(at, many[k].size());
+      }
+    }
+    EXPECT_LE(written, 400u) << kind;
+    EXPECT_GT(solved, 4 * written) << kind;
+  }
+}
+
+// Every listed mechanism of every planar problem kind gives "linkage" (issue 35): its joints in
+// one assembled configuration, whose distances are the named links.
+TEST_F(CliTest, EveryMechanismGivesItsJointsAndNamedLinks) {
+  for (const char* name :
+       {"four_bar_5_poses.json", "slider_crank_5_poses.json", "four_bar_12_poses.json",
+        "four_bar_4_poses.json", "path_12_points_untimed.json", "path_5_points.json",
+        "function_log10.json", "function_3_pairs.json"}) {
+    SCOPED_TRACE(name);
+    const std::string output_path = Path("result.json");
+    const RunResult run = Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/" + name +
+                              "' -o '" + output_path + "'");
+    ASSERT_EQ(run.status, 0) << run.err;
+    const nlohmann::json result = nlohmann::json::parse(ReadFile(output_path));
+    const double scale = result["scale"].get<double>();
+    ASSERT_FALSE(result["mechanisms"].empty());
+    for (const nlohmann::json& mechanism : result["mechanisms"]) {
+      ASSERT_TRUE(mechanism.contains("linkage")) << mechanism.dump();
+      const nlohmann::json& joints = mechanism["linkage"]["joints"];
+      const nlohmann::json& links = mechanism["linkage"]["links"];
+      const auto point = [&](const char* key) {
+        return Eigen::Vector2d(joints[key][0].get<double>(), joints[key][1].get<double>());
+      };
+      const auto check = [&](const char* link, const char* a, const char* b) {
+        if (!joints.contains(a) || !joints.contains(b)) {
+          EXPECT_FALSE(links.contains(link)) << link;
+          return;
+        }
+        ASSERT_TRUE(links.contains(link)) << link;
+        EXPECT_NEAR(links[link].get<double>(), (point(a) - point(b)).norm(), 1e-7 * scale)
+            << link << " " << mechanism.dump();
+      };
+      check("ground", "input_pivot", "output_pivot");
+      check("input", "input_pivot", "input_pin");
+      check("coupler", "input_pin", "output_pin");
+      check("output", "output_pivot", "output_pin");
+    }
+  }
 }
 
 }  // namespace

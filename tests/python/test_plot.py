@@ -170,5 +170,29 @@ def test_plot_says_what_it_cannot_draw():
     spatial = linkfit.solve(json.loads((DATA / "platform_7_poses.json").read_text()))
     with pytest.raises(ValueError, match="spatial platform"):
         linkfit.plot(spatial)
-    with pytest.raises(ValueError, match="carries no drawing"):
+    with pytest.raises(ValueError, match="no planar mechanism"):
         linkfit.plot(json.loads(json.dumps(spatial)))
+
+
+def test_plot_draws_a_result_read_back_from_a_file():
+    """Issue 35: a result written to a file and read back is drawn from each mechanism's
+    "linkage", its ground pivots where the file says, the task's points overlaid."""
+    import matplotlib.pyplot as pyplot
+    task = json.loads((DATA / "path_12_points_untimed.json").read_text())
+    back = json.loads(json.dumps(linkfit.solve(task)))
+    figure = linkfit.plot(back, task=task)
+    panels = [axis for axis in figure.axes if axis.get_visible()]
+    assert len(panels) == min(12, len(back["mechanisms"]))
+    assert panels[0].get_title(loc="left").startswith("1. " + back["mechanisms"][0]["type"])
+    joints = back["mechanisms"][0]["linkage"]["joints"]
+    expected = joints["input_pivot"] + joints["output_pivot"]
+    assert [c for pivot in drawn_ground_pivots(panels[0]) for c in pivot] == pytest.approx(
+        expected, abs=1e-9)
+    one = linkfit.plot(back, mechanism=2)
+    assert [a.get_title(loc="left")[:3] for a in one.axes] == ["3. "]
+    with pytest.raises(ValueError, match="mechanism 40"):
+        linkfit.plot(back, mechanism=40)
+    table = linkfit.summary(back)
+    assert table.splitlines()[1].split()[:3] == ["#", "type", "grashof"]
+    assert table.splitlines()[2].split()[:2] == ["1", back["mechanisms"][0]["type"]]
+    pyplot.close("all")

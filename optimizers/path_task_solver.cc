@@ -60,6 +60,9 @@ constexpr int kRefineRounds = 4;
 // Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
+// A listed four-bar's refinement (Finish) is taken when it lowers the RMS point error by more
+// than this share: `linkfit refine` then improves no listed four-bar by more (issue 35).
+constexpr double kPolishGain = 0.005;
 // Free timing: a near miss, a four-bar that misses the points by at most this many times their
 // tolerance (PassTolerance): refined, it may pass them.
 constexpr double kNearMiss = 10.0;
@@ -553,15 +556,60 @@ int RefineAll(const PathData& data, const PathRefinerOptions& options,
 }
 
 // The distinct candidates, judged (JudgeTransmission) and ranked; at most `reported` listed,
-// with a note of how many more were dropped.
-void Finish(const PathData& data, int reported, std::vector<PathMechanismReport> candidates,
-            PathResult* result) {
+// with a note of how many more were dropped. Above fast, every listed four-bar is then refined
+// as `linkfit refine` refines it (RefinePathDesign; issue 35: a designer who refines a listed
+// four-bar finds it at its optimum already), taken where that lowers its RMS point error by
+// more than kPolishGain, and the list made distinct and ranked again: four-bars that refine to
+// one optimum are listed once.
+void Finish(const Task& task, const PathData& data, const TaskSolverOptions& options, int reported,
+            std::vector<PathMechanismReport> candidates, PathResult* result) {
   std::vector<PathMechanismReport> distinct;
   for (const PathMechanismReport& report : candidates)
     AddDistinct(report, data.length, data.centroid, &distinct);
   for (PathMechanismReport& report : distinct) JudgeTransmission(data, &report);
   // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
-  const int dropped = Rank(true, data, reported, &distinct);
+  int dropped = Rank(true, data, reported, &distinct);
+  if (task.effort != Effort::kFast && !distinct.empty()) {
+    const auto start = std::chrono::steady_clock::now();
+    constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    std::vector<PathMechanismReport> polished = distinct;
+    TaskSolverOptions one = options;
+    one.threads = 1;
+    ParallelFor(distinct.size(), ThreadCount(options.threads), [&](size_t k) {
+      const PathMechanismReport& listed = distinct[k];
+      // One that passes the points within their precision is at its optimum as far as they tell.
+      if (!(listed.max_point_error.value_or(kInfinity) > PassTolerance(data))) return;
+      // Again from each refinement that gained (a refinement from far off can stop short), a
+      // few rounds at most.
+      constexpr int kPolishRounds = 3;
+      for (int round = 0; round < kPolishRounds; ++round) {
+        const PathMechanismReport& from = polished[k];
+        try {
+          const PathResult refined = RefinePathDesign(task, from.design, from.input_angles, one);
+          if (refined.mechanisms.empty()) return;
+          const PathMechanismReport& better = refined.mechanisms.front();
+          if (!(better.rms_point_error.value_or(kInfinity) <
+                (1.0 - kPolishGain) * from.rms_point_error.value_or(kInfinity))) {
+            return;
+          }
+          polished[k] = better;
+          polished[k].seed_max_point_error =
+              listed.seed_max_point_error ? listed.seed_max_point_error : listed.max_point_error;
+        } catch (const std::invalid_argument&) {
+          return;  // not driven from its first angle: listed as it is
+        }
+      }
+    });
+    std::vector<PathMechanismReport> again;
+    for (const PathMechanismReport& report : polished) {
+      AddDistinct(report, data.length, data.centroid, &again);
+    }
+    for (PathMechanismReport& report : again) JudgeTransmission(data, &report);
+    dropped += static_cast<int>(polished.size() - again.size());
+    Rank(true, data, reported, &again);
+    distinct = std::move(again);
+    result->stages.push_back(Stage("refine the listed", start, distinct));
+  }
   if (dropped > 0) result->notes.push_back(DroppedNote(dropped));
   result->mechanisms = std::move(distinct);
   NoteDefaults(true, data, result);
@@ -634,7 +682,7 @@ void SolvePrescribed(const Task& task, const PathData& data, const TaskSolverOpt
     result->stages.push_back(Stage("search", search_start, searched));
     candidates.insert(candidates.end(), searched.begin(), searched.end());
   }
-  Finish(data, options.path_reported, candidates, result);
+  Finish(task, data, options, options.path_reported, candidates, result);
 }
 
 // A four-bar's coupler point over one turn of its crank from the first point's angle, on the
@@ -1279,7 +1327,7 @@ void SolveFreeTiming(const Task& task, const PathData& data, const TaskSolverOpt
       fits->push_back(candidate.design);
     }
   }
-  Finish(data, options.path_reported, candidates, result);
+  Finish(task, data, options, options.path_reported, candidates, result);
   // Nothing through the points within their precision: say so, with how far the best misses.
   const std::optional<double> best = BestDefectFreeMaxError(result->mechanisms);
   if (count >= 9 && task.effort != Effort::kFast && !result->mechanisms.empty() &&
@@ -1359,7 +1407,7 @@ void SolveFreeTimingScreened(const Task& task, const PathData& data,
       fits->push_back(candidate.design);
     }
   }
-  Finish(data, options.path_reported, candidates, result);
+  Finish(task, data, options, options.path_reported, candidates, result);
   result->notes.push_back(
       std::to_string(data.points.size()) + " untimed points: the four-bars were searched for on " +
       std::to_string(screen.points.size()) +

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <random>
 
@@ -54,14 +55,45 @@ TEST(NoiseDefects, FiftyNoisyPointsOfACurveGiveAFourBarWithoutOrderDefect) {
   }
 }
 
-// Fifty measured poses of a four-bar (the first fifty of a dense run, noise 3e-3 L on every
-// origin and angle): the listed four-bar nearest the generator has no kinematic defect, and the
-// first has none and fits as well (issue 34: neighbouring poses a noise-width apart swap order).
-// Two 4Rs; a slider-crank drawn next from this seed is left open (issue 34): the first listed is
-// a 4R whose poses near its toggle are judged on two branches, and no slider-crank is found.
-TEST(NoiseDefects, FiftyNoisyPosesGiveTheFourBarNearestTheGeneratorWithoutOrderDefect) {
+// The RMS pose error of a four-bar on poses, at each pose's nearest configuration on its circuit.
+double OwnRmsPoseError(const PlanarDyad& input, const PlanarDyad& output,
+                       const std::vector<PlanarPose>& poses, double length) {
+  const FourBarAnalysis analysis = AnalyzeFourBar(input, output, poses, length);
+  double sum = 0.0;
+  for (const FourBarLocation& location : analysis.locations) {
+    sum += location.pose_error * location.pose_error;
+  }
+  return std::sqrt(sum / static_cast<double>(analysis.locations.size()));
+}
+
+// The listed four-bar nearest the generator (by its dyads, either as input), and how far.
+const MechanismReport* Nearest(const PlanarMotionResult& result,
+                               const testing::GeneratedTask& generated, double length,
+                               double* apart_out) {
+  const MechanismReport* nearest = nullptr;
+  double nearest_apart = std::numeric_limits<double>::infinity();
+  for (const MechanismReport& listed : result.mechanisms) {
+    const PlanarDyad& input = result.dyads[listed.input_dyad].dyad;
+    const PlanarDyad& output = result.dyads[listed.output_dyad].dyad;
+    const double apart = std::min(std::max(testing::DyadDistance(input, generated.input, length),
+                                           testing::DyadDistance(output, generated.output, length)),
+                                  std::max(testing::DyadDistance(output, generated.input, length),
+                                           testing::DyadDistance(input, generated.output, length)));
+    if (apart < nearest_apart) nearest_apart = apart, nearest = &listed;
+  }
+  *apart_out = nearest_apart;
+  return nearest;
+}
+
+// Fifty measured poses of a four-bar (noise 3e-3 L on every origin and angle), the first fifty
+// of a dense run (issue 34: neighbouring poses a noise-width apart swapped order, and every listed
+// four-bar had an order defect). An eighth of the cycle does not determine the four-bar: every
+// listed one is several L from the generator by its dyads, and the best fit 2 to 10 times better
+// than the generator's own. What the data allow is demanded: the first has no kinematic defect,
+// and fits at least as well as the generator itself (within 1.25 times).
+TEST(NoiseDefects, FiftyNoisyPosesGiveADefectFreeFirstThatFitsAsWellAsTheGenerator) {
   std::mt19937_64 rng(3457);
-  for (int t = 0; t < 2; ++t) {
+  for (int t = 0; t < 4; ++t) {
     SCOPED_TRACE("four-bar " + std::to_string(t));
     testing::GeneratedTask generated = testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, 400);
     generated.poses.resize(50);
@@ -75,21 +107,37 @@ TEST(NoiseDefects, FiftyNoisyPosesGiveTheFourBarNearestTheGeneratorWithoutOrderD
     ASSERT_FALSE(result.mechanisms.empty());
     const MechanismReport& first = result.mechanisms.front();
     EXPECT_FALSE(HasKinematicDefect(first.defects));
-    // The listed four-bar nearest the generator (the poses span a short arc: the data do not
-    // pin the four-bar down, so nearest rather than within a bound).
-    const MechanismReport* nearest = nullptr;
-    double nearest_apart = std::numeric_limits<double>::infinity();
-    for (const MechanismReport& listed : result.mechanisms) {
-      const PlanarDyad& input = result.dyads[listed.input_dyad].dyad;
-      const PlanarDyad& output = result.dyads[listed.output_dyad].dyad;
-      const double apart =
-          std::min(std::max(testing::DyadDistance(input, generated.input, length),
-                            testing::DyadDistance(output, generated.output, length)),
-                   std::max(testing::DyadDistance(output, generated.input, length),
-                            testing::DyadDistance(input, generated.output, length)));
-      if (apart < nearest_apart) nearest_apart = apart, nearest = &listed;
-    }
+    ASSERT_TRUE(first.rms_pose_error);
+    EXPECT_LE(*first.rms_pose_error,
+              1.25 * OwnRmsPoseError(generated.input, generated.output, noisy, length));
+  }
+}
+
+// Fifty measured poses spread over the whole run (every eighth of 400), noise 3e-3 L: the data
+// determine the four-bar, and the listed four-bar nearest the generator has no kinematic defect;
+// the first has none and fits as well (within 1.25 times).
+TEST(NoiseDefects, FiftyNoisyPosesGiveTheFourBarNearestTheGeneratorWithoutDefect) {
+  std::mt19937_64 rng(3457);
+  for (int t = 0; t < 4; ++t) {
+    SCOPED_TRACE("four-bar " + std::to_string(t));
+    testing::GeneratedTask generated = testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, 400);
+    std::vector<PlanarPose> spread;
+    for (size_t j = 0; j < generated.poses.size(); j += 8) spread.push_back(generated.poses[j]);
+    generated.poses = spread;
+    const double length = CharacteristicLength(generated.poses);
+    std::vector<PlanarPose> noisy = generated.poses;
+    testing::PerturbPlanarPoses(rng, kNoise, length, &noisy);
+    Task task;
+    task.problem = ProblemKind::kMotion;
+    task.planar_poses = noisy;
+    const PlanarMotionResult result = SolvePlanarTask(task);
+    ASSERT_FALSE(result.mechanisms.empty());
+    const MechanismReport& first = result.mechanisms.front();
+    EXPECT_FALSE(HasKinematicDefect(first.defects));
+    double apart = 0.0;
+    const MechanismReport* nearest = Nearest(result, generated, length, &apart);
     ASSERT_NE(nearest, nullptr);
+    EXPECT_LT(apart, 2.0);  // the data pin it down
     EXPECT_FALSE(HasKinematicDefect(nearest->defects));
     ASSERT_TRUE(nearest->rms_pose_error && first.rms_pose_error);
     EXPECT_LE(*first.rms_pose_error, 1.25 * *nearest->rms_pose_error);

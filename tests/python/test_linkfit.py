@@ -102,7 +102,7 @@ def cli_refine(task_path, design_path, mechanism=1):
 
 
 @pytest.mark.parametrize("name,mechanism", [("four_bar_12_poses.json", 1),
-                                            ("path_12_points.json", 2),
+                                            ("path_12_points.json", 1),
                                             ("path_12_points_untimed.json", 3),
                                             ("platform_7_poses.json", 0)])
 def test_refine_gives_the_cli_result(tmp_path, name, mechanism):

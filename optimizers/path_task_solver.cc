@@ -63,6 +63,9 @@ constexpr int kFreeTimingIterations = 400;
 // A listed four-bar's refinement (Finish) is taken when it lowers the RMS point error by more
 // than this share: `linkfit refine` then improves no listed four-bar by more (issue 35).
 constexpr double kPolishGain = 0.005;
+// The listed four-bars' refinement (Finish): rounds of at most this many iterations each.
+constexpr int kPolishIterations = 100;
+constexpr int kPolishRounds = 3;
 // Free timing: a near miss, a four-bar that misses the points by at most this many times their
 // tolerance (PassTolerance): refined, it may pass them.
 constexpr double kNearMiss = 10.0;
@@ -555,12 +558,16 @@ int RefineAll(const PathData& data, const PathRefinerOptions& options,
   return simplified;
 }
 
+bool Monotonic(const std::vector<double>& angles);  // below
+
 // The distinct candidates, judged (JudgeTransmission) and ranked; at most `reported` listed,
 // with a note of how many more were dropped. Above fast, every listed four-bar is then refined
-// as `linkfit refine` refines it (RefinePathDesign; issue 35: a designer who refines a listed
-// four-bar finds it at its optimum already), taken where that lowers its RMS point error by
-// more than kPolishGain, and the list made distinct and ranked again: four-bars that refine to
-// one optimum are listed once.
+// as `linkfit refine` first refines it (RefinePathDesign's direct refinement; issue 35: a
+// designer who refines a listed four-bar finds it at its optimum already), in rounds of
+// kPolishIterations while each lowers its RMS point error by more than kPolishGain without a
+// new kinematic defect or broken constraint, and the list made distinct and ranked again:
+// four-bars that refine to one optimum are listed once. Beyond kFreeTimingScreenPoints points,
+// the first listed only.
 void Finish(const Task& task, const PathData& data, const TaskSolverOptions& options, int reported,
             std::vector<PathMechanismReport> candidates, PathResult* result) {
   std::vector<PathMechanismReport> distinct;
@@ -569,35 +576,59 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
   for (PathMechanismReport& report : distinct) JudgeTransmission(data, &report);
   // A bounded list (ListedWithinBound): the best ranked, and the best fit of each group.
   int dropped = Rank(true, data, reported, &distinct);
-  if (task.effort != Effort::kFast && !distinct.empty()) {
+  // Only on the task's own points (not a screened subset's solve).
+  if (task.effort != Effort::kFast && !distinct.empty() &&
+      data.points.size() == task.points.size()) {
     const auto start = std::chrono::steady_clock::now();
     constexpr double kInfinity = std::numeric_limits<double>::infinity();
     std::vector<PathMechanismReport> polished = distinct;
-    TaskSolverOptions one = options;
-    one.threads = 1;
-    ParallelFor(distinct.size(), ThreadCount(options.threads), [&](size_t k) {
+    PathRefinerOptions refiner = options.path_refiner;
+    refiner.max_iterations = kPolishIterations;
+    // Beyond kFreeTimingScreenPoints (a long trace, each refinement costly), the first listed
+    // only: the answer a designer reads first.
+    const size_t polished_count =
+        data.points.size() > kFreeTimingScreenPoints ? size_t{1} : distinct.size();
+    ParallelFor(polished_count, ThreadCount(options.threads), [&](size_t k) {
       const PathMechanismReport& listed = distinct[k];
       // One that passes the points within their precision is at its optimum as far as they tell.
       if (!(listed.max_point_error.value_or(kInfinity) > PassTolerance(data))) return;
-      // Again from each refinement that gained (a refinement from far off can stop short), a
-      // few rounds at most.
-      constexpr int kPolishRounds = 3;
+      // The direct refinement `linkfit refine` starts with (RefinePathDesign): the four-bar with
+      // its timing (free: the fitted angles, free too), in rounds while each gains.
       for (int round = 0; round < kPolishRounds; ++round) {
         const PathMechanismReport& from = polished[k];
+        PathMechanismReport better;
         try {
-          const PathResult refined = RefinePathDesign(task, from.design, from.input_angles, one);
-          if (refined.mechanisms.empty()) return;
-          const PathMechanismReport& better = refined.mechanisms.front();
-          if (!(better.rms_point_error.value_or(kInfinity) <
-                (1.0 - kPolishGain) * from.rms_point_error.value_or(kInfinity))) {
-            return;
+          if (!from.input_angles.empty()) {
+            std::vector<double> angles = from.input_angles;
+            PathFourBar design = from.design;
+            RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &angles,
+                              &design, refiner);
+            if (!Monotonic(angles)) return;
+            better = Report(design, data, angles);
+            better.input_angles = angles;
+          } else {
+            const std::optional<PathMechanismReport> refined =
+                RefinedReport(data, refiner, from.design);
+            if (!refined) return;
+            better = *refined;
           }
-          polished[k] = better;
-          polished[k].seed_max_point_error =
-              listed.seed_max_point_error ? listed.seed_max_point_error : listed.max_point_error;
         } catch (const std::invalid_argument&) {
           return;  // not driven from its first angle: listed as it is
         }
+        const bool adds_defect = std::any_of(
+            better.defects.begin(), better.defects.end(), [&](const std::string& defect) {
+              return defect != "transmission" && std::find(from.defects.begin(), from.defects.end(),
+                                                           defect) == from.defects.end();
+            });
+        const bool breaks = from.violates.empty() && !better.violates.empty();
+        if (!better.max_point_error || adds_defect || breaks ||
+            !(better.rms_point_error.value_or(kInfinity) <
+              (1.0 - kPolishGain) * from.rms_point_error.value_or(kInfinity))) {
+          return;
+        }
+        better.seed_max_point_error =
+            listed.seed_max_point_error ? listed.seed_max_point_error : listed.max_point_error;
+        polished[k] = better;
       }
     });
     std::vector<PathMechanismReport> again;

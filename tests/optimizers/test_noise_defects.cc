@@ -85,6 +85,32 @@ const MechanismReport* Nearest(const PlanarMotionResult& result,
   return nearest;
 }
 
+// Fifty of a random 4R's 400 poses (the first fifty, or every `stride`-th), noise kNoise L on
+// every origin and angle, solved: the generator (its poses those fifty), the noisy poses, L.
+struct NoisyMotion {
+  testing::GeneratedTask generated;
+  std::vector<PlanarPose> noisy;
+  double length = 0.0;
+  PlanarMotionResult result;
+};
+NoisyMotion SolveNoisyMotion(std::mt19937_64& rng, size_t stride) {
+  NoisyMotion run;
+  run.generated = testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, 400);
+  std::vector<PlanarPose> fifty;
+  for (size_t j = 0; j < run.generated.poses.size() && fifty.size() < 50; j += stride) {
+    fifty.push_back(run.generated.poses[j]);
+  }
+  run.generated.poses = fifty;
+  run.length = CharacteristicLength(fifty);
+  run.noisy = fifty;
+  testing::PerturbPlanarPoses(rng, kNoise, run.length, &run.noisy);
+  Task task;
+  task.problem = ProblemKind::kMotion;
+  task.planar_poses = run.noisy;
+  run.result = SolvePlanarTask(task);
+  return run;
+}
+
 // Fifty measured poses of a four-bar (noise 3e-3 L on every origin and angle), the first fifty
 // of a dense run (issue 34: neighbouring poses a noise-width apart swapped order, and every listed
 // four-bar had an order defect). An eighth of the cycle does not determine the four-bar: every
@@ -95,21 +121,15 @@ TEST(NoiseDefects, FiftyNoisyPosesGiveADefectFreeFirstThatFitsAsWellAsTheGenerat
   std::mt19937_64 rng(3457);
   for (int t = 0; t < 4; ++t) {
     SCOPED_TRACE("four-bar " + std::to_string(t));
-    testing::GeneratedTask generated = testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, 400);
-    generated.poses.resize(50);
-    const double length = CharacteristicLength(generated.poses);
-    std::vector<PlanarPose> noisy = generated.poses;
-    testing::PerturbPlanarPoses(rng, kNoise, length, &noisy);
-    Task task;
-    task.problem = ProblemKind::kMotion;
-    task.planar_poses = noisy;
-    const PlanarMotionResult result = SolvePlanarTask(task);
+    const NoisyMotion run = SolveNoisyMotion(rng, 1);
+    const PlanarMotionResult& result = run.result;
     ASSERT_FALSE(result.mechanisms.empty());
     const MechanismReport& first = result.mechanisms.front();
     EXPECT_FALSE(HasKinematicDefect(first.defects));
     ASSERT_TRUE(first.rms_pose_error);
-    EXPECT_LE(*first.rms_pose_error,
-              1.25 * OwnRmsPoseError(generated.input, generated.output, noisy, length));
+    EXPECT_LE(
+        *first.rms_pose_error,
+        1.25 * OwnRmsPoseError(run.generated.input, run.generated.output, run.noisy, run.length));
   }
 }
 
@@ -120,22 +140,13 @@ TEST(NoiseDefects, FiftyNoisyPosesGiveTheFourBarNearestTheGeneratorWithoutDefect
   std::mt19937_64 rng(3457);
   for (int t = 0; t < 4; ++t) {
     SCOPED_TRACE("four-bar " + std::to_string(t));
-    testing::GeneratedTask generated = testing::RandomTask(rng, DyadType::kRR, DyadType::kRR, 400);
-    std::vector<PlanarPose> spread;
-    for (size_t j = 0; j < generated.poses.size(); j += 8) spread.push_back(generated.poses[j]);
-    generated.poses = spread;
-    const double length = CharacteristicLength(generated.poses);
-    std::vector<PlanarPose> noisy = generated.poses;
-    testing::PerturbPlanarPoses(rng, kNoise, length, &noisy);
-    Task task;
-    task.problem = ProblemKind::kMotion;
-    task.planar_poses = noisy;
-    const PlanarMotionResult result = SolvePlanarTask(task);
+    const NoisyMotion run = SolveNoisyMotion(rng, 8);
+    const PlanarMotionResult& result = run.result;
     ASSERT_FALSE(result.mechanisms.empty());
     const MechanismReport& first = result.mechanisms.front();
     EXPECT_FALSE(HasKinematicDefect(first.defects));
     double apart = 0.0;
-    const MechanismReport* nearest = Nearest(result, generated, length, &apart);
+    const MechanismReport* nearest = Nearest(result, run.generated, run.length, &apart);
     ASSERT_NE(nearest, nullptr);
     EXPECT_LT(apart, 2.0);  // the data pin it down
     EXPECT_FALSE(HasKinematicDefect(nearest->defects));

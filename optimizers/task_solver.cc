@@ -11,7 +11,6 @@
 
 #include "fitting/exact_items.h"
 #include "fitting/model_choice.h"
-#include "lib/parallel.h"
 #include "lib/task_io.h"
 #include "lib/text_format.h"
 #include "optimizers/limit_hyperplane.h"
@@ -40,20 +39,6 @@ constexpr double kSameSphericalOptimum = 1e-7;
 // constrained part of `linkfit bench`).
 constexpr int kConstrainedDyadsFactor = 2;
 constexpr int kConstrainedRefinedFactor = 3;
-// A listed four-bar's refinement (as `linkfit refine` refines it) is taken when it lowers the RMS
-// pose error by more than this share: `linkfit refine` then improves no listed four-bar by more
-// (issue 35).
-constexpr double kPolishGain = 0.005;
-// A listed four-bar's refinement whose dyad comes within this (times L) of a listed dyad has
-// reached that dyad's optimum (a slow refinement stops short of it): it is that dyad, and a
-// four-bar repeating a listed one is listed once.
-constexpr double kSamePolished = 1e-3;
-// A listed four-bar refined to within this (times its size) of a dyad of an answer that meets the
-// poses within their precision is a worse near copy of that answer (dropped, not listed beside it).
-constexpr double kNearCopy = 0.05;
-// Two refined four-bars of one type whose RMS pose errors agree to this share ended in one
-// optimum (its valley can leave their dyads apart by more than kSamePolished): listed once.
-constexpr double kSameOptimumCost = 1e-6;
 
 // The SP limit of an SS dyad whose moving point runs off to infinity: the center A stays on
 // the plane of E normal to the moving point's direction (as seen from the points e_j where E
@@ -965,159 +950,8 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   // Ranked, and a bounded list (ListedWithinBound): the best ranked, and the best fit of each
   // group. (Every dyad has its error bound: the seeds' were set before the dyads were merged,
   // the refined ones' when they were added.)
-  int dropped = RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
-                               &result.mechanisms);
-  // Above fast, every listed four-bar refined as `linkfit refine` refines it (RefinePlanarDesign;
-  // issue 35: a designer who refines a listed four-bar finds it at its optimum already), taken
-  // where that lowers its RMS pose error by more than kPolishGain; four-bars that refine to one
-  // design are listed once, and the list is ranked again.
-  if (task.effort != Effort::kFast && !result.mechanisms.empty()) {
-    stage_start = std::chrono::steady_clock::now();
-    const size_t listed_count = result.mechanisms.size();
-    // The first meets the poses within their precision, without defect and within the
-    // constraints: the answer. A listed four-bar refined to within kNearCopy L of one of its
-    // dyads is a worse near copy of it, and is dropped rather than listed beside it.
-    const RankKey first_key =
-        MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
-    const bool answer = !first_key.misses_exact && !first_key.violates &&
-                        first_key.defect_level == 0 && first_key.within_precision;
-    const MechanismReport answer_mechanism = result.mechanisms.front();
-    std::vector<bool> near_copy(listed_count, false);
-    std::vector<std::optional<PlanarMotionResult>> polished(listed_count);
-    TaskSolverOptions one = options;
-    one.threads = 1;
-    ParallelFor(listed_count, ThreadCount(options.threads), [&](size_t m) {
-      const MechanismReport& listed = result.mechanisms[m];
-      // One that meets the poses within their precision is at its optimum as far as they tell.
-      if (!listed.rms_pose_error || !(*listed.rms_pose_error > precision_fit)) return;
-      try {
-        // Again from each refinement that gained (one can stop at its iteration limit), a few
-        // rounds at most.
-        constexpr int kPolishRounds = 3;
-        PlanarDyad input = result.dyads[listed.input_dyad].dyad;
-        PlanarDyad output = result.dyads[listed.output_dyad].dyad;
-        double fit = *listed.rms_pose_error;
-        for (int round = 0; round < kPolishRounds; ++round) {
-          PlanarMotionResult refined = RefinePlanarDesign(task, input, output, one);
-          if (refined.mechanisms.empty() || !refined.mechanisms.front().rms_pose_error) return;
-          const MechanismReport& better = refined.mechanisms.front();
-          // Not one that adds a kinematic defect or breaks a constraint the listed one kept:
-          // the ranking put it where it is for those.
-          const bool adds_defect =
-              std::any_of(better.defects.begin(), better.defects.end(), [&](const std::string& d) {
-                return d != "transmission" &&
-                       std::find(listed.defects.begin(), listed.defects.end(), d) ==
-                           listed.defects.end();
-              });
-          const bool breaks = listed.violates.empty() && !better.violates.empty();
-          if (adds_defect || breaks || !(*better.rms_pose_error < (1.0 - kPolishGain) * fit)) {
-            return;
-          }
-          fit = *better.rms_pose_error;
-          input = refined.dyads[better.input_dyad].dyad;
-          output = refined.dyads[better.output_dyad].dyad;
-          polished[m] = std::move(refined);
-        }
-      } catch (const std::exception&) {
-        // Listed as it is.
-      }
-    });
-    for (size_t m = 0; m < listed_count; ++m) {
-      if (!polished[m]) continue;
-      const MechanismReport& listed = result.mechanisms[m];
-      MechanismReport refined = polished[m]->mechanisms.front();
-      // Its dyads: each the listed one it repeats, or appended.
-      const auto index_of = [&](int own) {
-        const DyadReport& report = polished[m]->dyads[own];
-        // A listed dyad it repeats, within the data's precision or kSamePolished L (a
-        // refinement that stops short of a listed optimum).
-        for (size_t i = 0; i < result.dyads.size(); ++i) {
-          if (same(report, result.dyads[i]) ||
-              SameDyad(report.dyad, result.dyads[i].dyad, task.precision, length, pose_centroid,
-                       kSamePolished * length)) {
-            return static_cast<int>(i);
-          }
-        }
-        result.dyads.push_back(report);
-        dyad_levels.push_back(dyad_levels[listed.input_dyad] & dyad_levels[listed.output_dyad]);
-        return static_cast<int>(result.dyads.size() - 1);
-      };
-      if (answer && m > 0) {
-        for (const DyadReport& own : polished[m]->dyads) {
-          for (const int kept : {answer_mechanism.input_dyad, answer_mechanism.output_dyad}) {
-            // Within kNearCopy of the answer's dyad's size (L, or its reach beyond it).
-            const PlanarDyad& dyad = result.dyads[kept].dyad;
-            const double size = std::max(
-                {length, (dyad.fixed_pivot - pose_centroid).norm(), dyad.moving_pivot.norm()});
-            near_copy[m] = near_copy[m] || SameDyad(own.dyad, dyad, task.precision, length,
-                                                    pose_centroid, kNearCopy * size);
-          }
-        }
-        if (near_copy[m]) continue;
-      }
-      const size_t dyads_before = result.dyads.size();
-      const int own_input = refined.input_dyad, own_output = refined.output_dyad;
-      refined.input_dyad = index_of(own_input);
-      refined.output_dyad = index_of(own_output);
-      if (refined.input_dyad != refined.output_dyad &&
-          (result.dyads[refined.input_dyad].dyad.moving_pivot !=
-               polished[m]->dyads[own_input].dyad.moving_pivot ||
-           result.dyads[refined.output_dyad].dyad.moving_pivot !=
-               polished[m]->dyads[own_output].dyad.moving_pivot ||
-           result.dyads[refined.input_dyad].dyad.fixed_pivot !=
-               polished[m]->dyads[own_input].dyad.fixed_pivot ||
-           result.dyads[refined.output_dyad].dyad.fixed_pivot !=
-               polished[m]->dyads[own_output].dyad.fixed_pivot)) {
-        // Taken as listed dyads near its own: judged as those make it, and kept only if that
-        // still betters the listed four-bar.
-        MechanismReport as_listed = AnalyzeDyadPair(result.dyads, refined.input_dyad,
-                                                    refined.output_dyad, poses, length, exact);
-        JudgeMechanism(task, result.dyads, length, &as_listed);
-        if (!as_listed.rms_pose_error ||
-            !(*as_listed.rms_pose_error < (1.0 - kPolishGain) * *listed.rms_pose_error) ||
-            HasKinematicDefect(as_listed.defects) != HasKinematicDefect(refined.defects)) {
-          result.dyads.resize(dyads_before);
-          dyad_levels.resize(dyads_before);
-          continue;
-        }
-        refined = as_listed;
-      }
-      if (refined.input_dyad == refined.output_dyad) {
-        // Refined toward one dyad (the refiner stops just short of it): no four-bar the data's
-        // precision can tell; listed as it was.
-        result.dyads.resize(dyads_before);
-        dyad_levels.resize(dyads_before);
-        continue;
-      }
-      refined.seed_max_pose_error =
-          listed.seed_max_pose_error ? listed.seed_max_pose_error : listed.max_pose_error;
-      result.mechanisms[m] = refined;
-    }
-    std::vector<MechanismReport> distinct;
-    for (size_t m = 0; m < result.mechanisms.size(); ++m) {
-      const MechanismReport& mechanism = result.mechanisms[m];
-      if (near_copy[m]) continue;
-      // One four-bar: the same dyads, or refinements of one optimum (a flat valley leaves their
-      // dyads apart): of one type, with RMS pose errors equal to kSameOptimumCost.
-      const bool repeated =
-          std::any_of(distinct.begin(), distinct.end(), [&](const MechanismReport& kept) {
-            if (std::minmax(mechanism.input_dyad, mechanism.output_dyad) ==
-                std::minmax(kept.input_dyad, kept.output_dyad)) {
-              return true;
-            }
-            return mechanism.seed_max_pose_error && kept.seed_max_pose_error &&
-                   kept.type == mechanism.type && mechanism.rms_pose_error && kept.rms_pose_error &&
-                   std::abs(*kept.rms_pose_error - *mechanism.rms_pose_error) <=
-                       kSameOptimumCost * *kept.rms_pose_error;
-          });
-      if (!repeated) distinct.push_back(mechanism);
-    }
-    dropped += static_cast<int>(result.mechanisms.size() - distinct.size());
-    result.mechanisms = std::move(distinct);
-    RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
-                   &result.mechanisms);
-    result.stages.push_back(Stage("refine the listed", stage_start, result));
-  }
+  const int dropped = RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
+                                     &result.mechanisms);
   if (dropped > 0) result.notes.push_back(DroppedNote(dropped));
   {
     std::vector<RankKey> keys;

@@ -176,6 +176,9 @@ void ApplyOverrides(const SolveOutputs& outputs, const std::string& task_path, T
   if (outputs.effort == "thorough") task->effort = Effort::kThorough;
 }
 
+// The longest line a task or result file may have.
+constexpr size_t kMaxLineBytes = size_t{256} << 20;
+
 // Lines of a file read in bounded pieces: a line longer than `max_bytes` is bad input, so a
 // device without newlines (/dev/zero) cannot exhaust memory.
 class LineReader {
@@ -233,7 +236,6 @@ class LineReader {
 template <typename Chunk>
 size_t ForEachChunk(const std::string& task_path, const Chunk& chunk) {
   constexpr size_t kChunkTasks = 4096;
-  constexpr size_t kMaxLineBytes = size_t{256} << 20;
   LineReader reader(task_path, kMaxLineBytes);
   std::vector<std::string> lines, sources;
   size_t count = 0;
@@ -391,22 +393,22 @@ int Solve(const std::string& task_path, const SolveOutputs& options) {
 // `linkfit show RESULT`: the summary table of each result in a file (.json, or one per line of a
 // .jsonl), as `linkfit solve --summary` prints it.
 int Show(const std::string& result_path) {
-  std::error_code error;
-  if (std::filesystem::is_directory(result_path, error)) {
-    throw InputError(result_path + ": is a directory, not a result file");
-  }
-  std::ifstream file(result_path, std::ios::binary);
-  if (!file) throw InputError(result_path + ": cannot open file");
+  // Read as task files are (LineReader: a directory, an unreadable file or an endless line is
+  // bad input, not a crash): one result per line of a .jsonl, or the whole file.
+  LineReader reader(result_path, kMaxLineBytes);
   const std::string title = std::filesystem::path(result_path).filename().string();
-  std::vector<std::string> texts;
-  if (IsJsonLines(result_path)) {
-    std::string line;
-    while (std::getline(file, line)) {
-      if (line.find_first_not_of(" \t\r") != std::string::npos) texts.push_back(line);
+  const bool lines = IsJsonLines(result_path);
+  std::vector<std::string> texts(lines ? 0 : 1);
+  std::string line;
+  size_t number = 0;
+  while (reader.Next(&line, &number)) {
+    if (!lines) {
+      texts[0] += line + "\n";
+    } else if (line.find_first_not_of(" \t\r") != std::string::npos) {
+      texts.push_back(line);
     }
-  } else {
-    texts.emplace_back(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
   }
+  if (!lines && texts[0].find_first_not_of(" \t\r\n") == std::string::npos) texts.clear();
   if (texts.empty()) throw InputError(result_path + ": empty file, expected a result");
   std::string out;
   for (size_t i = 0; i < texts.size(); ++i) {

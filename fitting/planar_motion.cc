@@ -59,6 +59,9 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   const PlanarDyad& output = swap ? a : b;
   mechanism.type = ClassifyFourBar(input.type, output.type);
   TakeAnalysis(chosen, swap ? a_drives : b_drives, poses.size() > 5, &mechanism);
+  for (const FourBarLocation& location : chosen.locations) {
+    mechanism.pose_errors.push_back(location.pose_error);
+  }
   if (screened != nullptr) mechanism.output_rotates_fully = screened->output_rotates_fully;
   if (!mechanism.max_pose_error) {
     mechanism.pose_error_note = "the mechanism does not assemble at the first task pose";
@@ -173,7 +176,7 @@ void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, doub
   }
   // Minimal data (five poses or fewer) are met exactly by every dyad: a four-bar that misses
   // them by more than their precision on its one circuit and branch does not do the task.
-  if (task.planar_poses.size() <= 5 && mechanism->max_pose_error &&
+  if (task.planar_poses.size() <= 5 && mechanism->chosen.empty() && mechanism->max_pose_error &&
       *mechanism->max_pose_error > PoseFitTolerance(task.precision, length) &&
       !HasKinematicDefect(defects)) {
     add("misses");
@@ -360,7 +363,7 @@ void SolveFewPoses(const Task& task, PlanarMotionResult* result) {
       result->notes.push_back(
           "four poses admit a one-parameter family of dyads (burmester_curves): give "
           "\"moving_pivots\" on the circle-point curve (in the body frame) or \"fixed_pivots\" on "
-          "the center-point curve to get dyads and four-bars");
+          "the center-point curve to choose the pivots yourself");
     }
   }
 }

@@ -1,5 +1,6 @@
 #include "fitting/spherical_motion.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -154,6 +155,20 @@ MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dya
                                     ? "the mechanism does not assemble at the first task pose"
                                     : four_bar.invalid_note;
   }
+  if (four_bar.valid && !motion.rotations.empty()) {
+    // The configuration nearest the first orientation: where the result's "linkage" shows it.
+    Eigen::Matrix3d rotations[2];
+    double input_angle = 0.0;
+    const int count =
+        AssembleSphericalFourBarAt(four_bar, motion.rotations[0], 1e-9, rotations, &input_angle);
+    mechanism.first_rotation = motion.rotations[0];
+    for (int l = 0; l < count; ++l) {
+      if (l == 0 || (rotations[l] - motion.rotations[0]).norm() <
+                        (*mechanism.first_rotation - motion.rotations[0]).norm()) {
+        mechanism.first_rotation = rotations[l];
+      }
+    }
+  }
   if (four_bar.valid) {
     mechanism.grashof = SphericalGrashofType(four_bar);
     // Its size for the ranking's last tie-break (lib/design_constraints.h): its four links'
@@ -168,6 +183,42 @@ MechanismReport AnalyzeSphericalPair(const std::vector<SphericalDyadReport>& dya
   ClassViolations(constraints, kind, &mechanism.violates);
   JudgeTransmission(constraints, mechanism.transmission_min_deg, &mechanism.defects);
   return mechanism;
+}
+
+// The defects of minimal data (issue 35, as planar JudgeMechanism): "degenerate" when a link (an
+// angle between axes) is no larger than the data's precision can resolve (the dyads' error
+// bounds and kModelUnits of the angle precision), "misses" when five orientations or fewer are
+// missed by more than `precision_fit` with no kinematic defect to say why.
+void JudgeMinimal(const std::vector<SphericalDyadReport>& dyads, size_t orientations,
+                  double precision_fit, const DataPrecision& precision,
+                  MechanismReport* mechanism) {
+  const SphericalDyadReport& input = dyads[mechanism->input_dyad];
+  const SphericalDyadReport& output = dyads[mechanism->output_dyad];
+  const auto bound = [](const SphericalDyadReport& report) {
+    return report.error_bound && std::isfinite(*report.error_bound) ? *report.error_bound : 0.0;
+  };
+  const auto between = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+    return std::min(angle, M_PI - angle);  // an axis is a line: its two directions are one
+  };
+  const double rounding = kModelUnits * precision.angle;
+  const double both = bound(input) + bound(output) + rounding;
+  std::vector<std::string>& defects = mechanism->defects;
+  const auto add = [&](const char* defect) {
+    if (std::find(defects.begin(), defects.end(), defect) == defects.end()) {
+      defects.push_back(defect);
+    }
+  };
+  if (between(input.dyad.fixed_axis, output.dyad.fixed_axis) <= both ||
+      between(input.dyad.moving_axis, output.dyad.moving_axis) <= both ||
+      std::min(input.dyad.angle, M_PI - input.dyad.angle) <= bound(input) + rounding ||
+      std::min(output.dyad.angle, M_PI - output.dyad.angle) <= bound(output) + rounding) {
+    add("degenerate");
+  }
+  if (orientations <= 5 && mechanism->max_pose_error &&
+      *mechanism->max_pose_error > precision_fit && !HasKinematicDefect(defects)) {
+    add("misses");
+  }
 }
 
 void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
@@ -223,6 +274,9 @@ void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,
                             std::to_string(screen.rotations.size()) +
                             " spread orientations first, and the best " + std::to_string(kept) +
                             " analysed on every orientation");
+  }
+  for (MechanismReport& mechanism : result->spherical_mechanisms) {
+    JudgeMinimal(result->spherical_dyads, orientations, precision_fit, task.precision, &mechanism);
   }
   const int dropped =
       RankMechanisms(precision_fit, task.constraints, bound, &result->spherical_mechanisms);

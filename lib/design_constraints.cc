@@ -35,6 +35,9 @@ void ClassViolations(const DesignConstraints& constraints, const FourBarClass& k
 
 namespace {
 
+// A link within this fraction of the default link limit is at it (CommonViolations).
+constexpr double kAtDefaultLimit = 1e-4;
+
 // The violations both problem kinds share: link lengths, the fixed pivots' box, the input's
 // turn and the Grashof class, appended in that order.
 void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& links,
@@ -45,7 +48,12 @@ void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& 
   const double longest = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
   const double shortest = all.empty() ? std::numeric_limits<double>::infinity()
                                       : *std::min_element(all.begin(), all.end());
-  if (!(longest <= MaxLinkLength(constraints, length) + slack)) {
+  // A link at the default limit the task did not give counts as breaking it (issue 35): the fit
+  // ran to the limit, wanting a longer link, and the design is the limit's, not one chosen.
+  const double limit = MaxLinkLength(constraints, length);
+  const bool at_default =
+      !constraints.max_link_length && longest >= (1.0 - kAtDefaultLimit) * limit;
+  if (!(longest <= limit + slack) || at_default) {
     violates->push_back("max_link_length");
   }
   if (constraints.min_link_length && !(shortest >= *constraints.min_link_length - slack)) {

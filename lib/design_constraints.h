@@ -28,7 +28,8 @@ struct PlanarBox {
 };
 
 // Without "max_link_length", least-squares and search results keep every link within this
-// many times L (and a result lists a four-bar beyond it as violating "max_link_length").
+// many times L (and a result lists a four-bar beyond it, or at it to within 1e-4 of it: a fit
+// that ran to the limit, as violating "max_link_length", a default it breaks).
 inline constexpr double kDefaultMaxLinkLength = 100.0;
 
 // How far (times L) a four-bar may be past a bound and still keep it: what a refinement that

@@ -54,6 +54,8 @@ struct MechanismReport {
   // The coupler's pose in Sigma in the four-bar's configuration nearest the first task pose (the
   // task pose itself where it does not assemble there): where the result's "linkage" shows it.
   std::optional<PlanarPose> first_configuration;
+  // A spherical four-bar's: the body's rotation in that configuration (its joints are axes).
+  std::optional<Eigen::Matrix3d> first_rotation;
   // Largest pose error when assembled at every task pose on one circuit (four_bar_motion.h);
   // absent when the mechanism does not assemble at the first pose.
   std::optional<double> max_pose_error;
@@ -86,6 +88,13 @@ struct MechanismReport {
   // Its joints' spread at the first pose (lib/design_constraints.h JointSpread): the ranking's
   // last tie-break.
   std::optional<double> size;
+  // Three to five poses whose exact four-bars keep no constraint (issue 35): how linkfit chose
+  // this one instead (pivots on the Burmester curves of four of the poses within the
+  // constraints, a bounded least-squares fit of all of them; optimizers/pivot_choice.h). Empty
+  // for the task's own exact four-bars. A chosen four-bar may miss a pose by design: its pose
+  // errors (one per task pose, on its circuit) say by how much, and "misses" is no defect of it.
+  std::string chosen;
+  std::vector<double> pose_errors;
 };
 
 struct PlanarMotionResult {

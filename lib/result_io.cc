@@ -3,6 +3,7 @@
 #include "lib/result_io.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -238,6 +239,30 @@ Json LinkageToJson(const PlanarDyad& input, const PlanarDyad& output,
   return Json{{"joints", joints}, {"links", links}};
 }
 
+// A spherical four-bar in the same layout (issue 35): its joints are axes through the centre
+// (unit vectors in Sigma, the pins carried by the body at `rotation`) and its links the angles
+// between them, in degrees ("units" says so).
+Json SphericalLinkageToJson(const SphericalDyad& input, const SphericalDyad& output,
+                            const Eigen::Matrix3d& rotation) {
+  Json joints, links;
+  const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+  };
+  PutNumber(&links, "ground", degrees(input.fixed_axis, output.fixed_axis));
+  PutNumber(&links, "input", input.angle * 180.0 / M_PI);
+  PutNumber(&links, "coupler", degrees(input.moving_axis, output.moving_axis));
+  PutNumber(&links, "output", output.angle * 180.0 / M_PI);
+  PutPoint3(&joints, "input_pivot", input.fixed_axis.normalized());
+  PutPoint3(&joints, "input_pin", (rotation * input.moving_axis).normalized());
+  PutPoint3(&joints, "output_pivot", output.fixed_axis.normalized());
+  PutPoint3(&joints, "output_pin", (rotation * output.moving_axis).normalized());
+  return Json{{"joints", joints},
+              {"links", links},
+              {"units",
+               {{"joints", "unit axes through the centre, in Sigma"},
+                {"links", "deg: the angles between the axes (arcs of the unit sphere)"}}}};
+}
+
 Json MechanismToJson(const MechanismReport& report) {
   Json object;
   object["type"] = FourBarTypeName(report.type);
@@ -256,6 +281,17 @@ Json MechanismToJson(const MechanismReport& report) {
     Json seed;
     PutNumber(&seed, "max_pose_error", *report.seed_max_pose_error);
     object["before_refinement"] = seed;
+  }
+  if (!report.chosen.empty()) {
+    object["chosen"] = report.chosen;
+    Json errors = Json::array();
+    for (const double error : report.pose_errors) errors.push_back(error + 0.0);
+    if (std::all_of(report.pose_errors.begin(), report.pose_errors.end(),
+                    [](double error) { return std::isfinite(error); })) {
+      object["pose_errors"] = errors;
+    } else {
+      object["pose_errors_note"] = kNotFinite;
+    }
   }
   if (!report.grashof.empty()) object["grashof"] = report.grashof;
   object["defects"] = report.defects;
@@ -523,7 +559,13 @@ std::string ResultToJson(const SpatialMotionResult& result, int indent) {
       root["dyads"].push_back(SphericalDyadToJson(dyad));
     }
     for (const MechanismReport& mechanism : result.spherical_mechanisms) {
-      root["mechanisms"].push_back(MechanismToJson(mechanism));
+      Json object = MechanismToJson(mechanism);
+      if (mechanism.first_rotation) {
+        object["linkage"] = SphericalLinkageToJson(
+            result.spherical_dyads[mechanism.input_dyad].dyad,
+            result.spherical_dyads[mechanism.output_dyad].dyad, *mechanism.first_rotation);
+      }
+      root["mechanisms"].push_back(object);
     }
     if (!result.center_axis_curves.empty() || !result.circle_axis_curves.empty()) {
       Json cones;

@@ -123,6 +123,8 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
   out += "\n";
   std::string fit_name = "fit";
   std::vector<std::vector<std::string>> rows;
+  bool any_chosen = false;
+  bool angles = false;  // spherical four-bars: links are angles between axes
   for (size_t i = 0; i < mechanisms.size(); ++i) {
     const Json& mechanism = mechanisms[i];
     const Json links =
@@ -133,7 +135,11 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
     std::string name;
     const std::string fit = Fit(problem, mechanism, &name);
     if (i == 0 || fit != "-") fit_name = name;
-    rows.push_back({std::to_string(i + 1), mechanism.value("type", "-"),
+    // Pivots linkfit chose on minimal data (optimizers/pivot_choice.h): marked, a line says how.
+    const bool chosen = mechanism.contains("chosen");
+    any_chosen = any_chosen || chosen;
+    if (mechanism.contains("linkage") && mechanism["linkage"].contains("units")) angles = true;
+    rows.push_back({std::to_string(i + 1), mechanism.value("type", "-") + (chosen ? "*" : ""),
                     mechanism.value("grashof", "-"), link("ground"), link("input"), link("coupler"),
                     link("output"), links.is_object() ? Other(links) : "-", fit,
                     WorstTransmission(mechanism), Joined(mechanism.value("defects", Json())),
@@ -151,6 +157,12 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
   Row(header, widths, &out);
   for (const std::vector<std::string>& row : rows) Row(row, widths, &out);
   if (rows.empty()) out += "(no mechanism listed)\n";
+  if (angles) out += "links: the angles between the joint axes, deg (spherical four-bars)\n";
+  if (any_chosen) {
+    out +=
+        "* pivots chosen by linkfit, not the task's exact solution: \"chosen\" says how, "
+        "\"pose_errors\" how well\n";
+  }
   for (const Json& note : result.value("notes", Json::array())) {
     if (note.is_string()) out += "note: " + note.get<std::string>() + "\n";
   }

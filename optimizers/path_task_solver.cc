@@ -188,8 +188,30 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
 }
 
 // The defect "transmission" (JudgeTransmission), given at the end: the solver's own choices go
-// by the kinematic defects.
+// by the kinematic defects. With it, those of minimal data (issue 35, as planar JudgeMechanism):
+// "degenerate" when a link is no longer than the data's precision can resolve (the four-bar's
+// error bound and kModelUnits of the rounding), and "misses" when an exact four-bar of five
+// timed points (not refined) misses one by more than PassTolerance, with no kinematic defect to
+// say why.
 void JudgeTransmission(const PathData& data, PathMechanismReport* report) {
+  std::vector<std::string>& defects = report->defects;
+  const auto add = [&](const char* defect) {
+    if (std::find(defects.begin(), defects.end(), defect) == defects.end()) {
+      defects.push_back(defect);
+    }
+  };
+  const double bound =
+      report->error_bound && std::isfinite(*report->error_bound) ? *report->error_bound : 0.0;
+  const double resolve = bound + kModelUnits * data.precision.length;
+  for (const double link : PathFourBarLinks(report->design).All()) {
+    if (link <= resolve) add("degenerate");
+  }
+  if (data.points.size() == 5 && data.angles.size() == 5 && !report->seed_max_point_error &&
+      report->max_point_error &&
+      *report->max_point_error > PathPassTolerance(data.precision, data.length) &&
+      !HasKinematicDefect(defects)) {
+    add("misses");
+  }
   JudgeTransmission(data.constraints, report->transmission_min_deg, &report->defects);
 }
 

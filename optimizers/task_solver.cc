@@ -633,11 +633,69 @@ void KeepLevel(int top, const std::vector<int>& dyad_levels,
   result->mechanisms = std::move(kept);
 }
 
+// Trailing zeros a table may have lost (json.dump writes 1.200 as 1.2): two decimals.
+constexpr double kTypedDecimals = 100.0;
+
+// Minimal planar data whose precision was read from their digits (issue 35, item 3). A table
+// reads the same with its trailing zeros or without them (lib/precision.h: the finest decimal
+// of a kind sets it), but a table whose every number ends in zeros, or that was printed coarser
+// than measured, claims a coarser precision than the same numbers written with kTypedDecimals
+// finer digits. When that finer reading would list another type first, the precision as written
+// cannot tell the two apart, and the note says so and which way the data lean: the first
+// listed's slider misses the poses by its PrecisionRatio of what the precision allows
+// (kModelUnits); below half of it the data lean to the slider, above to the circle. Empty
+// otherwise.
+std::string TypingNote(const Task& task, const TaskSolverOptions& options,
+                       const PlanarMotionResult& result) {
+  if (task.precision.source != "digits" || result.mechanisms.empty()) return "";
+  if (!(RelativePrecision(task.precision, result.scale) > 1e-9)) return "";
+  Task finer = task;
+  finer.precision.length /= kTypedDecimals;
+  finer.precision.angle /= kTypedDecimals;
+  const PlanarMotionResult fine = SolvePlanarMotion(finer, options.planar);
+  if (fine.mechanisms.empty()) return "";
+  const MechanismReport& first = result.mechanisms.front();
+  const MechanismReport& fine_first = fine.mechanisms.front();
+  if (first.type == fine_first.type) return "";
+  const std::string as_written = FourBarTypeName(first.type);
+  const std::string finer_type = FourBarTypeName(fine_first.type);
+  std::string note = "at the precision the digits give (" + PrecisionText(task.precision.length) +
+                     " in length, " + PrecisionText(task.precision.angle * 180.0 / M_PI) +
+                     " deg) the poses cannot tell a " + as_written + " from a " + finer_type +
+                     ": the " + as_written +
+                     " is listed first (the simpler model), and written "
+                     "with two more decimals (1.200 for 1.2) the same poses would list the " +
+                     finer_type + " first";
+  double ratio = 0.0;
+  for (const int index : {first.input_dyad, first.output_dyad}) {
+    const PlanarDyad& dyad = result.dyads[index].dyad;
+    if (dyad.type == DyadType::kRR) continue;
+    ratio = std::max(ratio, PrecisionRatio(dyad, task.planar_poses, task.precision, result.scale));
+  }
+  if (ratio > 0.0) {
+    note += "; its slider misses the poses by " + Format("%.2g", ratio / kModelUnits) +
+            " of what the precision allows, so the data lean to the " +
+            (ratio <= 0.5 * kModelUnits ? as_written : finer_type);
+  }
+  return note + " (give \"precision\" in the task when the table was measured finer)";
+}
+
 }  // namespace
 
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options) {
   const std::vector<PlanarPose>& poses = task.planar_poses;
-  if (poses.size() <= 5) return SolvePlanarMotion(task, options.planar);
+  if (poses.size() <= 5) {
+    PlanarMotionResult result = SolvePlanarMotion(task, options.planar);
+    const std::string lean = TypingNote(task, options, result);
+    if (!lean.empty()) result.notes.push_back(lean);
+    if (NeedsPivotChoices(task, result)) {
+      const auto start = std::chrono::steady_clock::now();
+      AddPivotChoices(task, options, &result);
+      result.solve_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+    return result;
+  }
   const auto start = std::chrono::steady_clock::now();
   PlanarMotionResult result;
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);

@@ -34,6 +34,7 @@
 #include "lib/task.h"
 #include "lib/task_io.h"
 #include "optimizers/four_bar_refiner.h"
+#include "optimizers/pivot_choice.h"
 #include "optimizers/function_refiner.h"
 #include "optimizers/function_search.h"
 #include "optimizers/global_search.h"
@@ -59,6 +60,7 @@ struct TaskSolverOptions {
   int max_dyads = 10;               // dyads kept per effort level (best RMS first) for four-bars
   int refined_mechanisms = 3;       // best-ranked four-bars refined per level (mechanism level)
   int reported_mechanisms = 12;     // four-bars listed at most (least squares)
+  PivotChoiceOptions pivot_choice;  // three to five poses: pivots chosen within the constraints
   TimedPathOptions timed_path;      // path problems: the five-point solver
   PathRefinerOptions path_refiner;  // path problems, least squares
   PathSearchOptions path_search;    // path problems, effort thorough

@@ -273,7 +273,7 @@ TEST_F(CliTest, EveryMechanismGivesItsJointsAndNamedLinks) {
   for (const char* name :
        {"four_bar_5_poses.json", "slider_crank_5_poses.json", "four_bar_12_poses.json",
         "four_bar_4_poses.json", "path_12_points_untimed.json", "path_5_points.json",
-        "function_log10.json", "function_3_pairs.json"}) {
+        "function_log10.json", "function_3_pairs.json", "spherical_four_bar_5_poses.json"}) {
     SCOPED_TRACE(name);
     const std::string output_path = Path("result.json");
     const RunResult run = Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/" + name +
@@ -282,12 +282,17 @@ TEST_F(CliTest, EveryMechanismGivesItsJointsAndNamedLinks) {
     const nlohmann::json result = nlohmann::json::parse(ReadFile(output_path));
     const double scale = result["scale"].get<double>();
     ASSERT_FALSE(result["mechanisms"].empty());
+    // A spherical four-bar's joints are unit axes and its links the angles between them (deg).
+    const bool spherical = result.value("model", "") == "spherical";
     for (const nlohmann::json& mechanism : result["mechanisms"]) {
       ASSERT_TRUE(mechanism.contains("linkage")) << mechanism.dump();
+      EXPECT_EQ(mechanism["linkage"].contains("units"), spherical);
       const nlohmann::json& joints = mechanism["linkage"]["joints"];
       const nlohmann::json& links = mechanism["linkage"]["links"];
       const auto point = [&](const char* key) {
-        return Eigen::Vector2d(joints[key][0].get<double>(), joints[key][1].get<double>());
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        for (size_t k = 0; k < joints[key].size(); ++k) p[k] = joints[key][k].get<double>();
+        return p;
       };
       const auto check = [&](const char* link, const char* a, const char* b) {
         if (!joints.contains(a) || !joints.contains(b)) {
@@ -295,7 +300,11 @@ TEST_F(CliTest, EveryMechanismGivesItsJointsAndNamedLinks) {
           return;
         }
         ASSERT_TRUE(links.contains(link)) << link;
-        EXPECT_NEAR(links[link].get<double>(), (point(a) - point(b)).norm(), 1e-7 * scale)
+        const double expected =
+            spherical
+                ? std::atan2(point(a).cross(point(b)).norm(), point(a).dot(point(b))) * 180.0 / M_PI
+                : (point(a) - point(b)).norm();
+        EXPECT_NEAR(links[link].get<double>(), expected, spherical ? 1e-6 : 1e-7 * scale)
             << link << " " << mechanism.dump();
       };
       check("ground", "input_pivot", "output_pivot");

@@ -259,3 +259,38 @@ TEST(DesignConstraints, BadConstraintsSayWhatIsWrong) {
 
 }  // namespace
 }  // namespace linkfit
+
+namespace linkfit {
+namespace {
+
+// A design whose longest link sits at the default link limit the task did not give (a fit that
+// ran to the limit, wanting a longer link: issue 35's function four-bars with a coupler of
+// exactly 100) is listed as breaking that default, not as if the limit were its choice; at a
+// limit the task gave, it keeps it.
+TEST(DesignConstraints, ALinkAtTheDefaultLimitBreaksIt) {
+  const double length = 2.0;
+  FourBarLinks links;
+  links.ground = 1.0;
+  links.input = 0.5;
+  links.coupler = kDefaultMaxLinkLength * length * (1.0 - 1e-6);
+  links.output = 3.0;
+  FourBarClass kind;
+  DesignConstraints constraints;
+  const std::vector<std::string> at_default = FunctionViolations(constraints, links, kind, length);
+  ASSERT_EQ(at_default.size(), 1u);
+  EXPECT_EQ(at_default.front(), "max_link_length");
+  RankKey key;
+  JudgeWithDefaults(constraints, at_default, {}, true, &key);
+  EXPECT_FALSE(key.violates);
+  EXPECT_NE(key.breaks_default.find("default link limit"), std::string::npos);
+  // Well inside the default limit: kept.
+  links.coupler = 0.9 * kDefaultMaxLinkLength * length;
+  EXPECT_TRUE(FunctionViolations(constraints, links, kind, length).empty());
+  // At a limit the task gave: kept (a bound the designer chose).
+  constraints.given = true;
+  constraints.max_link_length = 0.9 * kDefaultMaxLinkLength * length;
+  EXPECT_TRUE(FunctionViolations(constraints, links, kind, length).empty());
+}
+
+}  // namespace
+}  // namespace linkfit

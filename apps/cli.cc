@@ -21,7 +21,7 @@
 
 #include "apps/output_file.h"
 #include "apps/picture.h"
-#include "apps/trade_bench.h"
+#include "bench/trade_bench.h"
 #include "lib/parallel.h"
 #include "lib/result_io.h"
 #include "lib/result_summary.h"

@@ -12,15 +12,16 @@ Tasks, designs and results are the task, design and result files of the ``linkfi
 
 Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses`,
 :func:`path_points`). Bad input raises :class:`InputError` with the command's one-line message.
+``linkfit.__version__`` is the version ``linkfit --version`` prints.
 """
 
 import json
 
-from ._linkfit import (InputError, refine_drawn_json, solve_drawn_json, solve_many_json,
-                       summary_json)
+from ._linkfit import (InputError, __version__, refine_drawn_json, solve_drawn_json,
+                       solve_many_json, summary_json)
 
 __all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "summary",
-           "planar_poses", "spatial_poses", "path_points"]
+           "planar_poses", "spatial_poses", "path_points", "__version__"]
 
 
 class Result(dict):

@@ -192,3 +192,11 @@ def test_path_points_as_arrays():
     assert untimed_points[0] == {"x": xy[0, 0], "y": xy[0, 1]}
     with pytest.raises(linkfit.InputError):
         linkfit.path_points(xy, angles[:3])
+
+
+def test_version_is_the_cli_version():
+    """linkfit.__version__ and `linkfit --version` come from the one CMake project version."""
+    completed = subprocess.run([CLI, "--version"], capture_output=True, text=True, check=True)
+    assert completed.stdout.strip() == "linkfit " + linkfit.__version__
+    assert linkfit.__version__.count(".") == 2
+

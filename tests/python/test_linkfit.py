@@ -200,3 +200,15 @@ def test_version_is_the_cli_version():
     assert completed.stdout.strip() == "linkfit " + linkfit.__version__
     assert linkfit.__version__.count(".") == 2
 
+
+@pytest.mark.parametrize("name", [name for name in linkfit.__all__ if name != "__version__"])
+def test_every_public_name_has_a_docstring_help_shows(name):
+    """help(linkfit.X) shows what X takes, returns and raises (the API page is made of these)."""
+    import pydoc
+    shown = pydoc.render_doc(getattr(linkfit, name), renderer=pydoc.plaintext)
+    doc = getattr(linkfit, name).__doc__ or ""
+    assert len(doc.split()) >= 15, name
+    assert doc.split("\n")[0].strip() in shown
+    if callable(getattr(linkfit, name)) and not isinstance(getattr(linkfit, name), type):
+        for section in ("Args:", "Returns:", "Raises:"):
+            assert section in doc, (name, section)

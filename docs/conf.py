@@ -1,6 +1,8 @@
 # Sphinx configuration of the linkfit user guide (scripts/docs.sh builds it into build/docs/html).
 # The pages are MyST Markdown; the API page is generated from the docstrings of the Python module
 # in the build tree (scripts/docs.sh puts <build>/python first on PYTHONPATH).
+import os
+
 import linkfit
 
 project = "linkfit"
@@ -36,9 +38,24 @@ nitpick_ignore_regex = [
     ("py:class", r"(dask|matplotlib|numpy|distributed)\..*"),
 ]
 
+# Equations: MathJax from Debian's libjs-mathjax (scripts/setup.sh installs it), so that the guide
+# in build/docs/html shows them offline; LINKFIT_MATHJAX names another copy (a URL) for a guide
+# served elsewhere; without either, Sphinx's default (MathJax from its CDN).
+_debian_mathjax = "/usr/share/javascript/mathjax/MathJax.js"
+if os.environ.get("LINKFIT_MATHJAX"):
+    mathjax_path = os.environ["LINKFIT_MATHJAX"]
+elif os.path.exists(_debian_mathjax):
+    # MathJax 2: MyST's settings are MathJax 3's, so the classes it marks are said here.
+    mathjax_path = "file://" + _debian_mathjax + "?config=TeX-AMS-MML_HTMLorMML"
+    myst_update_mathjax = False
+    mathjax2_config = {"tex2jax": {"processClass": "tex2jax_process|mathjax_process|math",
+                                   "ignoreClass": "tex2jax_ignore|mathjax_ignore"}}
+
 html_theme = "alabaster"
 html_title = "linkfit " + release
 html_theme_options = {
     "description": "kinematic synthesis of linkages",
     "fixed_sidebar": True,
+    "page_width": "1160px",  # the benchmark tables and code listings are wide
+    "sidebar_width": "230px",
 }

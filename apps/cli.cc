@@ -21,7 +21,7 @@
 
 #include "apps/output_file.h"
 #include "apps/picture.h"
-#include "apps/trade_bench.h"
+#include "bench/trade_bench.h"
 #include "lib/parallel.h"
 #include "lib/result_io.h"
 #include "lib/result_summary.h"
@@ -450,7 +450,7 @@ int Refine(const std::string& task_path, const std::string& design_path,
 int Run(int argc, char** argv) {
   CLI::App app(kDescription, "linkfit");
   app.footer(kFooter);
-  app.set_version_flag("--version", "linkfit 0.1.0");
+  app.set_version_flag("--version", "linkfit " LINKFIT_VERSION);
   app.require_subcommand(1);
 
   std::string task_path;

@@ -1,5 +1,5 @@
 // The output contract of every file linkfit writes -- results, batch results, pictures, the
-// benchmark's tables (README, "Output files"):
+// benchmark's tables (user guide, "Output files"):
 //
 // - a regular file (or a new one) is replaced atomically: the text goes to a temporary file
 //   created with mkstemp (O_EXCL, an unpredictable name) in the target's directory, which takes

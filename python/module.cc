@@ -137,6 +137,8 @@ Drawn RefineDrawn(const std::string& task_text, const std::string& design_text, 
 
 PYBIND11_MODULE(_linkfit, m) {
   m.doc() = "linkfit's native solver (use the linkfit package, not this module)";
+  // The project's version (CMakeLists.txt), as `linkfit --version` prints it.
+  m.attr("__version__") = LINKFIT_VERSION;
   // Ceres reports through glog at ERROR level on steps the refiners handle; the CLI silences it
   // the same way (apps/cli.cc RunCli).
   FLAGS_minloglevel = google::GLOG_FATAL;

@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Installs linkfit's build dependencies from Debian packages (only those missing; safe to run
-# twice), builds the project in build/ (Release) and installs it (to /usr/local, or
-# $LINKFIT_PREFIX). Run as root or with sudo available.
+# twice; Sphinx, MyST and MathJax build the user guide, scripts/docs.sh), builds the project in
+# build/ (Release) and installs it (to /usr/local, or $LINKFIT_PREFIX). Run as root or with sudo
+# available.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 packages=(build-essential cmake libeigen3-dev libceres-dev libnlopt-cxx-dev libgtest-dev
           nlohmann-json3-dev libcli11-dev librsvg2-bin libxml2-utils libpng-dev
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
-          python3-matplotlib libnanoflann-dev)
+          python3-matplotlib libnanoflann-dev python3-sphinx python3-myst-parser
+          libjs-mathjax)
 ./scripts/install_packages.sh "${packages[@]}"
 
 [ "${1:-}" = "--deps-only" ] && exit 0

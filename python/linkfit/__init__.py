@@ -1,32 +1,56 @@
 """linkfit: kinematic synthesis of linkages from Python.
 
 Tasks, designs and results are the task, design and result files of the ``linkfit`` command
-(README, "Task file" and "Result file"), as Python dicts::
+(user guide, "Task file" and "Result file"), as Python dicts::
 
     import linkfit
-    result = linkfit.solve({"problem": "motion", "space": "planar",
-                            "poses": [{"x": 0, "y": 0, "theta_deg": 0}, ...]})
-    first = result["mechanisms"][0]
+    task = {"problem": "motion", "poses": [{"x": 0, "y": 0, "theta_deg": 0}, ...]}
+    result = linkfit.solve(task)
+    first = result["mechanisms"][0]                      # the recommendation
     better = linkfit.refine(task, result, mechanism=1)   # a design refined against the task
     linkfit.plot(result)                                 # with matplotlib, as the SVG
 
 Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses`,
 :func:`path_points`). Bad input raises :class:`InputError` with the command's one-line message.
+``linkfit.__version__`` is the version ``linkfit --version`` prints.
 """
 
 import json
 
-from ._linkfit import (InputError, refine_drawn_json, solve_drawn_json, solve_many_json,
-                       summary_json)
+from ._linkfit import (InputError, __version__, refine_drawn_json, solve_drawn_json,
+                       solve_many_json, summary_json)
 
 __all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "summary",
-           "planar_poses", "spatial_poses", "path_points"]
+           "planar_poses", "spatial_poses", "path_points", "__version__"]
+
+InputError.__doc__ = """Bad input: a task, design or argument that linkfit refuses.
+
+A ``ValueError`` whose message is the one line ``linkfit solve`` prints on stderr before it
+exits with status 2 (without the ``linkfit: error:`` prefix): the item named as in the CLI
+(``task: poses[3].theta_deg: expected a number, got a string``), the task named ``task`` (in
+:func:`solve_many`: ``tasks[i]``) and the design ``design``.
+
+Example:
+    >>> try:
+    ...     linkfit.solve({"problem": "motion", "poses": []})
+    ... except linkfit.InputError as error:
+    ...     print(error)
+    task: poses: 0 poses given, planar motion synthesis needs at least 3
+"""
+InputError.__module__ = __name__  # linkfit.InputError, as documented
 
 
 class Result(dict):
-    """A result dict, equal to the CLI's JSON, that also carries what :func:`plot` draws:
-    ``picture`` (made when first asked; None for a spatial platform, with the reason in
-    ``picture_note``)."""
+    """A result: the dict ``linkfit solve`` writes as JSON, with its drawing.
+
+    Returned by :func:`solve` and :func:`refine`. It equals the CLI's result (``json.loads`` of
+    its output) key for key; see the user guide's "Result file" for the fields. Beside the dict
+    it carries what :func:`plot` draws.
+
+    Attributes:
+        picture_note (str): why there is no :attr:`picture` (empty otherwise); set once
+            ``picture`` was asked for.
+    """
 
     def __init__(self, drawn):
         super().__init__(json.loads(drawn.result))
@@ -36,6 +60,9 @@ class Result(dict):
 
     @property
     def picture(self):
+        """The drawing's geometry (what ``linkfit solve --svg`` draws) as a dict, made when first
+        asked; None for a spatial platform, which is not drawn, with ``picture_note`` saying
+        why."""
         if self._drawn is not None:
             text, self.picture_note = self._drawn.picture()
             self._picture = json.loads(text) if text else None
@@ -59,7 +86,22 @@ def _is_number(value):
 
 
 def planar_poses(array):
-    """Planar poses from an (n, 3) array-like of rows (x, y, theta_deg), as a task's "poses"."""
+    """Planar poses from rows (x, y, theta_deg), as a task's ``"poses"``.
+
+    Args:
+        array: an (n, 3) array-like (numpy array, nested lists) of x, y and the angle θ in
+            degrees: the moving frame's origin in the fixed frame and its turn, counter-clockwise.
+
+    Returns:
+        list of dict: ``[{"x": x, "y": y, "theta_deg": θ}, ...]``.
+
+    Raises:
+        InputError: when ``array`` is not n rows of three numbers.
+
+    Example:
+        >>> linkfit.planar_poses([[0, 0, 0], [1, 0.5, 10]])
+        [{'x': 0, 'y': 0, 'theta_deg': 0}, {'x': 1, 'y': 0.5, 'theta_deg': 10}]
+    """
     rows = _plain(array)
     if not isinstance(rows, list) or any(
             not isinstance(row, list) or len(row) != 3 for row in rows):
@@ -68,9 +110,23 @@ def planar_poses(array):
 
 
 def spatial_poses(array):
-    """Spatial poses from an (n, 4, 4) array-like of homogeneous transforms [[R, d], [0, 1]]
-    (a body point c is at R c + d), as a task's "poses" ({"rotation", "translation"}). The
-    rotations are checked and repaired within the data's precision as any task's are."""
+    """Spatial poses from homogeneous transforms, as a task's ``"poses"``.
+
+    Args:
+        array: an (n, 4, 4) array-like of transforms ``[[R, d], [0, 0, 0, 1]]``: a body point c
+            is at R c + d in the fixed frame.
+
+    Returns:
+        list of dict: ``[{"rotation": R, "translation": d}, ...]``. The rotations are checked
+        and repaired within the data's precision when the task is solved, as any task's are.
+
+    Raises:
+        InputError: when ``array`` is not n 4 × 4 matrices, or a last row is not [0, 0, 0, 1].
+
+    Example:
+        >>> linkfit.spatial_poses(numpy.eye(4)[None])[0]["translation"]
+        [0.0, 0.0, 0.0]
+    """
     transforms = _plain(array)
     if not isinstance(transforms, list) or any(
             not isinstance(m, list) or len(m) != 4
@@ -88,9 +144,23 @@ def spatial_poses(array):
 
 
 def path_points(points, input_deg=None):
-    """A path task's "points" from an (n, 2) array-like of x, y and, for prescribed timing, the
-    n input angles in degrees (`input_deg`; None for free timing). An (n, 3) array is read as
-    rows x, y, input_deg."""
+    """A path task's ``"points"`` from coordinates and, for prescribed timing, input angles.
+
+    Args:
+        points: an (n, 2) array-like of x, y, or an (n, 3) array-like of rows x, y, input_deg.
+        input_deg: the n input-crank angles in degrees (prescribed timing), or None: free
+            timing (unless ``points`` has three columns).
+
+    Returns:
+        list of dict: ``[{"x": x, "y": y, "input_deg": ψ}, ...]``, or without ``input_deg``.
+
+    Raises:
+        InputError: when the shapes do not fit, or angles are given twice.
+
+    Example:
+        >>> linkfit.path_points([[0, 1], [2, 3]], input_deg=[0, 30])
+        [{'x': 0, 'y': 1, 'input_deg': 0}, {'x': 2, 'y': 3, 'input_deg': 30}]
+    """
     rows = _plain(points)
     if isinstance(rows, list) and rows and all(isinstance(r, list) and len(r) == 3 for r in rows):
         if input_deg is not None:
@@ -178,39 +248,81 @@ def _dict_text(task, what):
 
 
 def solve(task):
-    """Solves one task (a dict, or its JSON text); returns the result dict `linkfit solve`
-    writes (a :class:`Result`, which :func:`plot` draws).
+    """Solves one task, as ``linkfit solve`` does.
 
-    Numpy conveniences: planar "poses" as an (n, 3) array of x, y, theta_deg; spatial "poses"
-    as an (n, 4, 4) array of transforms; path "points" as an (n, 2) array (free timing) or
-    (n, 3) with input_deg.
+    Args:
+        task: the task file's content as a dict, or its JSON text (see the user guide, "Task
+            file"). Numpy arrays are taken: planar ``"poses"`` as an (n, 3) array of x, y,
+            theta_deg; spatial ``"poses"`` as an (n, 4, 4) array of transforms; path
+            ``"points"`` as an (n, 2) array (free timing) or (n, 3) with input_deg.
+
+    Returns:
+        Result: the result dict ``linkfit solve`` writes (its mechanisms ranked, the first the
+        recommendation), which :func:`plot` draws.
+
+    Raises:
+        InputError: bad input, with the CLI's one-line message (the task named ``task``).
+
+    Example:
+        >>> result = linkfit.solve(json.load(open("data/four_bar_5_poses.json")))
+        >>> result["mechanisms"][0]["type"]
+        '4R'
     """
     return Result(solve_drawn_json(_text(task), "task"))
 
 
 def refine(task, design, mechanism=0):
-    """Refines a design against a task, as `linkfit refine` does; returns the result dict (a
-    :class:`Result`).
+    """Refines a design against a task, as ``linkfit refine`` does.
 
-    `design` is a result of :func:`solve` (or its file's JSON) or a design written by hand in the
-    same form: planar ``{"dyads": [...], "mechanisms": [{"dyads": [input, output]}]}``, path
-    ``{"mechanisms": [{"type": "4R", "input_pivot", "input_moving", "output_pivot",
-    "output_moving", "coupler_point"}]}``, spatial ``{"dyads": [SS, PS or SP dyads],
-    "mechanisms": [{"dyads": [five indices]}]}``. `mechanism` picks which of the design's
-    mechanisms: a list index (0, the first listed; a spatial design's platform), where the CLI's
-    --mechanism and the summary's rank count from 1. The task's weights, exact
-    items and constraints hold; the errors before and after are in the result's notes and in
-    each design's "before_refinement".
+    The task's weights, exact items and constraints hold; the refined design replaces the
+    given one only when it fits better without a new kinematic defect.
+
+    Args:
+        task: a task (dict or JSON text), as for :func:`solve`: planar motion, a path (either
+            timing) or spatial motion of seven poses or more.
+        design: a result of :func:`solve` (or its file's JSON), or a design written by hand in
+            the same form: planar ``{"dyads": [...], "mechanisms": [{"dyads": [input,
+            output]}]}``; path ``{"mechanisms": [{"type": "4R", "input_pivot",
+            "input_moving", "output_pivot", "output_moving", "coupler_point"}]}``; spatial
+            ``{"dyads": [SS, PS or SP dyads], "mechanisms": [{"dyads": [five indices]}]}``.
+        mechanism (int): which of the design's mechanisms, a list index: 0 is the first listed
+            (the CLI's ``--mechanism`` and the summary's rank count from 1).
+
+    Returns:
+        Result: the result, ``"method": "refine"``; the errors before and after are in its
+        first note and in the design's ``"before_refinement"``.
+
+    Raises:
+        InputError: bad task or design (named ``task`` and ``design``), or ``mechanism`` out
+            of range.
+
+    Example:
+        >>> better = linkfit.refine(task, linkfit.solve(task), mechanism=2)
     """
     mechanism = _whole_number(mechanism, "mechanism", 0, _MAX_INDEX)
     return Result(refine_drawn_json(_text(task), _text(design, "design"), mechanism))
 
 
 def solve_many(tasks, threads=0):
-    """Solves a list of tasks on `threads` threads (0: every core), the GIL released; results
-    (plain dicts, without drawings) in input order. Every task is read and validated before any
-    is solved: bad input in any task raises InputError naming it (tasks[i]) at once. Ctrl-C
-    (KeyboardInterrupt) stops the batch once the tasks being solved finish."""
+    """Solves a list of tasks on several threads, the GIL released.
+
+    Every task is read and validated before any is solved. Ctrl-C (KeyboardInterrupt) stops the
+    batch once the tasks being solved finish.
+
+    Args:
+        tasks: a list of tasks (dicts or JSON texts), as for :func:`solve`.
+        threads (int): how many threads, 0 to 1024 (0: every core); a task a thread.
+
+    Returns:
+        list of dict: the results (plain dicts, without drawings), in input order.
+
+    Raises:
+        InputError: bad input in any task, naming it ``tasks[i]``, before anything is solved;
+            or ``threads`` out of range.
+
+    Example:
+        >>> results = linkfit.solve_many([task] * 100, threads=2)
+    """
     threads = _whole_number(threads, "threads", 0, _MAX_THREADS)
     texts = [_text(task, "tasks[%d]" % i) for i, task in enumerate(tasks)]
     sources = ["tasks[%d]" % i for i in range(len(texts))]
@@ -218,16 +330,54 @@ def solve_many(tasks, threads=0):
 
 
 def summary(result, title=""):
-    """The table `linkfit show` prints for a result (a dict from :func:`solve`, :func:`refine`
-    or a file, or its JSON text): per listed mechanism its rank (from 1), type, Grashof class,
-    link lengths, fit, worst transmission angle, defects and violations. ``print`` it."""
+    """The table ``linkfit show`` prints for a result.
+
+    Per listed mechanism: its rank (from 1), type, Grashof class, link lengths, fit, worst
+    transmission angle, defects and violations.
+
+    Args:
+        result: a result dict (from :func:`solve`, :func:`refine` or a file) or its JSON text.
+        title (str): the name shown in the table's first line (``linkfit show`` shows the file).
+
+    Returns:
+        str: the table, to ``print``.
+
+    Raises:
+        InputError: when ``result`` is not a result.
+
+    Example:
+        >>> print(linkfit.summary(linkfit.solve(task), "my task"))
+        my task: motion (planar), exact: 6 listed, 6 without a kinematic defect; L = 17.65
+        #  type  grashof ...
+    """
     return summary_json(result if isinstance(result, str) else json.dumps(_plain(dict(result))),
                         title)
 
 
 def plot(result, ax=None, mechanism=None, task=None):
-    """Draws a result of :func:`solve` or :func:`refine`, or one read back from a file, with
-    matplotlib (see :func:`linkfit.drawing.plot`). `mechanism` is a list index (0, the first
-    listed; the CLI's --mechanism and the summary's rank count from 1)."""
+    """Draws a result with matplotlib, as ``linkfit solve --svg`` draws it.
+
+    Args:
+        result: a result of :func:`solve` or :func:`refine`, or one read back from a file
+            (drawn from each planar mechanism's ``"linkage"``).
+        ax: a matplotlib Axes to draw one panel on, or None for a new figure with a panel per
+            listed mechanism (at most 12).
+        mechanism (int or None): a list index (0, the first listed; the CLI's ``--mechanism``
+            counts from 1): draw that mechanism alone.
+        task: for a result read from a file, its task (dict or JSON text): adds its points or
+            pose origins.
+
+    Returns:
+        ``ax`` when given, else the new matplotlib Figure.
+
+    Raises:
+        ValueError: nothing to draw (a spatial platform, a mechanism out of range).
+        ImportError: matplotlib is missing.
+
+    Example:
+        >>> linkfit.plot(result, mechanism=0).savefig("first.png")
+
+    See :func:`linkfit.drawing.plot` for what is drawn.
+    """
     from .drawing import plot as draw
     return draw(result, ax=ax, mechanism=mechanism, task=task)

@@ -10,7 +10,8 @@
 Each partition is solved with :func:`linkfit.solve_many` on its worker (every core of the worker
 process, the GIL released), so a worker process per machine with several threads, or several
 single-threaded worker processes, both use the machine. Results come back in input order, equal to
-``linkfit.solve_many(tasks)``'s. The workers need linkfit installed (the README's first command).
+``linkfit.solve_many(tasks)``'s. The workers need linkfit installed (the README's first command,
+``./scripts/setup.sh``, on each machine).
 """
 
 import dask.bag
@@ -23,10 +24,28 @@ def _solve_partition(tasks, threads):
 
 
 def solve_bag(tasks, npartitions=None, threads=0):
-    """A dask.bag of the results of `tasks` (a list of task dicts or JSON texts, or a dask.bag of
-    them), in order. `npartitions` splits a list (default: about 100 tasks each); `threads` is
-    solve_many's per partition (0: every core of the worker). Call .compute() on the bag, with
-    a distributed.Client active to run on its cluster."""
+    """The results of many tasks as a dask.bag, solved on a cluster.
+
+    Each partition is solved by :func:`linkfit.solve_many` on its worker. Call ``.compute()`` on
+    the bag, with a ``distributed.Client`` active to run on its cluster (without one, Dask's
+    local scheduler runs it).
+
+    Args:
+        tasks: a list of tasks (dicts or JSON texts), or a dask.bag of them.
+        npartitions (int or None): how many partitions a list is split into (default: about
+            100 tasks each); ignored for a bag.
+        threads (int): :func:`linkfit.solve_many`'s threads per partition (0: every core of
+            the worker).
+
+    Returns:
+        dask.bag.Bag: the result dicts, in input order, equal to ``linkfit.solve_many(tasks)``.
+
+    Raises:
+        linkfit.InputError: on ``compute()``, bad input in a task of a partition.
+
+    Example:
+        >>> results = linkfit.dask.solve_bag(tasks, npartitions=4).compute()
+    """
     if isinstance(tasks, dask.bag.Bag):
         bag = tasks
     else:

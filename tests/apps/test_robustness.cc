@@ -49,8 +49,8 @@ using testing::ProgramOptions;
 using testing::ProgramResult;
 using testing::ReadWholeFile;
 
-// Items marked exact are met to 1e-9 L (README, "Task file"); spherical orientations and function
-// angles to 1e-9 rad.
+// Items marked exact are met to 1e-9 L (user guide, "Task file"); spherical orientations and
+// function angles to 1e-9 rad.
 constexpr double kExactTolerance = 1e-9;
 
 class RobustnessTest : public testing::ScratchDirectoryTest {

@@ -1,5 +1,5 @@
-// Invariance where the README promises it (issue 33): the same task with its data moved by up to
-// 10^6 L and turned, printed to the same decimals as before, gives the same mechanisms for every
+// Invariance where the user guide promises it (issue 33): the same task with its data moved by up
+// to 10^6 L and turned, printed to the same decimals as before, gives the same mechanisms for every
 // problem kind -- the same types in the same ranking, each within its error bound of the first
 // run's once moved back. Planar motion (3, 5, 12 poses), timed paths (5, 12 points), an untimed
 // path (12), spatial motion (7 and 10 poses), spherical motion (5 and 10 orientations) and

@@ -192,3 +192,23 @@ def test_path_points_as_arrays():
     assert untimed_points[0] == {"x": xy[0, 0], "y": xy[0, 1]}
     with pytest.raises(linkfit.InputError):
         linkfit.path_points(xy, angles[:3])
+
+
+def test_version_is_the_cli_version():
+    """linkfit.__version__ and `linkfit --version` come from the one CMake project version."""
+    completed = subprocess.run([CLI, "--version"], capture_output=True, text=True, check=True)
+    assert completed.stdout.strip() == "linkfit " + linkfit.__version__
+    assert linkfit.__version__.count(".") == 2
+
+
+@pytest.mark.parametrize("name", [name for name in linkfit.__all__ if name != "__version__"])
+def test_every_public_name_has_a_docstring_help_shows(name):
+    """help(linkfit.X) shows what X takes, returns and raises (the API page is made of these)."""
+    import pydoc
+    shown = pydoc.render_doc(getattr(linkfit, name), renderer=pydoc.plaintext)
+    doc = getattr(linkfit, name).__doc__ or ""
+    assert len(doc.split()) >= 15, name
+    assert doc.split("\n")[0].strip() in shown
+    if callable(getattr(linkfit, name)) and not isinstance(getattr(linkfit, name), type):
+        for section in ("Args:", "Returns:", "Raises:"):
+            assert section in doc, (name, section)

@@ -98,7 +98,7 @@ SPHERICAL = "spherical_four_bar_5_poses.json"
 
 
 def spherical_view(result, mechanism):
-    """The view a spherical four-bar is drawn on, from the result alone (README, "Spherical
+    """The view a spherical four-bar is drawn on, from the result alone (user guide, "Spherical
     motion"): along the mean of its fixed axes and its moving axes at the first pose (the bundled
     task's first orientation is the identity), Sigma's z-axis up; returns (right, up)."""
     def unit(v):

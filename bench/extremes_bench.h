@@ -25,14 +25,14 @@
 //     the slider); noted: the result says the data are too coarse (a family within precision,
 //     an error bound beyond the dyads' size, nearly real complex roots, or a stated bound above
 //     a quarter of the dyad's size).
-#ifndef LINKFIT_APPS_EXTREMES_BENCH_H_
-#define LINKFIT_APPS_EXTREMES_BENCH_H_
+#ifndef LINKFIT_BENCH_EXTREMES_BENCH_H_
+#define LINKFIT_BENCH_EXTREMES_BENCH_H_
 
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "apps/trade_bench.h"
+#include "bench/trade_bench.h"
 
 namespace linkfit {
 
@@ -57,4 +57,4 @@ std::string ExtremesCsv(const std::vector<ExtremeRow>& rows);
 
 }  // namespace linkfit
 
-#endif  // LINKFIT_APPS_EXTREMES_BENCH_H_
+#endif  // LINKFIT_BENCH_EXTREMES_BENCH_H_

@@ -1,5 +1,5 @@
 // The stability sweep (see extremes_bench.h).
-#include "apps/extremes_bench.h"
+#include "bench/extremes_bench.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -1,6 +1,6 @@
 // The order statistic both benchmark programs print (median, worst, 99th percentile).
-#ifndef LINKFIT_APPS_PERCENTILE_H_
-#define LINKFIT_APPS_PERCENTILE_H_
+#ifndef LINKFIT_BENCH_PERCENTILE_H_
+#define LINKFIT_BENCH_PERCENTILE_H_
 
 #include <algorithm>
 #include <vector>
@@ -17,4 +17,4 @@ inline double Percentile(std::vector<double> values, double fraction) {
 
 }  // namespace linkfit
 
-#endif  // LINKFIT_APPS_PERCENTILE_H_
+#endif  // LINKFIT_BENCH_PERCENTILE_H_

@@ -28,7 +28,7 @@
 // (AnalyzePathFourBar).
 //
 // The least-squares paths (more poses or points than the minimum, every effort level, noise) are
-// measured by `linkfit bench` (apps/trade_bench.h), which also sweeps the numerical extremes.
+// measured by `linkfit bench` (bench/trade_bench.h), which also sweeps the numerical extremes.
 //
 // Then `linkfit refine` (RefineTask): designs moved 1 % of L off random planar four-bars, path
 // four-bars (prescribed and free timing) and spatial platforms, refined against their tasks
@@ -81,7 +81,7 @@
 #include <variant>
 #include <vector>
 
-#include "apps/percentile.h"
+#include "bench/percentile.h"
 #include "fitting/planar_burmester.h"
 #include "fitting/planar_burmester_curves.h"
 #include "fitting/planar_motion.h"

@@ -1,5 +1,5 @@
 // The constrained part of `linkfit bench` (see constrained_bench.h).
-#include "apps/constrained_bench.h"
+#include "bench/constrained_bench.h"
 
 #include <algorithm>
 #include <cctype>
@@ -15,7 +15,7 @@
 #include <sstream>
 
 #include "apps/output_file.h"
-#include "apps/percentile.h"
+#include "bench/percentile.h"
 #include "fitting/model_choice.h"
 #include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
@@ -52,7 +52,7 @@ constexpr int kQuickTasks = 3;
 // Digits of the generated task files (round trip of every double).
 constexpr int kDigits = 17;
 
-// The classic problems, compiled in from data/classic_path_*.json (apps/CMakeLists.txt):
+// The classic problems, compiled in from data/classic_path_*.json (bench/CMakeLists.txt):
 // {file name without .json, file text}. Their points, timings and bounds are the five cases of
 // the public code of S. Nguyen-Van, Q. X. Lieu, N. Xuan-Mung, T. T. N. Nguyen, "A New Study on
 // Optimization of Four-Bar Mechanisms Based on a Hybrid-Combined Differential Evolution and Jaya
@@ -60,14 +60,14 @@ constexpr int kDigits = 17;
 // Dimensional_Synthesis_Four_Bar_Mechanisms, src/cases/case1-5.py, src/config.py), cases the
 // literature attributes to Kunjur & Krishnamurty (1997), Cabrera et al. (2002) and Acharyya &
 // Mandal (2009): 1 vertical_line_6, 2 5_points_timed, 3 closed_18_points, 4 arc_6_points_timed,
-// 5 ellipse_10_points. How their constraints map to linkfit's: README, "the constrained
+// 5 ellipse_10_points. How their constraints map to linkfit's: user guide, "the constrained
 // families".
 struct ClassicTask {
   const char* name;
   const char* text;
 };
 constexpr ClassicTask kClassicTasks[] = {
-#include "apps/classic_tasks.inc"
+#include "bench/classic_tasks.inc"
 };
 
 double MillisecondsSince(std::chrono::steady_clock::time_point start) {

@@ -1,5 +1,5 @@
 // The speed/accuracy trade (see trade_bench.h).
-#include "apps/trade_bench.h"
+#include "bench/trade_bench.h"
 
 #include <algorithm>
 #include <chrono>
@@ -12,10 +12,10 @@
 #include <random>
 #include <sstream>
 
-#include "apps/constrained_bench.h"
-#include "apps/extremes_bench.h"
 #include "apps/output_file.h"
-#include "apps/percentile.h"
+#include "bench/constrained_bench.h"
+#include "bench/extremes_bench.h"
+#include "bench/percentile.h"
 #include "fitting/spherical_motion.h"
 #include "lib/design_constraints.h"
 #include "lib/four_bar_motion.h"

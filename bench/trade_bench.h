@@ -1,6 +1,6 @@
 // `linkfit bench`: the speed/accuracy trade of every solver path at every effort level, on
 // generated task families (random mechanisms, their exact tasks, with noise), and the stability
-// sweep at the numerical extremes (apps/extremes_bench.h).
+// sweep at the numerical extremes (bench/extremes_bench.h).
 //
 // Families: planar motion (5, 10, 50, 200 poses from a random four-bar), spatial motion (7, 10,
 // 30 poses of a random 5-SS platform), timed path (5, 10, 20 points of a random crank-driven
@@ -20,8 +20,8 @@
 // noisy data (below 1: the fit beats the truth, as a least-squares optimum should). Success: the
 // generating mechanism, or a better one, is found: error <= 1e-9 (exact data; free timing 1e-6),
 // or <= 1.10 with noise.
-#ifndef LINKFIT_APPS_TRADE_BENCH_H_
-#define LINKFIT_APPS_TRADE_BENCH_H_
+#ifndef LINKFIT_BENCH_TRADE_BENCH_H_
+#define LINKFIT_BENCH_TRADE_BENCH_H_
 
 #include <cstdint>
 #include <cstdio>
@@ -103,4 +103,4 @@ int RunBench(const BenchOptions& options);
 
 }  // namespace linkfit
 
-#endif  // LINKFIT_APPS_TRADE_BENCH_H_
+#endif  // LINKFIT_BENCH_TRADE_BENCH_H_

@@ -1,8 +1,8 @@
 // The constrained part of `linkfit bench`: tasks whose design constraints bind at the optimum,
-// solved at the default efforts and by a long search, to measure issue 14's targets (README,
-// "Ranking and design constraints"): the first listed design keeps the constraints and fits within
-// 10 % of the best a long search finds, and it is the best-fitting defect-free keeper of its list
-// up to the near-tie rule.
+// solved at the default efforts and by a long search, to measure issue 14's targets (user
+// guide, "Ranking and design constraints"): the first listed design keeps the constraints and fits
+// within 10 % of the best a long search finds, and it is the best-fitting defect-free keeper of its
+// list up to the near-tie rule.
 //
 // Families (random mechanisms, fixed seeds):
 //   - timed path, 10 points of a random crank-driven 4R (RandomPathTask), with every link held to
@@ -14,7 +14,7 @@
 //     pivots; with a moving pivots' box (in E) that cuts off one of its moving pivots;
 //   - the classic bounded path-synthesis problems of the literature, bundled as task files
 //     (data/classic_path_*.json, compiled in; their source is cited in constrained_bench.cc and
-//     the README).
+//     the user guide, docs/benchmarks/constrained.md).
 // Every exact design breaks the bound, so the constrained optimum lies on it unless another
 // local optimum inside the bounds fits better: share_bound_active says how often the reference
 // design is on a bound.
@@ -42,14 +42,14 @@
 // share_bound_active: the reference design has a bound's slack within 1e-3 L; the long search's
 // median time; and a detail that counts the misses by cause, with their task numbers (causes in
 // parentheses are counted for information, not as misses).
-#ifndef LINKFIT_APPS_CONSTRAINED_BENCH_H_
-#define LINKFIT_APPS_CONSTRAINED_BENCH_H_
+#ifndef LINKFIT_BENCH_CONSTRAINED_BENCH_H_
+#define LINKFIT_BENCH_CONSTRAINED_BENCH_H_
 
 #include <cstdio>
 #include <string>
 #include <vector>
 
-#include "apps/trade_bench.h"
+#include "bench/trade_bench.h"
 #include "optimizers/task_solver.h"
 
 namespace linkfit {
@@ -81,4 +81,4 @@ std::string ConstrainedCsv(const std::vector<ConstrainedRow>& rows);
 
 }  // namespace linkfit
 
-#endif  // LINKFIT_APPS_CONSTRAINED_BENCH_H_
+#endif  // LINKFIT_BENCH_CONSTRAINED_BENCH_H_

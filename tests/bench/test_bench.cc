@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-#include "apps/constrained_bench.h"
-#include "apps/extremes_bench.h"
-#include "apps/trade_bench.h"
+#include "bench/constrained_bench.h"
+#include "bench/extremes_bench.h"
+#include "bench/trade_bench.h"
 #include "gtest/gtest.h"
 
 namespace linkfit {

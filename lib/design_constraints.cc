@@ -430,7 +430,8 @@ std::string GivenConstraintsNote(const DesignConstraints& constraints,
   }
   if (broken.empty()) return "";
   return "no listed four-bar keeps every constraint the task gave: the first breaks " + broken +
-         " (its \"violates\" and \"defects\" say how)";
+         " (a bound in its \"violates\"; the transmission angle as the defect \"transmission\" in "
+         "its \"defects\")";
 }
 
 std::string DroppedNote(int dropped) {

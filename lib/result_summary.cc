@@ -36,15 +36,15 @@ std::string Fit(const std::string& problem, const Json& mechanism, std::string* 
     const char* max;
     const char* label;  // "<kind> error[, unit]"
   };
-  const Field field = problem == "path" ? Field{"rms_point_error", "max_point_error", "point"}
+  const Field field = problem == "path" ? Field{"rms_point_error", "max_point_error", "point error"}
                       : problem == "function"
-                          ? Field{"rms_angle_error_deg", "max_angle_error_deg", "angle, deg"}
-                          : Field{"rms_pose_error", "max_pose_error", "pose"};
+                          ? Field{"rms_angle_error_deg", "max_angle_error_deg", "pair error, deg"}
+                          : Field{"rms_pose_error", "max_pose_error", "pose error"};
   if (mechanism.contains(field.rms)) {
-    *name = std::string("RMS ") + field.label + " error";
+    *name = std::string("RMS ") + field.label;
     return Number(mechanism[field.rms]);
   }
-  *name = std::string("largest ") + field.label + " error";
+  *name = std::string("largest ") + field.label;
   return mechanism.contains(field.max) ? Number(mechanism[field.max]) : "-";
 }
 
@@ -125,6 +125,8 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
   std::vector<std::vector<std::string>> rows;
   bool any_chosen = false;
   bool angles = false;  // spherical four-bars: links are angles between axes
+  bool any_other = false;
+  const bool function = problem == "function";
   for (size_t i = 0; i < mechanisms.size(); ++i) {
     const Json& mechanism = mechanisms[i];
     const Json links =
@@ -139,16 +141,34 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
     const bool chosen = mechanism.contains("chosen");
     any_chosen = any_chosen || chosen;
     if (mechanism.contains("linkage") && mechanism["linkage"].contains("units")) angles = true;
-    rows.push_back({std::to_string(i + 1), mechanism.value("type", "-") + (chosen ? "*" : ""),
-                    mechanism.value("grashof", "-"), link("ground"), link("input"), link("coupler"),
-                    link("output"), links.is_object() ? Other(links) : "-", fit,
-                    WorstTransmission(mechanism), Joined(mechanism.value("defects", Json())),
-                    Joined(mechanism.value("violates", Json()))});
+    const std::string other = links.is_object() ? Other(links) : "-";
+    any_other = any_other || (!other.empty() && other != "-");
+    std::vector<std::string> row = {std::to_string(i + 1),
+                                    mechanism.value("type", "-") + (chosen ? "*" : ""),
+                                    mechanism.value("grashof", "-"),
+                                    link("ground"),
+                                    link("input"),
+                                    link("coupler"),
+                                    link("output"),
+                                    other,
+                                    fit,
+                                    WorstTransmission(mechanism),
+                                    Joined(mechanism.value("defects", Json())),
+                                    Joined(mechanism.value("violates", Json()))};
+    // A function generator's structural error over the whole sampled function: the figure a
+    // designer reads (its fit is at the precision points only).
+    if (function) {
+      row.insert(row.begin() + 9, mechanism.contains("function_max_error_deg")
+                                      ? Number(mechanism["function_max_error_deg"])
+                                      : "-");
+    }
+    rows.push_back(row);
   }
-  const std::vector<std::string> header = {
+  std::vector<std::string> header = {
       "#",       "type",    "grashof", "ground", "input",
       "coupler", "output",  "other",   fit_name, "worst transmission, deg",
       "defects", "violates"};
+  if (function) header.insert(header.begin() + 9, "structural error, deg");
   std::vector<size_t> widths(header.size(), 0);
   for (size_t k = 0; k < header.size(); ++k) widths[k] = header[k].size();
   for (const std::vector<std::string>& row : rows) {
@@ -166,9 +186,11 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
   for (const Json& note : result.value("notes", Json::array())) {
     if (note.is_string()) out += "note: " + note.get<std::string>() + "\n";
   }
-  out +=
-      "other: e = a slider's offset from the other pivot (or pin); p = the coupler point's "
-      "distance @ angle (deg) from the input pin, from the coupler line\n";
+  if (any_other) {
+    out +=
+        "other: e = a slider's offset from the other pivot (or pin); p = the coupler point's "
+        "distance @ angle (deg) from the input pin, from the coupler line\n";
+  }
   return out;
 }
 

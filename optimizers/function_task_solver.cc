@@ -37,9 +37,11 @@ bool SameFourBar(const FunctionFourBar& a, const FunctionFourBar& b, double tole
 }
 
 // The largest output error of a four-bar that meets the pairs within the data's precision:
-// kModelUnits angle uncertainties of a pair (its input's and output's rounding, sqrt 2 h).
+// kModelUnits angle uncertainties of a pair (its input's and output's rounding, sqrt 2 h), not
+// below 1e-8 radians (pairs computed from a function at full precision: an exact four-bar meets
+// them only to its own rounding, 1e-13 degrees and more, which is no miss).
 double AnglePassTolerance(const DataPrecision& precision) {
-  return kModelUnits * std::sqrt(2.0) * precision.angle;
+  return std::max(1e-8, kModelUnits * std::sqrt(2.0) * precision.angle);
 }
 
 // How near a four-bar comes to a pair marked exact (radians): 1e-9, or a thousandth of the
@@ -124,6 +126,67 @@ FunctionMechanismReport Report(const Task& task, const FunctionFourBar& four_bar
 }
 
 }  // namespace
+
+// Three absolute pairs fix one four-bar by where the input's and the output's ranges start
+// (issue 35, item 5): when none listed is one to build (no defect, every constraint kept), the
+// starts are tried on a grid of kStartStepDeg (both cranks turned by the same function) and the
+// note names the one whose four-bar builds with the smallest structural error (over the sampled
+// function, else at the pairs), to give in the task. Empty otherwise.
+constexpr int kStartStepDeg = 10;
+
+std::string StartAngleNote(const Task& task, const FunctionResult& result, double d) {
+  if (task.relative_angles || task.pairs.size() != 3) return "";
+  const auto builds = [&](const FunctionMechanismReport& report) {
+    return report.defects.empty() && report.violates.empty() && report.max_angle_error;
+  };
+  if (!result.mechanisms.empty() && builds(result.mechanisms.front())) return "";
+  std::optional<double> best_error;
+  int best_input = 0, best_output = 0;
+  double best_transmission = 0.0;
+  for (int input = 0; input < 360; input += kStartStepDeg) {
+    for (int output = 0; output < 360; output += kStartStepDeg) {
+      if (input == 0 && output == 0) continue;
+      Task shifted = task;
+      const double da = input * M_PI / 180.0, db = output * M_PI / 180.0;
+      for (std::vector<FunctionPair>* pairs : {&shifted.pairs, &shifted.function_samples}) {
+        for (FunctionPair& pair : *pairs) {
+          pair.input += da;
+          pair.output += db;
+        }
+      }
+      std::vector<FunctionFourBar> four_bars;
+      SolveFreudenstein(shifted.pairs, d, &four_bars, nullptr);
+      for (const FunctionFourBar& four_bar : four_bars) {
+        if (!four_bar.Valid()) continue;
+        const FunctionMechanismReport report = Report(shifted, four_bar, std::nullopt);
+        if (!builds(report)) continue;
+        const double error =
+            report.function_max_error ? *report.function_max_error : *report.max_angle_error;
+        if (!best_error || error < *best_error) {
+          best_error = error;
+          best_input = input;
+          best_output = output;
+          best_transmission = report.transmission_min_deg.value_or(0.0);
+        }
+      }
+    }
+  }
+  const std::string why = result.mechanisms.empty()
+                              ? "no four-bar meets the three pairs where the ranges start"
+                              : "the one four-bar of the three pairs is not one to build (its "
+                                "\"defects\" and \"violates\" say why)";
+  if (!best_error) {
+    return why + "; no start of the input and output ranges on a " + std::to_string(kStartStepDeg) +
+           "-degree grid gives one that is: try five or more precision points (\"angles\": "
+           "\"relative\")";
+  }
+  return why + ": three absolute pairs fix it by where the ranges start, and starting the input " +
+         std::to_string(best_input) + " deg and the output " + std::to_string(best_output) +
+         " deg later (add them to input_range_deg and output_range_deg, or to the pairs' angles) "
+         "gives one without defect that keeps the constraints: structural error " +
+         Format("%.3g", *best_error * 180.0 / M_PI) + " deg, worst transmission angle " +
+         Format("%.3g", best_transmission) + " deg";
+}
 
 FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& options) {
   const auto start = Clock::now();
@@ -296,6 +359,10 @@ FunctionResult SolveFunctionTask(const Task& task, const TaskSolverOptions& opti
   }
   if (result.mechanisms.empty()) {
     result.notes.push_back("no four-bar meets the pairs" + (why.empty() ? "" : ": " + why));
+  }
+  if (exact) {
+    const std::string start_note = StartAngleNote(task, result, d);
+    if (!start_note.empty()) result.notes.push_back(start_note);
   }
   result.analysis_seconds = Since(analysis_start);
   result.solve_seconds = Since(start);

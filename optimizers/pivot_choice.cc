@@ -199,7 +199,7 @@ bool Proportioned(const Choice& choice, double ratio) {
 
 // Of `choices`, up to `count` in ranked order, each bringing a dyad farther than `spread` L from
 // those of the ones taken before it; those with a link shorter than `ratio` times their longest
-// only when no other is.
+// only when no other is; with a ratio, crank-driven ones first (below).
 std::vector<Choice> BestSpread(const std::vector<Choice>& choices, const Task& task, double length,
                                double precision_fit, double spread, double ratio, int count) {
   std::vector<RankKey> keys;
@@ -208,11 +208,27 @@ std::vector<Choice> BestSpread(const std::vector<Choice>& choices, const Task& t
   }
   const std::vector<int> order = RankOrder(keys);
   std::vector<Choice> taken;
-  for (const double least_ratio : {ratio, 0.0}) {
+  // Exact choices (a `ratio` given: three and four poses, which all meet the poses): half of them
+  // (at most) from those whose input turns fully (a motor's crank) first, then any; the
+  // proportion waived only when nothing else is found. Fits (no ratio) go by their rank alone.
+  struct Pass {
+    double ratio;
+    bool crank;
+    int count;
+  };
+  for (const Pass& pass :
+       {Pass{ratio, true, (count + 1) / 2}, Pass{ratio, false, count}, Pass{0.0, false, count}}) {
+    if (pass.crank && ratio == 0.0) continue;
+    if (pass.ratio == 0.0 && ratio > 0.0 && !taken.empty()) break;
     for (const int index : order) {
-      if (static_cast<int>(taken.size()) >= count) break;
+      if (static_cast<int>(taken.size()) >= pass.count) break;
       const Choice& choice = choices[index];
-      if (!choice.mechanism.max_pose_error || !Proportioned(choice, least_ratio)) continue;
+      if (!choice.mechanism.max_pose_error || !Proportioned(choice, pass.ratio)) continue;
+      if (pass.crank &&
+          (!choice.mechanism.input_rotates_fully || HasKinematicDefect(choice.mechanism.defects) ||
+           !choice.mechanism.violates.empty())) {
+        continue;
+      }
       // A choice that only recombines taken dyads, or moves them by less than `spread`, is not
       // another choice.
       const auto known = [&](const PlanarDyad& dyad) {
@@ -224,7 +240,6 @@ std::vector<Choice> BestSpread(const std::vector<Choice>& choices, const Task& t
       if (known(choice.dyads[0].dyad) && known(choice.dyads[1].dyad)) continue;
       taken.push_back(choice);
     }
-    if (!taken.empty()) break;
   }
   return taken;
 }
@@ -409,7 +424,8 @@ void AddPivotChoices(const Task& task, const TaskSolverOptions& solver,
   if (poses.size() == 4 && !task.constraints.given) {
     note = "linkfit chose " + std::to_string(listed.size()) +
            " four-bars with pivots spread along the Burmester curves (\"chosen\"), the best "
-           "transmission angle first";
+           "transmission angle first (\"constraints\": {\"input_rotates_fully\": true} asks for "
+           "a crank-driven one)";
   } else {
     const std::string why =
         poses.size() == 4 && task.moving_pivots.empty() && task.fixed_pivots.empty()

@@ -28,7 +28,7 @@
 namespace linkfit {
 
 struct PivotChoiceOptions {
-  int curve_candidates = 40;   // four poses: dyads taken along the curves within the bounds
+  int curve_candidates = 60;   // four poses: dyads taken along the curves within the bounds
   int subset_candidates = 20;  // five poses: the same per four-pose subset
   int grid = 7;                // three poses: pivots per side of each grid (moving, fixed)
   // Without a box for them, pivots are chosen within this many L of the pose origins' centroid

@@ -4,8 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <random>
+#include <string>
 
 #include "lib/function_samples.h"
 #include "lib/result_io.h"
@@ -285,6 +287,59 @@ TEST(FunctionTask, RangeAnalysisNamesTheFirstInputOutOfReach) {
     ++checked;
   }
   EXPECT_EQ(checked, 10);
+}
+
+}  // namespace
+}  // namespace linkfit
+
+namespace linkfit {
+namespace {
+
+// y = x^2 over [0, 1] as a designer states it (input range 60 deg, output 90 deg, three Chebyshev
+// precision points, transmission at least 40 deg; issue 35's newcomer): the ranges starting at 0
+// give one four-bar that cannot be built, and the result says where to start them instead. Given
+// those starts, the first four-bar has no defect, keeps the limit, and has the structural error
+// the note promised. A four-bar that meets full-precision pairs to rounding is not "misses".
+TEST(FunctionTask, ThreePointsNameTheStartsThatGiveAFourBarToBuild) {
+  const auto task_text = [](int input_start, int output_start) {
+    std::string x = "[", y = "[";
+    for (int k = 0; k <= 100; ++k) {
+      x += (k > 0 ? ", " : "") + std::to_string(k / 100.0);
+      y += (k > 0 ? ", " : "") + std::to_string((k / 100.0) * (k / 100.0));
+    }
+    return "{\"problem\": \"function\", \"constraints\": {\"min_transmission_angle_deg\": 40}, "
+           "\"function\": {\"x\": " +
+           x + "], \"y\": " + y + "], \"input_range_deg\": [" + std::to_string(input_start) + ", " +
+           std::to_string(input_start + 60) + "], \"output_range_deg\": [" +
+           std::to_string(output_start) + ", " + std::to_string(output_start + 90) +
+           "], \"precision_points\": 3, \"spacing\": \"chebyshev\"}}";
+  };
+  const FunctionResult at_zero = SolveFunctionTask(ParseTask(task_text(0, 0), "x2.json"));
+  int input_start = -1, output_start = -1;
+  double promised = -1.0;
+  for (const std::string& note : at_zero.notes) {
+    const size_t at = note.find("starting the input ");
+    if (at == std::string::npos) continue;
+    ASSERT_EQ(std::sscanf(note.c_str() + at, "starting the input %d deg and the output %d deg",
+                          &input_start, &output_start),
+              2)
+        << note;
+    const size_t error = note.find("structural error ");
+    ASSERT_NE(error, std::string::npos);
+    promised = std::stod(note.substr(error + 17));
+  }
+  ASSERT_GE(input_start, 0) << "no note names the starts";
+  const FunctionResult moved =
+      SolveFunctionTask(ParseTask(task_text(input_start, output_start), "x2.json"));
+  ASSERT_FALSE(moved.mechanisms.empty());
+  const FunctionMechanismReport& first = moved.mechanisms.front();
+  EXPECT_TRUE(first.defects.empty());
+  EXPECT_TRUE(first.violates.empty());
+  ASSERT_TRUE(first.function_max_error.has_value());
+  EXPECT_NEAR(*first.function_max_error * 180.0 / M_PI, promised, 1e-3 * promised + 1e-9);
+  for (const FunctionMechanismReport& report : moved.mechanisms) {
+    EXPECT_EQ(std::count(report.defects.begin(), report.defects.end(), "misses"), 0);
+  }
 }
 
 }  // namespace

@@ -39,6 +39,10 @@ constexpr double kSameSphericalOptimum = 1e-7;
 // constrained part of `linkfit bench`).
 constexpr int kConstrainedDyadsFactor = 2;
 constexpr int kConstrainedRefinedFactor = 3;
+// A listed four-bar is refined again while a round lowers its RMS pose error by more than
+// kPolishGain, in kPolishRounds at most: `linkfit refine` then improves it by less than 1 %.
+constexpr int kPolishRounds = 3;
+constexpr double kPolishGain = 0.005;
 
 // The SP limit of an SS dyad whose moving point runs off to infinity: the center A stays on
 // the plane of E normal to the moving point's direction (as seen from the points e_j where E
@@ -859,20 +863,23 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   }
   result.stages.push_back(Stage("four-bars", stage_start, result));
 
+  // When the first already meets the poses within their precision, without defect and within the
+  // constraints, it is the answer: the others are not refined into near copies of its dyads.
+  bool answered = false;
+  if (!result.mechanisms.empty()) {
+    const RankKey first =
+        MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
+    answered =
+        !first.misses_exact && !first.violates && first.defect_level == 0 && first.within_precision;
+  }
   if (task.effort != Effort::kFast) {
     // Mechanism level: the best-ranked four-bars refined on their pose error, the first
-    // refined_mechanisms of each level above fast. A refined four-bar gets its own two dyads,
-    // appended to the list (or the listed ones it repeats). When the first already meets the
-    // poses within their precision, without defect and within the constraints, it is the
-    // answer: the others are not refined into near copies of its dyads.
+    // refined_mechanisms of each level above fast, each in rounds while a round lowers its RMS
+    // pose error by more than kPolishGain (issue 35: `linkfit refine` then improves the first
+    // listed by less than 1 %). A refined four-bar gets its own two dyads, appended to the list
+    // (or the listed ones it repeats): four-bars refined onto one optimum are listed once
+    // (below).
     stage_start = std::chrono::steady_clock::now();
-    bool answered = false;
-    if (!result.mechanisms.empty()) {
-      const RankKey first =
-          MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
-      answered = !first.misses_exact && !first.violates && first.defect_level == 0 &&
-                 first.within_precision;
-    }
     // A four-bar that breaks a constraint is refined onto the bounds too (the penalties of
     // FourBarRefinerOptions::constraints), the first refined_mechanisms of them per level: the
     // constrained optimum is often the unconstrained one pulled onto a bound. What it gives is
@@ -898,16 +905,19 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       if (!refine || !seed.max_pose_error) continue;
       if (onto_bounds) onto_dyads[seed.input_dyad] = onto_dyads[seed.output_dyad] = true;
       const double seed_error = *seed.max_pose_error;
-      // One refinement of the seed with `refiner`: the refined four-bar, or nothing where it is
+      // The four-bar a round refines: the seed, then the last round's.
+      MechanismReport current = seed;
+      // One refinement of `current` with `refiner`: the refined four-bar, or nothing where it is
       // dropped (below). Its dyads, each the listed one it repeats or a new one appended.
       const auto refine_seed =
           [&](const FourBarRefinerOptions& refiner) -> std::optional<MechanismReport> {
-        PlanarDyad input = result.dyads[seed.input_dyad].dyad;
-        PlanarDyad output = result.dyads[seed.output_dyad].dyad;
+        PlanarDyad input = result.dyads[current.input_dyad].dyad;
+        PlanarDyad output = result.dyads[current.output_dyad].dyad;
         const RefinerSummary summary =
             RefineFourBar(poses, weights, exact, length, &input, &output, refiner);
-        // A seed that misses an exact pose is refined for them, whatever the fit costs.
-        if (!onto_bounds && !seed.misses_exact && !(summary.final_max < seed_error)) {
+        // A seed that misses an exact pose is refined for them, whatever the fit costs; else the
+        // fit decides (the RMS pose error, the ranking's).
+        if (!onto_bounds && !current.misses_exact && !(summary.final_rms < summary.initial_rms)) {
           return std::nullopt;
         }
         const size_t listed = result.dyads.size();
@@ -947,14 +957,13 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         // Meeting the exact poses decides first: a refinement that meets them where the seed
         // does not is better whatever its fit, one that misses them where the seed met them is
         // worse.
-        const bool meets_exact = seed.misses_exact && !refined.misses_exact;
+        const bool meets_exact = current.misses_exact && !refined.misses_exact;
         const bool worse = onto_bounds
                                ? !refined.violates.empty() || refined.misses_exact
-                               : (refined.misses_exact && !seed.misses_exact) ||
-                                     refined.violates.size() > seed.violates.size() ||
-                                     (!meets_exact && (!(*refined.max_pose_error < seed_error) ||
-                                                       refined.rms_pose_error.value_or(1e300) >
-                                                           seed.rms_pose_error.value_or(1e300)));
+                               : (refined.misses_exact && !current.misses_exact) ||
+                                     refined.violates.size() > current.violates.size() ||
+                                     (!meets_exact && !(refined.rms_pose_error.value_or(1e300) <
+                                                        current.rms_pose_error.value_or(1e300)));
         if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
           result.dyads.resize(listed);
           return std::nullopt;
@@ -962,9 +971,25 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         refined.seed_max_pose_error = seed_error;
         return refined;
       };
-      const std::optional<MechanismReport> refined = refine_seed(four_bar_refiner);
+      std::optional<MechanismReport> refined = refine_seed(four_bar_refiner);
       if (!onto_bounds) {
-        if (refined) result.mechanisms[m] = *refined;
+        // Again from each round that gained more than kPolishGain (a refinement can stop at its
+        // iteration limit).
+        for (int round = 1; refined && round < kPolishRounds; ++round) {
+          const double before = refined->rms_pose_error.value_or(0.0);
+          current = *refined;
+          const std::optional<MechanismReport> again = refine_seed(four_bar_refiner);
+          if (!again) break;
+          refined = again;
+          refined->seed_max_pose_error = seed_error;
+          if (!(*again->rms_pose_error < (1.0 - kPolishGain) * before)) break;
+        }
+        if (refined) {
+          result.mechanisms[m] = *refined;
+        } else {
+          // Tried: no refinement improves it (its "before_refinement" is itself).
+          result.mechanisms[m].seed_max_pose_error = seed_error;
+        }
         continue;
       }
       if (refined) {

@@ -34,12 +34,12 @@
 #include "lib/task.h"
 #include "lib/task_io.h"
 #include "optimizers/four_bar_refiner.h"
-#include "optimizers/pivot_choice.h"
 #include "optimizers/function_refiner.h"
 #include "optimizers/function_search.h"
 #include "optimizers/global_search.h"
 #include "optimizers/path_refiner.h"
 #include "optimizers/path_search.h"
+#include "optimizers/pivot_choice.h"
 #include "optimizers/planar_dyad_refiner.h"
 #include "optimizers/spatial_dyad_refiner.h"
 #include "optimizers/spherical_dyad_refiner.h"
@@ -57,8 +57,9 @@ struct TaskSolverOptions {
   GlobalSearchOptions search;                     // planar least squares, effort thorough
   SphericalSearchOptions spherical_search;        // spherical least squares, effort thorough
   int seed_subsets = 6;                           // five-pose subsets solved exactly for seeds
-  int max_dyads = 10;               // dyads kept per effort level (best RMS first) for four-bars
-  int refined_mechanisms = 3;       // best-ranked four-bars refined per level (mechanism level)
+  int max_dyads = 10;  // dyads kept per effort level (best RMS first) for four-bars
+  // Best-ranked four-bars refined per level (mechanism level), each in rounds while they gain.
+  int refined_mechanisms = 3;
   int reported_mechanisms = 12;     // four-bars listed at most (least squares)
   PivotChoiceOptions pivot_choice;  // three to five poses: pivots chosen within the constraints
   TimedPathOptions timed_path;      // path problems: the five-point solver

@@ -332,7 +332,7 @@ void AddPivotChoices(const Task& task, const TaskSolverOptions& solver,
     std::vector<Choice> seeds = listed;
     int exact_seeds = 0;
     for (const MechanismReport& mechanism : result->mechanisms) {
-      if (exact_seeds >= 2) break;
+      if (exact_seeds >= 1) break;
       if (mechanism.violates.empty() || !mechanism.max_pose_error) continue;
       Choice seed;
       seed.mechanism = mechanism;

@@ -42,7 +42,7 @@ struct PivotChoiceOptions {
   // coupler of a tenth of its cranks). Five poses' choices are judged by their fit.
   double link_ratio = 0.1;
   int listed = 6;   // chosen four-bars listed at most
-  int refined = 4;  // five poses: chosen four-bars refined by least squares of all five
+  int refined = 2;  // five poses: chosen four-bars refined by least squares of all five
 };
 
 // Whether a solved planar motion task of three to five poses gets chosen pivots: four poses

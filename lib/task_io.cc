@@ -1613,9 +1613,13 @@ class TaskParser {
     }
     const long long count = count_value.get<long long>();
     if (count < static_cast<long long>(minimum) || count > 1000) {
-      Fail(count_item, count > 1000 ? "at most 1000"
-                                    : std::to_string(count) + " points, " + purpose +
-                                          " needs at least " + std::to_string(minimum));
+      Fail(count_item,
+           count > 1000 ? "at most 1000"
+           : count < 3  ? std::to_string(count) +
+                             " points: a function needs at least three precision points (three or "
+                             "four are read as absolute angles, five or more as relative)"
+                       : std::to_string(count) + " points, " + purpose + " needs at least " +
+                             std::to_string(minimum));
     }
     const std::string spacing =
         ParseEnum<std::string>(function, item, "spacing", "chebyshev",

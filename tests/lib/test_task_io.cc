@@ -847,6 +847,12 @@ TEST(TaskIoFunction, FewPrecisionPointsAreAbsoluteAngles) {
       "precision_points": 3}})")
                 .find("needs at least 5"),
             std::string::npos);
+  // Two points: what a function needs, not what relative angles need.
+  EXPECT_NE(ErrorOf(R"({"problem": "function", "function": {"x": [0, 1, 2],
+      "y": [0, 1, 4], "input_range_deg": [0, 90], "output_range_deg": [0, 90],
+      "precision_points": 2}})")
+                .find("at least three precision points"),
+            std::string::npos);
 }
 
 TEST(TaskIoFunction, BadFunctionTasksSayWhatIsWrong) {

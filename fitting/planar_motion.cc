@@ -59,8 +59,11 @@ MechanismReport AnalyzeDyadPair(const std::vector<DyadReport>& dyads, int i, int
   const PlanarDyad& output = swap ? a : b;
   mechanism.type = ClassifyFourBar(input.type, output.type);
   TakeAnalysis(chosen, swap ? a_drives : b_drives, poses.size() > 5, &mechanism);
-  for (const FourBarLocation& location : chosen.locations) {
-    mechanism.pose_errors.push_back(location.pose_error);
+  // Minimal data: each pose's error (a four-bar chosen within constraints reports them).
+  if (poses.size() <= 5) {
+    for (const FourBarLocation& location : chosen.locations) {
+      mechanism.pose_errors.push_back(location.pose_error);
+    }
   }
   if (screened != nullptr) mechanism.output_rotates_fully = screened->output_rotates_fully;
   if (!mechanism.max_pose_error) {
@@ -153,11 +156,6 @@ void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, doub
   kind.input_rotates_fully = mechanism->input_rotates_fully;
   mechanism->violates = MotionViolations(task.constraints, input, output, kind, length);
   std::vector<std::string>& defects = mechanism->defects;
-  const auto add = [&](const char* defect) {
-    if (std::find(defects.begin(), defects.end(), defect) == defects.end()) {
-      defects.push_back(defect);
-    }
-  };
   // A link the data's precision cannot resolve (issue 35): no longer than how far that precision
   // can move its pivots (the dyads' finite error bounds) plus kModelUnits of the data's rounding.
   const auto bound = [](const DyadReport& report) {
@@ -172,14 +170,13 @@ void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, doub
       unresolved(links.ground, bound(input_report) + bound(output_report)) ||
       unresolved(links.input, bound(input_report)) ||
       unresolved(links.output, bound(output_report))) {
-    add("degenerate");
+    AddDefect("degenerate", &defects);
   }
   // Minimal data (five poses or fewer) are met exactly by every dyad: a four-bar that misses
-  // them by more than their precision on its one circuit and branch does not do the task.
-  if (task.planar_poses.size() <= 5 && mechanism->chosen.empty() && mechanism->max_pose_error &&
-      *mechanism->max_pose_error > PoseFitTolerance(task.precision, length) &&
-      !HasKinematicDefect(defects)) {
-    add("misses");
+  // them by more than their precision on its one circuit and branch does not do the task (one
+  // linkfit chose misses a pose by design: that is its fit).
+  if (task.planar_poses.size() <= 5 && mechanism->chosen.empty()) {
+    JudgeMisses(mechanism->max_pose_error, PoseFitTolerance(task.precision, length), &defects);
   }
   JudgeTransmission(task.constraints, mechanism->transmission_min_deg, &defects);
 }

@@ -198,27 +198,19 @@ void JudgeMinimal(const std::vector<SphericalDyadReport>& dyads, size_t orientat
     return report.error_bound && std::isfinite(*report.error_bound) ? *report.error_bound : 0.0;
   };
   const auto between = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+    const double angle = DirectionAngle(a, b);
     return std::min(angle, M_PI - angle);  // an axis is a line: its two directions are one
   };
   const double rounding = kModelUnits * precision.angle;
   const double both = bound(input) + bound(output) + rounding;
   std::vector<std::string>& defects = mechanism->defects;
-  const auto add = [&](const char* defect) {
-    if (std::find(defects.begin(), defects.end(), defect) == defects.end()) {
-      defects.push_back(defect);
-    }
-  };
   if (between(input.dyad.fixed_axis, output.dyad.fixed_axis) <= both ||
       between(input.dyad.moving_axis, output.dyad.moving_axis) <= both ||
       std::min(input.dyad.angle, M_PI - input.dyad.angle) <= bound(input) + rounding ||
       std::min(output.dyad.angle, M_PI - output.dyad.angle) <= bound(output) + rounding) {
-    add("degenerate");
+    AddDefect("degenerate", &defects);
   }
-  if (orientations <= 5 && mechanism->max_pose_error &&
-      *mechanism->max_pose_error > precision_fit && !HasKinematicDefect(defects)) {
-    add("misses");
-  }
+  if (orientations <= 5) JudgeMisses(mechanism->max_pose_error, precision_fit, &defects);
 }
 
 void BuildSphericalMechanisms(const Task& task, const SphericalMotion& motion,

@@ -17,9 +17,6 @@ bool InBox(const PlanarBox& box, const Eigen::Vector2d& point, double slack) {
          point.y() >= box.min.y() - slack && point.y() <= box.max.y() + slack;
 }
 
-bool HasFixedPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kPR; }
-bool HasMovingPivot(const PlanarDyad& dyad) { return dyad.type != DyadType::kRP; }
-
 }  // namespace
 
 void ClassViolations(const DesignConstraints& constraints, const FourBarClass& kind,
@@ -110,10 +107,10 @@ std::vector<double> FourBarLinks::All() const {
 
 FourBarLinks MotionFourBarLinks(const PlanarDyad& input, const PlanarDyad& output) {
   FourBarLinks links;
-  if (HasFixedPivot(input) && HasFixedPivot(output)) {
+  if (input.HasFixedPivot() && output.HasFixedPivot()) {
     links.ground = (input.fixed_pivot - output.fixed_pivot).norm();
   }
-  if (HasMovingPivot(input) && HasMovingPivot(output)) {
+  if (input.HasMovingPivot() && output.HasMovingPivot()) {
     links.coupler = (input.moving_pivot - output.moving_pivot).norm();
   }
   if (input.type == DyadType::kRR) links.input = std::abs(input.radius);
@@ -123,6 +120,29 @@ FourBarLinks MotionFourBarLinks(const PlanarDyad& input, const PlanarDyad& outpu
 
 FourBarLinks PathFourBarLinks(const PathFourBar& four_bar) {
   return MotionFourBarLinks(four_bar.input, four_bar.output);
+}
+
+void AddDefect(const std::string& defect, std::vector<std::string>* defects) {
+  if (std::find(defects->begin(), defects->end(), defect) == defects->end()) {
+    defects->push_back(defect);
+  }
+}
+
+std::vector<std::string> AddedKinematicDefects(const std::vector<std::string>& before,
+                                               const std::vector<std::string>& after) {
+  std::vector<std::string> added;
+  for (const std::string& defect : after) {
+    if (defect != "transmission" &&
+        std::find(before.begin(), before.end(), defect) == before.end()) {
+      added.push_back(defect);
+    }
+  }
+  return added;
+}
+
+void JudgeMisses(const std::optional<double>& error, double tolerance,
+                 std::vector<std::string>* defects) {
+  if (error && *error > tolerance && !HasKinematicDefect(*defects)) AddDefect("misses", defects);
 }
 
 bool HasKinematicDefect(const std::vector<std::string>& defects) {
@@ -138,9 +158,8 @@ bool OnOneBranch(const std::vector<std::string>& defects) {
 void JudgeTransmission(const DesignConstraints& constraints,
                        const std::optional<double>& transmission_min_deg,
                        std::vector<std::string>* defects) {
-  if (transmission_min_deg && *transmission_min_deg < MinTransmissionAngleDeg(constraints) &&
-      std::find(defects->begin(), defects->end(), "transmission") == defects->end()) {
-    defects->push_back("transmission");
+  if (transmission_min_deg && *transmission_min_deg < MinTransmissionAngleDeg(constraints)) {
+    AddDefect("transmission", defects);
   }
 }
 
@@ -163,14 +182,14 @@ std::vector<std::string> MotionViolations(const DesignConstraints& constraints,
   std::vector<std::string> violates;
   std::vector<Eigen::Vector2d> fixed_pivots;
   for (const PlanarDyad* dyad : {&input, &output}) {
-    if (HasFixedPivot(*dyad)) fixed_pivots.push_back(dyad->fixed_pivot);
+    if (dyad->HasFixedPivot()) fixed_pivots.push_back(dyad->fixed_pivot);
   }
   CommonViolations(constraints, MotionFourBarLinks(input, output), fixed_pivots, kind, length,
                    &violates);
   if (constraints.moving_pivots_box) {
     const double slack = kConstraintSlack * length;
     for (const PlanarDyad* dyad : {&input, &output}) {
-      if (HasMovingPivot(*dyad) &&
+      if (dyad->HasMovingPivot() &&
           !InBox(*constraints.moving_pivots_box, dyad->moving_pivot, slack)) {
         violates.push_back("moving_pivots_box");
         break;
@@ -189,11 +208,11 @@ bool DyadKeeps(const DesignConstraints& constraints, const PlanarDyad& dyad, dou
       return false;
     }
   }
-  if (constraints.fixed_pivots_box && HasFixedPivot(dyad) &&
+  if (constraints.fixed_pivots_box && dyad.HasFixedPivot() &&
       !InBox(*constraints.fixed_pivots_box, dyad.fixed_pivot, slack)) {
     return false;
   }
-  return !(constraints.moving_pivots_box && HasMovingPivot(dyad) &&
+  return !(constraints.moving_pivots_box && dyad.HasMovingPivot() &&
            !InBox(*constraints.moving_pivots_box, dyad.moving_pivot, slack));
 }
 
@@ -202,11 +221,11 @@ std::vector<std::string> PathViolations(const DesignConstraints& constraints,
                                         double length) {
   std::vector<std::string> violates;
   std::vector<Eigen::Vector2d> fixed_pivots = {four_bar.input.fixed_pivot};
-  if (HasFixedPivot(four_bar.output)) fixed_pivots.push_back(four_bar.output.fixed_pivot);
+  if (four_bar.output.HasFixedPivot()) fixed_pivots.push_back(four_bar.output.fixed_pivot);
   CommonViolations(constraints, PathFourBarLinks(four_bar), fixed_pivots, kind, length, &violates);
   if (constraints.max_coupler_point_offset) {
     double offset = (four_bar.coupler_point - four_bar.input.moving_pivot).norm();
-    if (HasMovingPivot(four_bar.output)) {
+    if (four_bar.output.HasMovingPivot()) {
       offset = std::max(offset, (four_bar.coupler_point - four_bar.output.moving_pivot).norm());
     }
     if (!(offset <= *constraints.max_coupler_point_offset + kConstraintSlack * length)) {

@@ -123,6 +123,21 @@ void JudgeTransmission(const DesignConstraints& constraints,
                        const std::optional<double>& transmission_min_deg,
                        std::vector<std::string>* defects);
 
+// Adds `defect` to `defects` unless it is there already.
+void AddDefect(const std::string& defect, std::vector<std::string>* defects);
+
+// The kinematic defects (all but "transmission") of `after` that `before` does not have: a
+// refinement that adds one is not taken.
+std::vector<std::string> AddedKinematicDefects(const std::vector<std::string>& before,
+                                               const std::vector<std::string>& after);
+
+// The defect "misses" of minimal data (five poses, timed points or orientations; three absolute
+// or five relative function pairs), which every solution meets exactly (issue 35): added when
+// the largest error is more than `tolerance` (the data's precision) and no kinematic defect says
+// why already.
+void JudgeMisses(const std::optional<double>& error, double tolerance,
+                 std::vector<std::string>* defects);
+
 // Whether `defects` holds a kinematic defect (any but "transmission": "circuit", "branch",
 // "order"; function four-bars' "assembly" and "range"): the four-bar cannot be driven through the
 // task as listed.

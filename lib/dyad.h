@@ -65,6 +65,10 @@ struct PlanarDyad {
   // pivots swapped, PR of a motion is RP of the inverted motion and vice versa.
   PlanarDyad Inverted() const;
 
+  // Whether the type has a fixed pivot (RR, RP) and a moving pivot (RR, PR).
+  bool HasFixedPivot() const { return type != DyadType::kPR; }
+  bool HasMovingPivot() const { return type != DyadType::kRP; }
+
   // Line direction angle in degrees, in [0, 180) (PR: in Sigma; RP: in E).
   double LineAngleDeg() const;
   // Canonical line point: the foot of the perpendicular from the frame origin.

@@ -246,7 +246,7 @@ Json SphericalLinkageToJson(const SphericalDyad& input, const SphericalDyad& out
                             const Eigen::Matrix3d& rotation) {
   Json joints, links;
   const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+    return DirectionAngle(a, b) * 180.0 / M_PI;
   };
   PutNumber(&links, "ground", degrees(input.fixed_axis, output.fixed_axis));
   PutNumber(&links, "input", input.angle * 180.0 / M_PI);
@@ -284,11 +284,9 @@ Json MechanismToJson(const MechanismReport& report) {
   }
   if (!report.chosen.empty()) {
     object["chosen"] = report.chosen;
-    Json errors = Json::array();
-    for (const double error : report.pose_errors) errors.push_back(error + 0.0);
     if (std::all_of(report.pose_errors.begin(), report.pose_errors.end(),
                     [](double error) { return std::isfinite(error); })) {
-      object["pose_errors"] = errors;
+      object["pose_errors"] = report.pose_errors;
     } else {
       object["pose_errors_note"] = kNotFinite;
     }

@@ -116,10 +116,8 @@ FunctionMechanismReport Report(const Task& task, const FunctionFourBar& four_bar
   // Minimal pairs are met exactly: a four-bar that misses one by more than their precision on
   // its circuit and assembly does not do the task (issue 35).
   const size_t minimum = task.relative_angles ? 5 : 3;
-  if (task.pairs.size() == minimum && report.max_angle_error &&
-      *report.max_angle_error > AnglePassTolerance(task.precision) &&
-      !HasKinematicDefect(report.defects)) {
-    report.defects.push_back("misses");
+  if (task.pairs.size() == minimum) {
+    JudgeMisses(report.max_angle_error, AnglePassTolerance(task.precision), &report.defects);
   }
   JudgeTransmission(task.constraints, report.transmission_min_deg, &report.defects);
   return report;

@@ -195,22 +195,14 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
 // say why.
 void JudgeTransmission(const PathData& data, PathMechanismReport* report) {
   std::vector<std::string>& defects = report->defects;
-  const auto add = [&](const char* defect) {
-    if (std::find(defects.begin(), defects.end(), defect) == defects.end()) {
-      defects.push_back(defect);
-    }
-  };
   const double bound =
       report->error_bound && std::isfinite(*report->error_bound) ? *report->error_bound : 0.0;
   const double resolve = bound + kModelUnits * data.precision.length;
   for (const double link : PathFourBarLinks(report->design).All()) {
-    if (link <= resolve) add("degenerate");
+    if (link <= resolve) AddDefect("degenerate", &defects);
   }
-  if (data.points.size() == 5 && data.angles.size() == 5 && !report->seed_max_point_error &&
-      report->max_point_error &&
-      *report->max_point_error > PathPassTolerance(data.precision, data.length) &&
-      !HasKinematicDefect(defects)) {
-    add("misses");
+  if (data.points.size() == 5 && data.angles.size() == 5 && !report->seed_max_point_error) {
+    JudgeMisses(report->max_point_error, PathPassTolerance(data.precision, data.length), &defects);
   }
   JudgeTransmission(data.constraints, report->transmission_min_deg, &report->defects);
 }
@@ -637,11 +629,7 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
         } catch (const std::invalid_argument&) {
           return;  // not driven from its first angle: listed as it is
         }
-        const bool adds_defect = std::any_of(
-            better.defects.begin(), better.defects.end(), [&](const std::string& defect) {
-              return defect != "transmission" && std::find(from.defects.begin(), from.defects.end(),
-                                                           defect) == from.defects.end();
-            });
+        const bool adds_defect = !AddedKinematicDefects(from.defects, better.defects).empty();
         const bool breaks = from.violates.empty() && !better.violates.empty();
         if (!better.max_point_error || adds_defect || breaks ||
             !(better.rms_point_error.value_or(kInfinity) <
@@ -1752,12 +1740,7 @@ namespace {
 // kinematic defect the seed did not have, and a smaller largest point error.
 bool Improves(const PathMechanismReport& refined, const PathMechanismReport& seed) {
   if (!refined.max_point_error) return false;
-  for (const std::string& defect : refined.defects) {
-    if (defect != "transmission" &&
-        std::find(seed.defects.begin(), seed.defects.end(), defect) == seed.defects.end()) {
-      return false;
-    }
-  }
+  if (!AddedKinematicDefects(seed.defects, refined.defects).empty()) return false;
   return !seed.max_point_error || *refined.max_point_error < *seed.max_point_error;
 }
 
@@ -1976,11 +1959,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
   // Never worse than the design: a refinement that is no longer driven through the points, adds
   // a kinematic defect, or fits worse by both the largest and the RMS point error (a fallback can
   // end there) gives the design back.
-  const bool new_defect =
-      std::any_of(refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
-        return defect != "transmission" &&
-               std::find(seed.defects.begin(), seed.defects.end(), defect) == seed.defects.end();
-      });
+  const bool new_defect = !AddedKinematicDefects(seed.defects, refined.defects).empty();
   const bool worse = seed.max_point_error &&
                      (!refined.max_point_error ||
                       (*refined.max_point_error > *seed.max_point_error &&

@@ -35,18 +35,15 @@ struct Candidate {
   int group = 0;
 };
 
-bool HasFixed(const PlanarDyad& dyad) { return dyad.type != DyadType::kPR; }
-bool HasMoving(const PlanarDyad& dyad) { return dyad.type != DyadType::kRP; }
-
 // Whether the dyad's pivots without a box lie within `reach` of `centroid` (the moving pivot at
 // the first pose).
 bool WithinReach(const PlanarDyad& dyad, const DesignConstraints& constraints,
                  const PlanarPose& first, const Eigen::Vector2d& centroid, double reach) {
-  if (HasFixed(dyad) && !constraints.fixed_pivots_box &&
+  if (dyad.HasFixedPivot() && !constraints.fixed_pivots_box &&
       !((dyad.fixed_pivot - centroid).norm() <= reach)) {
     return false;
   }
-  return !(HasMoving(dyad) && !constraints.moving_pivots_box &&
+  return !(dyad.HasMovingPivot() && !constraints.moving_pivots_box &&
            !((first.ToFixed(dyad.moving_pivot) - centroid).norm() <= reach));
 }
 
@@ -55,8 +52,8 @@ bool WithinReach(const PlanarDyad& dyad, const DesignConstraints& constraints,
 double DyadDistance(const PlanarDyad& a, const PlanarDyad& b, double length) {
   if (a.type != b.type) return std::numeric_limits<double>::infinity();
   double distance = 0.0;
-  if (HasFixed(a)) distance = std::max(distance, (a.fixed_pivot - b.fixed_pivot).norm());
-  if (HasMoving(a)) distance = std::max(distance, (a.moving_pivot - b.moving_pivot).norm());
+  if (a.HasFixedPivot()) distance = std::max(distance, (a.fixed_pivot - b.fixed_pivot).norm());
+  if (a.HasMovingPivot()) distance = std::max(distance, (a.moving_pivot - b.moving_pivot).norm());
   if (a.type != DyadType::kRR) {
     const double turn = std::abs(std::atan2(
         a.line_direction.x() * b.line_direction.y() - a.line_direction.y() * b.line_direction.x(),

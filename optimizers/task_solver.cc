@@ -653,6 +653,12 @@ std::string TypingNote(const Task& task, const TaskSolverOptions& options,
                        const PlanarMotionResult& result) {
   if (task.precision.source != "digits" || result.mechanisms.empty()) return "";
   if (!(RelativePrecision(task.precision, result.scale) > 1e-9)) return "";
+  // A finer precision types fewer sliders, nothing else: where none is typed, both readings list
+  // 4Rs, and the five poses are not solved again.
+  if (std::none_of(result.dyads.begin(), result.dyads.end(),
+                   [](const DyadReport& report) { return report.dyad.type != DyadType::kRR; })) {
+    return "";
+  }
   Task finer = task;
   finer.precision.length /= kTypedDecimals;
   finer.precision.angle /= kTypedDecimals;
@@ -863,23 +869,23 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   }
   result.stages.push_back(Stage("four-bars", stage_start, result));
 
-  // When the first already meets the poses within their precision, without defect and within the
-  // constraints, it is the answer: the others are not refined into near copies of its dyads.
-  bool answered = false;
-  if (!result.mechanisms.empty()) {
-    const RankKey first =
-        MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
-    answered =
-        !first.misses_exact && !first.violates && first.defect_level == 0 && first.within_precision;
-  }
   if (task.effort != Effort::kFast) {
     // Mechanism level: the best-ranked four-bars refined on their pose error, the first
     // refined_mechanisms of each level above fast, each in rounds while a round lowers its RMS
     // pose error by more than kPolishGain (issue 35: `linkfit refine` then improves the first
     // listed by less than 1 %). A refined four-bar gets its own two dyads, appended to the list
     // (or the listed ones it repeats): four-bars refined onto one optimum are listed once
-    // (below).
+    // (below). When the first already meets the poses within their precision, without defect and
+    // within the constraints, it is the answer: the others are not refined into near copies of
+    // its dyads.
     stage_start = std::chrono::steady_clock::now();
+    bool answered = false;
+    if (!result.mechanisms.empty()) {
+      const RankKey first =
+          MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
+      answered = !first.misses_exact && !first.violates && first.defect_level == 0 &&
+                 first.within_precision;
+    }
     // A four-bar that breaks a constraint is refined onto the bounds too (the penalties of
     // FourBarRefinerOptions::constraints), the first refined_mechanisms of them per level: the
     // constrained optimum is often the unconstrained one pulled onto a bound. What it gives is
@@ -981,7 +987,6 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
           const std::optional<MechanismReport> again = refine_seed(four_bar_refiner);
           if (!again) break;
           refined = again;
-          refined->seed_max_pose_error = seed_error;
           if (!(*again->rms_pose_error < (1.0 - kPolishGain) * before)) break;
         }
         if (refined) {
@@ -1226,13 +1231,10 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
   }
   // Never a design with a kinematic defect the given one did not have (as for path designs, and
   // as the solver refines its listed four-bars): the design is given back unchanged.
-  const MechanismReport& ended = result.mechanisms[0];
-  const bool adds_defect =
-      seed.max_pose_error &&
-      std::any_of(ended.defects.begin(), ended.defects.end(), [&](const std::string& defect) {
-        return defect != "transmission" && !has(seed, defect.c_str());
-      });
-  if (adds_defect) {
+  const std::vector<std::string> added_defects =
+      seed.max_pose_error ? AddedKinematicDefects(seed.defects, result.mechanisms[0].defects)
+                          : std::vector<std::string>();
+  if (!added_defects.empty()) {
     PlanarMotionResult given;
     for (DyadReport report : seed_dyads) {
       report.max_residual = report.dyad.MaxResidual(poses);
@@ -1244,11 +1246,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
     JudgeMechanism(task, given.dyads, length, &unchanged);
     given.mechanisms.push_back(unchanged);
     std::string added;
-    for (const std::string& defect : ended.defects) {
-      if (defect != "transmission" && !has(seed, defect.c_str())) {
-        added += (added.empty() ? "" : ", ") + defect;
-      }
-    }
+    for (const std::string& defect : added_defects) added += (added.empty() ? "" : ", ") + defect;
     given.notes.push_back("no refinement improved the design without a new defect (it ended with " +
                           added + "): it is given back unchanged");
     summary.final_max = summary.initial_max;

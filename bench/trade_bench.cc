@@ -11,6 +11,7 @@
 #include <map>
 #include <random>
 #include <sstream>
+#include <variant>
 
 #include "apps/output_file.h"
 #include "bench/constrained_bench.h"
@@ -20,6 +21,7 @@
 #include "lib/design_constraints.h"
 #include "lib/four_bar_motion.h"
 #include "lib/path_motion.h"
+#include "lib/result_io.h"
 #include "lib/spherical_four_bar.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/random_function.h"
@@ -56,6 +58,7 @@ TradeRow RunCell(const std::string& family, int items, double noise, const std::
   row.effort = effort_name;
   row.tasks = tasks;
   std::vector<double> times, errors;
+  int listed = 0, at_optimum = 0;
   int success = 0;
   std::mt19937_64 rng(seed);
   for (int t = 0; t < tasks; ++t) {
@@ -63,13 +66,58 @@ TradeRow RunCell(const std::string& family, int items, double noise, const std::
     times.push_back(outcome.ms);
     errors.push_back(outcome.error);
     success += outcome.error <= success_tolerance;
+    listed += outcome.listed;
+    at_optimum += outcome.at_optimum;
   }
+  if (listed > 0) row.optimum_share = static_cast<double>(at_optimum) / listed;
   row.median_ms = Percentile(times, 0.5);
   row.worst_ms = Percentile(times, 1.0);
   row.median_error = Percentile(errors, 0.5);
   row.worst_error = Percentile(errors, 1.0);
   row.success_share = tasks > 0 ? static_cast<double>(success) / tasks : 0.0;
   return row;
+}
+
+// ---- at its optimum ----
+
+// The RMS error of listed mechanism `k` of a planar motion or path result.
+double RmsError(const TaskResult& result, size_t k) {
+  if (const auto* path = std::get_if<PathResult>(&result)) {
+    return path->mechanisms[k].rms_point_error.value_or(kInfinity);
+  }
+  return std::get<PlanarMotionResult>(result).mechanisms[k].rms_pose_error.value_or(kInfinity);
+}
+
+// The result's length scale L.
+double Scale(const TaskResult& result) {
+  if (const auto* path = std::get_if<PathResult>(&result)) return path->scale;
+  return std::get<PlanarMotionResult>(result).scale;
+}
+
+size_t ListedCount(const TaskResult& result) {
+  if (const auto* path = std::get_if<PathResult>(&result)) return path->mechanisms.size();
+  return std::get<PlanarMotionResult>(result).mechanisms.size();
+}
+
+// Counts a least-squares result's listed four-bars, and those `linkfit refine` improves by less
+// than 1 % of their RMS error: the result written as the CLI writes it, read back as a design
+// and each four-bar refined as `linkfit refine --mechanism` refines it.
+void CountAtOptimum(const Task& task, const TaskResult& result, TradeOutcome* outcome) {
+  const TaskDesign design = ParseTaskDesign(ResultToJson(result, -1), "result", task);
+  for (size_t k = 0; k < ListedCount(result); ++k) {
+    const double error = RmsError(result, k);
+    if (!std::isfinite(error)) continue;  // not driven through the task: no fit to improve
+    RefineChoice choice;
+    choice.mechanism = static_cast<int>(k);
+    ++outcome->listed;
+    try {
+      const TaskResult refined = RefineTask(task, design, choice);
+      outcome->at_optimum += ListedCount(refined) == 0 || RmsError(refined, 0) >= 0.99 * error ||
+                             error - RmsError(refined, 0) <= kExactTolerance * Scale(result);
+    } catch (const InputError&) {
+      ++outcome->at_optimum;  // refine does not take it (as the CLI says): nothing to improve
+    }
+  }
 }
 
 // ---- planar motion ----
@@ -84,6 +132,7 @@ TradeOutcome RunPlanar(std::mt19937_64& rng, Effort effort, int count, double no
   const auto begin = std::chrono::steady_clock::now();
   const PlanarMotionResult result = SolvePlanarTask(task);
   outcome.ms = MillisecondsSince(begin);
+  if (count > 5) CountAtOptimum(task, result, &outcome);
   // Minimal data: the largest pose error (no RMS is reported); more: the RMS pose error.
   double best = kInfinity;
   for (const MechanismReport& mechanism : result.mechanisms) {
@@ -168,6 +217,7 @@ TradeOutcome RunPath(std::mt19937_64& rng, Effort effort, int count, double nois
   const auto begin = std::chrono::steady_clock::now();
   const PathResult result = SolvePathTask(task);
   outcome.ms = MillisecondsSince(begin);
+  if (count > 5) CountAtOptimum(task, result, &outcome);
   // Exact data: the largest point error; noisy: the RMS point error against the generating
   // four-bar's (minimal data: the largest against its largest).
   const bool use_rms = noise > 0.0 && count > 5;
@@ -277,10 +327,14 @@ struct Sizes {
 
 void PrintRow(std::FILE* table, const TradeRow& row) {
   if (table == nullptr) return;
-  std::fprintf(table, "%-15s %5d %-7g %-26s %-9s %5d %10.3f %10.3f %11.3e %11.3e %7.1f%%\n",
+  char optimum[16] = "       -";
+  if (row.optimum_share >= 0.0) {
+    std::snprintf(optimum, sizeof(optimum), "%7.1f%%", 100.0 * row.optimum_share);
+  }
+  std::fprintf(table, "%-15s %5d %-7g %-26s %-9s %5d %10.3f %10.3f %11.3e %11.3e %7.1f%% %s\n",
                row.family.c_str(), row.items, row.noise, row.path.c_str(), row.effort.c_str(),
                row.tasks, row.median_ms, row.worst_ms, row.median_error, row.worst_error,
-               100.0 * row.success_share);
+               100.0 * row.success_share, optimum);
   std::fflush(table);
 }
 
@@ -311,9 +365,9 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
                  "the generating mechanism (success: <= %.0e L, free timing %.0e L; <= %.2f)\n",
                  options.quick ? "quick" : "full", static_cast<unsigned long long>(options.seed),
                  kExactTolerance, kFreeTimingTolerance, kNoisyRatio);
-    std::fprintf(table, "%-15s %5s %-7s %-26s %-9s %5s %10s %10s %11s %11s %8s\n", "family",
+    std::fprintf(table, "%-15s %5s %-7s %-26s %-9s %5s %10s %10s %11s %11s %8s %8s\n", "family",
                  "items", "noise", "path", "effort", "tasks", "median_ms", "worst_ms", "median_err",
-                 "worst_err", "success");
+                 "worst_err", "success", "optimum");
   }
   std::vector<TradeRow> rows;
   const std::pair<const char*, Effort> efforts[] = {
@@ -385,7 +439,7 @@ std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* tabl
 std::string TradeCsv(const std::vector<TradeRow>& rows) {
   std::ostringstream csv;
   csv << "family,path,effort,tasks,median_ms,worst_ms,median_error,worst_error,success_share,"
-         "items,noise,error_unit\n";
+         "items,noise,error_unit,optimum_share\n";
   for (const TradeRow& row : rows) {
     const bool points = row.family.find("path") != std::string::npos;
     csv << row.family << " " << row.items << (points ? " points" : " poses") << " noise "
@@ -393,7 +447,8 @@ std::string TradeCsv(const std::vector<TradeRow>& rows) {
         << "," << FormatNumber(row.median_ms) << "," << FormatNumber(row.worst_ms) << ","
         << FormatNumber(row.median_error) << "," << FormatNumber(row.worst_error) << ","
         << FormatNumber(row.success_share) << "," << row.items << "," << FormatNumber(row.noise)
-        << "," << (row.noise > 0.0 ? "ratio" : "L") << "\n";
+        << "," << (row.noise > 0.0 ? "ratio" : "L") << ","
+        << (row.optimum_share >= 0.0 ? FormatNumber(row.optimum_share) : "") << "\n";
   }
   return csv.str();
 }

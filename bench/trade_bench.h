@@ -20,6 +20,11 @@
 // noisy data (below 1: the fit beats the truth, as a least-squares optimum should). Success: the
 // generating mechanism, or a better one, is found: error <= 1e-9 (exact data; free timing 1e-6),
 // or <= 1.10 with noise.
+//
+// At its optimum (least squares: planar motion and paths): the share of the listed four-bars,
+// over a cell's tasks, that `linkfit refine` (RefineTask on the result as written) improves by
+// less than 1 % of their RMS error, or by less than 1e-9 L (an exact fit's rounding; issue 35:
+// at balanced and thorough, every one).
 #ifndef LINKFIT_BENCH_TRADE_BENCH_H_
 #define LINKFIT_BENCH_TRADE_BENCH_H_
 
@@ -67,12 +72,17 @@ struct TradeRow {
   double median_ms = 0.0, worst_ms = 0.0;
   double median_error = 0.0, worst_error = 0.0;  // see the header comment
   double success_share = 0.0;
+  // Listed four-bars `linkfit refine` improves by less than 1 % (see the header comment); -1:
+  // not measured (minimal data, or a family `linkfit refine` does not take).
+  double optimum_share = -1.0;
 };
 
 // One task of a cell: its time and final error (see the header comment).
 struct TradeOutcome {
   double ms = 0.0;
   double error = std::numeric_limits<double>::infinity();
+  int listed = 0;      // least squares, planar motion and paths: four-bars listed
+  int at_optimum = 0;  // of them, those `linkfit refine` improves by less than 1 %
 };
 
 // Draws the next task of a family ("planar motion", "spatial motion", "spherical motion", "timed
@@ -90,7 +100,8 @@ std::string FormatNumber(double value);
 std::vector<TradeRow> RunTradeBench(const BenchOptions& options, std::FILE* table);
 
 // The table as CSV: family, path, effort, tasks, median_ms, worst_ms, median_error,
-// worst_error, success_share, items, noise, error_unit ("L" for noise 0, "ratio" otherwise).
+// worst_error, success_share, items, noise, error_unit ("L" for noise 0, "ratio" otherwise),
+// optimum_share (empty where not measured).
 std::string TradeCsv(const std::vector<TradeRow>& rows);
 
 // The trade as an SVG plot: one panel per noise level, median time (log axis) against median

@@ -60,11 +60,10 @@ constexpr int kRefineRounds = 4;
 // Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
-// A listed four-bar's refinement (Finish) is taken when it lowers the RMS point error by more
-// than this share: `linkfit refine` then improves no listed four-bar by more (issue 35).
+// The listed four-bars' refinement (Finish) goes on, in kPolishRounds at most, while a round
+// lowers the RMS point error by more than this share: `linkfit refine` then improves no listed
+// four-bar by more (issue 35).
 constexpr double kPolishGain = 0.005;
-// The listed four-bars' refinement (Finish): rounds of at most this many iterations each.
-constexpr int kPolishIterations = 100;
 constexpr int kPolishRounds = 3;
 // Free timing: a near miss, a four-bar that misses the points by at most this many times their
 // tolerance (PassTolerance): refined, it may pass them.
@@ -576,12 +575,12 @@ bool Monotonic(const std::vector<double>& angles);  // below
 
 // The distinct candidates, judged (JudgeTransmission) and ranked; at most `reported` listed,
 // with a note of how many more were dropped. Above fast, every listed four-bar is then refined
-// as `linkfit refine` first refines it (RefinePathDesign's direct refinement; issue 35: a
-// designer who refines a listed four-bar finds it at its optimum already), in rounds of
-// kPolishIterations while each lowers its RMS point error by more than kPolishGain without a
-// new kinematic defect or broken constraint, and the list made distinct and ranked again:
-// four-bars that refine to one optimum are listed once. Beyond kFreeTimingScreenPoints points,
-// the first listed only.
+// as `linkfit refine` refines it (RefinePathDesign; issue 35: a designer who refines a listed
+// four-bar finds it at its optimum already), taken where it lowers the RMS point error and is not
+// worse by the ranking's rule (PathRankKey: a broken default orders near ties only) nor adds a
+// kinematic defect, in rounds while each lowers it by more than
+// kPolishGain, and the list made distinct and ranked again: four-bars that refine to one optimum
+// are listed once. Beyond kFreeTimingScreenPoints points, the first listed only.
 void Finish(const Task& task, const PathData& data, const TaskSolverOptions& options, int reported,
             std::vector<PathMechanismReport> candidates, PathResult* result) {
   std::vector<PathMechanismReport> distinct;
@@ -596,8 +595,6 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
     const auto start = std::chrono::steady_clock::now();
     constexpr double kInfinity = std::numeric_limits<double>::infinity();
     std::vector<PathMechanismReport> polished = distinct;
-    PathRefinerOptions refiner = options.path_refiner;
-    refiner.max_iterations = kPolishIterations;
     // Beyond kFreeTimingScreenPoints (a long trace, each refinement costly), the first listed
     // only: the answer a designer reads first.
     const size_t polished_count =
@@ -606,39 +603,45 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
       const PathMechanismReport& listed = distinct[k];
       // One that passes the points within their precision is at its optimum as far as they tell.
       if (!(listed.max_point_error.value_or(kInfinity) > PassTolerance(data))) return;
-      // The direct refinement `linkfit refine` starts with (RefinePathDesign): the four-bar with
-      // its timing (free: the fitted angles, free too), in rounds while each gains.
+      // The refinement `linkfit refine` makes (RefinePathDesign: the four-bar with its timing,
+      // free timing's fitted angles free too, and its fallbacks for designs far from their
+      // optimum), in rounds while each gains.
       for (int round = 0; round < kPolishRounds; ++round) {
         const PathMechanismReport& from = polished[k];
         PathMechanismReport better;
         try {
-          if (!from.input_angles.empty()) {
-            std::vector<double> angles = from.input_angles;
-            PathFourBar design = from.design;
-            RefinePathFourBar(data.points, data.weights, data.exact, data.length, true, &angles,
-                              &design, refiner);
-            if (!Monotonic(angles)) return;
-            better = Report(design, data, angles);
-            better.input_angles = angles;
+          const PathResult refined =
+              RefinePathDesign(task, from.design, from.input_angles, options);
+          if (refined.mechanisms.empty()) return;
+          // Reported as the solver reports its own four-bars (judged below, with them).
+          const PathMechanismReport& design = refined.mechanisms.front();
+          if (from.input_angles.empty()) {
+            better = Report(design.design, data, data.angles);
           } else {
-            const std::optional<PathMechanismReport> refined =
-                RefinedReport(data, refiner, from.design);
-            if (!refined) return;
-            better = *refined;
+            if (!Monotonic(design.input_angles)) return;
+            better = Report(design.design, data, design.input_angles);
+            better.input_angles = design.input_angles;
           }
         } catch (const std::invalid_argument&) {
           return;  // not driven from its first angle: listed as it is
         }
+        // Not worse by the ranking's rule (a default the task did not give orders near ties
+        // only), and no new kinematic defect.
         const bool adds_defect = !AddedKinematicDefects(from.defects, better.defects).empty();
-        const bool breaks = from.violates.empty() && !better.violates.empty();
+        const RankKey from_key = PathRankKey(true, PassTolerance(data), data.constraints, from);
+        const RankKey key = PathRankKey(true, PassTolerance(data), data.constraints, better);
+        const bool breaks = (key.violates && !from_key.violates) ||
+                            (key.misses_exact && !from_key.misses_exact) ||
+                            key.defect_level > from_key.defect_level;
+        const double before = from.rms_point_error.value_or(kInfinity);
         if (!better.max_point_error || adds_defect || breaks ||
-            !(better.rms_point_error.value_or(kInfinity) <
-              (1.0 - kPolishGain) * from.rms_point_error.value_or(kInfinity))) {
+            !(better.rms_point_error.value_or(kInfinity) < before)) {
           return;
         }
         better.seed_max_point_error =
             listed.seed_max_point_error ? listed.seed_max_point_error : listed.max_point_error;
         polished[k] = better;
+        if (!(*better.rms_point_error < (1.0 - kPolishGain) * before)) return;
       }
     });
     std::vector<PathMechanismReport> again;

@@ -11,6 +11,7 @@
 
 #include "fitting/exact_items.h"
 #include "fitting/model_choice.h"
+#include "lib/parallel.h"
 #include "lib/task_io.h"
 #include "lib/text_format.h"
 #include "optimizers/limit_hyperplane.h"
@@ -43,6 +44,30 @@ constexpr int kConstrainedRefinedFactor = 3;
 // kPolishGain, in kPolishRounds at most: `linkfit refine` then improves it by less than 1 %.
 constexpr int kPolishRounds = 3;
 constexpr double kPolishGain = 0.005;
+// The listed four-bars are refined as `linkfit refine` refines them in rounds while a round
+// gains more than kPolishGain, in kListedRounds at most (a refinement can stop at its iteration
+// limit, on a slow descent toward a near slider).
+constexpr int kListedRounds = 6;
+
+// Whether two planar dyads are of one type and agree to `tolerance` (length units) in every
+// parameter (line directions to tolerance / length).
+bool NearDyads(const PlanarDyad& a, const PlanarDyad& b, double tolerance, double length) {
+  return a.type == b.type &&
+         (a.fixed_pivot - b.fixed_pivot).lpNorm<Eigen::Infinity>() <= tolerance &&
+         (a.moving_pivot - b.moving_pivot).lpNorm<Eigen::Infinity>() <= tolerance &&
+         std::abs(a.radius - b.radius) <= tolerance &&
+         (a.line_point - b.line_point).lpNorm<Eigen::Infinity>() <= tolerance &&
+         (a.line_direction - b.line_direction).lpNorm<Eigen::Infinity>() <= tolerance / length;
+}
+
+// A refinement that moved a dyad by less than this times L left it where it was
+// (RefinePlanarDesign).
+constexpr double kUnmovedDyad = 1e-10;
+// Two refined planar dyads this close (times L) are one optimum reached twice (as
+// kSameRefinedOptimum for spatial dyads: a refinement stops where the cost no longer changes,
+// which leaves a noisy optimum's parameters uncertain to about the square root of the
+// tolerance).
+constexpr double kSamePlanarOptimum = 1e-6;
 
 // The SP limit of an SS dyad whose moving point runs off to infinity: the center A stays on
 // the plane of E normal to the moving point's direction (as seen from the points e_j where E
@@ -637,6 +662,29 @@ void KeepLevel(int top, const std::vector<int>& dyad_levels,
   result->mechanisms = std::move(kept);
 }
 
+// Two refinements can end on one four-bar (the same two dyads): listed once, the first (best
+// ranked) kept, with the effort levels (`levels`, one per four-bar) of both.
+void ListOnce(std::vector<MechanismReport>* mechanisms, std::vector<int>* levels) {
+  std::vector<MechanismReport> distinct;
+  std::vector<int> distinct_levels;
+  for (size_t m = 0; m < mechanisms->size(); ++m) {
+    const MechanismReport& mechanism = (*mechanisms)[m];
+    size_t k = 0;
+    while (k < distinct.size() &&
+           std::minmax(mechanism.input_dyad, mechanism.output_dyad) !=
+               std::minmax(distinct[k].input_dyad, distinct[k].output_dyad)) {
+      ++k;
+    }
+    if (k == distinct.size()) {
+      distinct.push_back(mechanism);
+      distinct_levels.push_back(0);
+    }
+    distinct_levels[k] |= (*levels)[m];
+  }
+  *mechanisms = std::move(distinct);
+  *levels = std::move(distinct_levels);
+}
+
 // Trailing zeros a table may have lost (json.dump writes 1.200 as 1.2): two decimals.
 constexpr double kTypedDecimals = 100.0;
 
@@ -869,6 +917,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   }
   result.stages.push_back(Stage("four-bars", stage_start, result));
 
+  int dropped = 0;  // four-bars beyond the list's bound
   if (task.effort != Effort::kFast) {
     // Mechanism level: the best-ranked four-bars refined on their pose error, the first
     // refined_mechanisms of each level above fast, each in rounds while a round lowers its RMS
@@ -894,6 +943,93 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     // Violating four-bars that share both dyads with ones already refined onto the bounds mostly
     // end on the same design: those refined bring a dyad not yet refined onto the bounds.
     std::vector<bool> onto_dyads(result.dyads.size(), false);
+    // One refinement of `current` (the seed `seed`, or the last round's refinement of it) with
+    // `refiner`: the refined four-bar, or nothing where it is dropped (below). Its dyads, each
+    // the listed one it repeats or a new one appended.
+    const auto refine_once =
+        [&](const MechanismReport& seed, const MechanismReport& current, bool onto_bounds,
+            const FourBarRefinerOptions& refiner) -> std::optional<MechanismReport> {
+      PlanarDyad input = result.dyads[current.input_dyad].dyad;
+      PlanarDyad output = result.dyads[current.output_dyad].dyad;
+      const RefinerSummary summary =
+          RefineFourBar(poses, weights, exact, length, &input, &output, refiner);
+      // A seed that misses an exact pose is refined for them, whatever the fit costs; else the
+      // fit decides (the RMS pose error, the ranking's).
+      if (!onto_bounds && !current.misses_exact && !(summary.final_rms < summary.initial_rms)) {
+        return std::nullopt;
+      }
+      const size_t listed = result.dyads.size();
+      int index[2];
+      int k = 0;
+      for (const PlanarDyad& dyad : {input, output}) {
+        DyadReport report;
+        report.dyad = dyad;
+        report.max_residual = dyad.MaxResidual(poses);
+        report.rms_residual = WeightedRms(dyad, poses, weights);
+        report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
+        index[k] = -1;
+        for (size_t i = 0; i < result.dyads.size() && index[k] < 0; ++i) {
+          if (same(report, result.dyads[i])) index[k] = static_cast<int>(i);
+        }
+        if (index[k] < 0) {
+          index[k] = static_cast<int>(result.dyads.size());
+          result.dyads.push_back(report);
+        }
+        ++k;
+      }
+      // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and
+      // its errors are those of that drive: a refinement that adds a defect, breaks a
+      // constraint, or is not better on them, is dropped; one onto the bounds is kept when it
+      // keeps them all and adds no kinematic defect.
+      MechanismReport refined;
+      if (index[0] != index[1]) {
+        refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length, exact);
+        JudgeMechanism(task, result.dyads, length, &refined);
+      }
+      const bool adds_defect = std::any_of(
+          refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
+            return (!onto_bounds || defect != "transmission") &&
+                   std::find(seed.defects.begin(), seed.defects.end(), defect) ==
+                       seed.defects.end();
+          });
+      // Meeting the exact poses decides first: a refinement that meets them where the seed
+      // does not is better whatever its fit, one that misses them where the seed met them is
+      // worse.
+      const bool meets_exact = current.misses_exact && !refined.misses_exact;
+      const bool worse = onto_bounds
+                             ? !refined.violates.empty() || refined.misses_exact
+                             : (refined.misses_exact && !current.misses_exact) ||
+                                   refined.violates.size() > current.violates.size() ||
+                                   (!meets_exact && !(refined.rms_pose_error.value_or(1e300) <
+                                                      current.rms_pose_error.value_or(1e300)));
+      if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
+        result.dyads.resize(listed);
+        return std::nullopt;
+      }
+      refined.seed_max_pose_error = seed.max_pose_error;
+      return refined;
+    };
+    // A four-bar that keeps the constraints, refined in rounds while a round gains more than
+    // kPolishGain (a refinement can stop at its iteration limit): `mechanism` becomes the last
+    // round's four-bar, or is marked tried (its "before_refinement" is itself) where no round
+    // improves it.
+    const auto polish = [&](MechanismReport* mechanism) {
+      const MechanismReport seed = *mechanism;
+      std::optional<MechanismReport> refined = refine_once(seed, seed, false, four_bar_refiner);
+      for (int round = 1; refined && round < kPolishRounds; ++round) {
+        const double before = refined->rms_pose_error.value_or(0.0);
+        const std::optional<MechanismReport> again =
+            refine_once(seed, *refined, false, four_bar_refiner);
+        if (!again) break;
+        refined = again;
+        if (!(*again->rms_pose_error < (1.0 - kPolishGain) * before)) break;
+      }
+      if (refined) {
+        *mechanism = *refined;
+      } else {
+        mechanism->seed_max_pose_error = seed.max_pose_error;
+      }
+    };
     const size_t ranked = result.mechanisms.size();
     for (size_t m = 0; m < ranked && !answered; ++m) {
       const MechanismReport seed = result.mechanisms[m];
@@ -909,94 +1045,13 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         }
       }
       if (!refine || !seed.max_pose_error) continue;
-      if (onto_bounds) onto_dyads[seed.input_dyad] = onto_dyads[seed.output_dyad] = true;
-      const double seed_error = *seed.max_pose_error;
-      // The four-bar a round refines: the seed, then the last round's.
-      MechanismReport current = seed;
-      // One refinement of `current` with `refiner`: the refined four-bar, or nothing where it is
-      // dropped (below). Its dyads, each the listed one it repeats or a new one appended.
-      const auto refine_seed =
-          [&](const FourBarRefinerOptions& refiner) -> std::optional<MechanismReport> {
-        PlanarDyad input = result.dyads[current.input_dyad].dyad;
-        PlanarDyad output = result.dyads[current.output_dyad].dyad;
-        const RefinerSummary summary =
-            RefineFourBar(poses, weights, exact, length, &input, &output, refiner);
-        // A seed that misses an exact pose is refined for them, whatever the fit costs; else the
-        // fit decides (the RMS pose error, the ranking's).
-        if (!onto_bounds && !current.misses_exact && !(summary.final_rms < summary.initial_rms)) {
-          return std::nullopt;
-        }
-        const size_t listed = result.dyads.size();
-        int index[2];
-        int k = 0;
-        for (const PlanarDyad& dyad : {input, output}) {
-          DyadReport report;
-          report.dyad = dyad;
-          report.max_residual = dyad.MaxResidual(poses);
-          report.rms_residual = WeightedRms(dyad, poses, weights);
-          report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
-          index[k] = -1;
-          for (size_t i = 0; i < result.dyads.size() && index[k] < 0; ++i) {
-            if (same(report, result.dyads[i])) index[k] = static_cast<int>(i);
-          }
-          if (index[k] < 0) {
-            index[k] = static_cast<int>(result.dyads.size());
-            result.dyads.push_back(report);
-          }
-          ++k;
-        }
-        // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and
-        // its errors are those of that drive: a refinement that adds a defect, breaks a
-        // constraint, or is not better on them, is dropped; one onto the bounds is kept when it
-        // keeps them all and adds no kinematic defect.
-        MechanismReport refined;
-        if (index[0] != index[1]) {
-          refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length, exact);
-          JudgeMechanism(task, result.dyads, length, &refined);
-        }
-        const bool adds_defect = std::any_of(
-            refined.defects.begin(), refined.defects.end(), [&](const std::string& defect) {
-              return (!onto_bounds || defect != "transmission") &&
-                     std::find(seed.defects.begin(), seed.defects.end(), defect) ==
-                         seed.defects.end();
-            });
-        // Meeting the exact poses decides first: a refinement that meets them where the seed
-        // does not is better whatever its fit, one that misses them where the seed met them is
-        // worse.
-        const bool meets_exact = current.misses_exact && !refined.misses_exact;
-        const bool worse = onto_bounds
-                               ? !refined.violates.empty() || refined.misses_exact
-                               : (refined.misses_exact && !current.misses_exact) ||
-                                     refined.violates.size() > current.violates.size() ||
-                                     (!meets_exact && !(refined.rms_pose_error.value_or(1e300) <
-                                                        current.rms_pose_error.value_or(1e300)));
-        if (index[0] == index[1] || !refined.max_pose_error || adds_defect || worse) {
-          result.dyads.resize(listed);
-          return std::nullopt;
-        }
-        refined.seed_max_pose_error = seed_error;
-        return refined;
-      };
-      std::optional<MechanismReport> refined = refine_seed(four_bar_refiner);
       if (!onto_bounds) {
-        // Again from each round that gained more than kPolishGain (a refinement can stop at its
-        // iteration limit).
-        for (int round = 1; refined && round < kPolishRounds; ++round) {
-          const double before = refined->rms_pose_error.value_or(0.0);
-          current = *refined;
-          const std::optional<MechanismReport> again = refine_seed(four_bar_refiner);
-          if (!again) break;
-          refined = again;
-          if (!(*again->rms_pose_error < (1.0 - kPolishGain) * before)) break;
-        }
-        if (refined) {
-          result.mechanisms[m] = *refined;
-        } else {
-          // Tried: no refinement improves it (its "before_refinement" is itself).
-          result.mechanisms[m].seed_max_pose_error = seed_error;
-        }
+        polish(&result.mechanisms[m]);
         continue;
       }
+      onto_dyads[seed.input_dyad] = onto_dyads[seed.output_dyad] = true;
+      const std::optional<MechanismReport> refined =
+          refine_once(seed, seed, true, four_bar_refiner);
       if (refined) {
         result.mechanisms.push_back(*refined);
         mechanism_levels.push_back(mechanism_levels[m]);
@@ -1008,38 +1063,126 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
           !refined || std::find(refined->defects.begin(), refined->defects.end(), "transmission") !=
                           refined->defects.end();
       if (!transmission_defect) continue;
-      if (const std::optional<MechanismReport> held = refine_seed(onto_bounds_refiner)) {
+      if (const std::optional<MechanismReport> held =
+              refine_once(seed, seed, true, onto_bounds_refiner)) {
         result.mechanisms.push_back(*held);
         mechanism_levels.push_back(mechanism_levels[m]);
       }
     }
-    // Two refinements can end on one four-bar: listed once, the first (best ranked) kept, with
-    // the levels of both.
-    std::vector<MechanismReport> distinct;
-    std::vector<int> distinct_levels;
-    for (size_t m = 0; m < result.mechanisms.size(); ++m) {
-      const MechanismReport& mechanism = result.mechanisms[m];
-      size_t k = 0;
-      while (k < distinct.size() &&
-             std::minmax(mechanism.input_dyad, mechanism.output_dyad) !=
-                 std::minmax(distinct[k].input_dyad, distinct[k].output_dyad)) {
-        ++k;
-      }
-      if (k == distinct.size()) {
-        distinct.push_back(mechanism);
-        distinct_levels.push_back(0);
-      }
-      distinct_levels[k] |= mechanism_levels[m];
-    }
-    result.mechanisms = std::move(distinct);
-    KeepLevel(static_cast<int>(found_count.size()) - 1, dyad_levels, distinct_levels, &result);
+    ListOnce(&result.mechanisms, &mechanism_levels);
+    KeepLevel(static_cast<int>(found_count.size()) - 1, dyad_levels, mechanism_levels, &result);
     result.stages.push_back(Stage("four-bar refine", stage_start, result));
+
+    // Every listed four-bar refined as `linkfit refine` refines it (RefinePlanarDesign; issue 35:
+    // a designer who refines a listed four-bar finds it at its optimum already). The list as
+    // ranked and bounded (below); in rounds, each of its four-bars that misses the poses by more
+    // than their precision (and gained more than kPolishGain in the last round) refined, and
+    // taken where it fits better and is not worse by the ranking's rule (misses no exact pose it
+    // met, breaks no given constraint it kept, no higher defect level, no new kinematic defect);
+    // after each round, four-bars refined onto one are listed once, so that a round refines each
+    // optimum once. (A four-bar that breaks a constraint is refined with the constraints'
+    // penalties, as `linkfit refine` does; the mechanism level lists its refinement onto the
+    // bounds beside it.)
+    stage_start = std::chrono::steady_clock::now();
+    dropped += RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
+                              &result.mechanisms);
+    const size_t stage_dyads = result.dyads.size();
+    std::vector<int> active;  // 1: refined in the next round
+    for (const MechanismReport& mechanism : result.mechanisms) {
+      const RankKey key = MechanismRankKey(mechanism, precision_fit, task.constraints);
+      active.push_back(mechanism.rms_pose_error && !key.within_precision ? 1 : 0);
+    }
+    for (int round = 0; round < kListedRounds; ++round) {
+      std::vector<size_t> refined_now;
+      for (size_t k = 0; k < active.size(); ++k) {
+        if (active[k]) refined_now.push_back(k);
+      }
+      if (refined_now.empty()) break;
+      std::vector<std::optional<PlanarMotionResult>> polished(refined_now.size());
+      ParallelFor(refined_now.size(), ThreadCount(options.threads), [&](size_t i) {
+        const MechanismReport& listed = result.mechanisms[refined_now[i]];
+        PlanarMotionResult refined =
+            RefinePlanarDesign(task, result.dyads[listed.input_dyad].dyad,
+                               result.dyads[listed.output_dyad].dyad, options);
+        const MechanismReport& mechanism = refined.mechanisms[0];
+        const RankKey key = MechanismRankKey(mechanism, precision_fit, task.constraints);
+        const RankKey listed_key = MechanismRankKey(listed, precision_fit, task.constraints);
+        if (!mechanism.rms_pose_error || !(*mechanism.rms_pose_error < *listed.rms_pose_error) ||
+            (key.misses_exact && !listed_key.misses_exact) ||
+            (key.violates && !listed_key.violates) || key.defect_level > listed_key.defect_level ||
+            !AddedKinematicDefects(listed.defects, mechanism.defects).empty()) {
+          return;
+        }
+        polished[i] = std::move(refined);
+      });
+      for (size_t i = 0; i < refined_now.size(); ++i) {
+        const size_t k = refined_now[i];
+        active[k] = 0;
+        if (!polished[i]) continue;
+        MechanismReport& listed = result.mechanisms[k];
+        // The refined dyads, each the listed one it repeats (SameDyad, or one optimum reached
+        // twice: kSamePlanarOptimum) or a new one appended, and the
+        // four-bar they make taken where it fits better than the listed one (not where both
+        // repeat one dyad: no four-bar).
+        const size_t listed_dyads = result.dyads.size();
+        int index[2];
+        for (int d = 0; d < 2; ++d) {
+          const DyadReport& report = polished[i]->dyads[d];
+          index[d] = -1;
+          for (size_t j = 0; j < result.dyads.size() && index[d] < 0; ++j) {
+            if (same(report, result.dyads[j]) ||
+                NearDyads(report.dyad, result.dyads[j].dyad, kSamePlanarOptimum * length, length)) {
+              index[d] = static_cast<int>(j);
+            }
+          }
+          if (index[d] < 0) {
+            index[d] = static_cast<int>(result.dyads.size());
+            result.dyads.push_back(report);
+          }
+        }
+        MechanismReport refined;
+        if (index[0] != index[1]) {
+          refined = AnalyzeDyadPair(result.dyads, index[0], index[1], poses, length, exact);
+          JudgeMechanism(task, result.dyads, length, &refined);
+        }
+        if (!refined.rms_pose_error || !(*refined.rms_pose_error < *listed.rms_pose_error)) {
+          result.dyads.resize(listed_dyads);
+          continue;
+        }
+        active[k] = *refined.rms_pose_error < (1.0 - kPolishGain) * *listed.rms_pose_error;
+        refined.seed_max_pose_error =
+            listed.seed_max_pose_error ? listed.seed_max_pose_error : listed.max_pose_error;
+        listed = refined;
+      }
+      ListOnce(&result.mechanisms, &active);
+    }
+    // The dyads this stage added that no listed four-bar kept (refinements onto one optimum).
+    {
+      std::vector<bool> used(result.dyads.size(), false);
+      for (size_t i = 0; i < stage_dyads; ++i) used[i] = true;
+      for (const MechanismReport& mechanism : result.mechanisms) {
+        used[mechanism.input_dyad] = used[mechanism.output_dyad] = true;
+      }
+      std::vector<int> index(result.dyads.size(), -1);
+      std::vector<DyadReport> dyads;
+      for (size_t i = 0; i < result.dyads.size(); ++i) {
+        if (!used[i]) continue;
+        index[i] = static_cast<int>(dyads.size());
+        dyads.push_back(result.dyads[i]);
+      }
+      for (MechanismReport& mechanism : result.mechanisms) {
+        mechanism.input_dyad = index[mechanism.input_dyad];
+        mechanism.output_dyad = index[mechanism.output_dyad];
+      }
+      result.dyads = std::move(dyads);
+    }
+    result.stages.push_back(Stage("refine the listed", stage_start, result));
   }
   // Ranked, and a bounded list (ListedWithinBound): the best ranked, and the best fit of each
   // group. (Every dyad has its error bound: the seeds' were set before the dyads were merged,
   // the refined ones' when they were added.)
-  const int dropped = RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
-                                     &result.mechanisms);
+  dropped += RankMechanisms(precision_fit, task.constraints, options.reported_mechanisms,
+                            &result.mechanisms);
   if (dropped > 0) result.notes.push_back(DroppedNote(dropped));
   {
     std::vector<RankKey> keys;
@@ -1164,6 +1307,12 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
     PlanarDyad dyad_input = input, dyad_output = output;
     for (PlanarDyad* dyad : {&dyad_input, &dyad_output}) {
       RefinePlanarDyad(poses, task.pose_weights, task.pose_exact, length, dyad, dyad_options);
+    }
+    // Dyads at their own optima already (the solver's four-bars of refined dyads): the second
+    // start is the first, refined alike.
+    if (NearDyads(input, dyad_input, kUnmovedDyad * length, length) &&
+        NearDyads(output, dyad_output, kUnmovedDyad * length, length)) {
+      return result;
     }
     RefinerSummary via_summary;
     PlanarMotionResult via = refine_from(dyad_input, dyad_output, with, &via_summary);

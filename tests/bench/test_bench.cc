@@ -106,6 +106,7 @@ TEST(TradeBench, CsvAndSvgOfATable) {
       row.median_error = noise == 0.0 ? 1e-15 : effort[0] == 'f' ? 3.0 : 0.9;
       row.worst_error = noise == 0.0 ? 0.0 : std::numeric_limits<double>::infinity();
       row.success_share = 0.75;
+      if (effort[0] != 'f') row.optimum_share = 1.0;
       rows.push_back(row);
     }
     TradeRow exact;
@@ -127,15 +128,16 @@ TEST(TradeBench, CsvAndSvgOfATable) {
   std::getline(lines, first);
   EXPECT_EQ(header,
             "family,path,effort,tasks,median_ms,worst_ms,median_error,worst_error,success_share,"
-            "items,noise,error_unit");
+            "items,noise,error_unit,optimum_share");
+  // Not measured (fast here, minimal data): an empty optimum_share.
   EXPECT_EQ(first,
             "planar motion 10 poses noise 0,planar least squares,fast,4,2,4,1e-15,0,0.75,"
-            "10,0,L");
+            "10,0,L,");
   EXPECT_NE(csv.find("timed path 5 points noise 0.01,path exact,exact,10,0.05,0,1e-12,0,1,5,"
-                     "0.01,ratio"),
+                     "0.01,ratio,\n"),
             std::string::npos)
       << csv;
-  EXPECT_NE(csv.find(",inf,0.75,10,0.001,ratio"), std::string::npos);  // no solution: inf
+  EXPECT_NE(csv.find(",inf,0.75,10,0.001,ratio,1\n"), std::string::npos);  // no solution: inf
   const std::string svg = TradeSvg(rows);
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_EQ(Count(svg, "</svg>"), 1);

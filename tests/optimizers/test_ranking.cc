@@ -71,16 +71,20 @@ void ExpectJudgedOnce(const PlanarMotionResult& result, double min_transmission_
   }
 }
 
-// How many listed dyads are within kTwice of `expected` (relative to its size).
+// How many listed dyads are `expected` as far as the data tell (as SameDyad judges): within
+// twice the smaller of their stated error bound and `bound` (the first four-bar's dyad of that
+// type: first order) of it, and within kTwice of its size. (A refined alternative four-bar can
+// have a crank within 1 % of the generating one, 1e11 times its error bound away: another
+// design, not a copy.)
 int Copies(const std::vector<DyadReport>& dyads, const PlanarDyad& expected,
-           const std::vector<PlanarPose>& poses) {
+           const std::vector<PlanarPose>& poses, double bound) {
   const double size = testing::DyadScale(expected, poses);
   int copies = 0;
   for (const DyadReport& report : dyads) {
-    if (report.dyad.type == expected.type &&
-        testing::DyadDistance(report.dyad, expected, size) <= kTwice) {
-      ++copies;
-    }
+    if (report.dyad.type != expected.type) continue;
+    const double distance = testing::DyadDistance(report.dyad, expected, size);
+    const double within = std::min(report.error_bound.value_or(bound), bound);
+    copies += distance <= kTwice && distance * size <= 2.0 * within + 1e-9 * size;
   }
   return copies;
 }
@@ -106,8 +110,6 @@ TEST(Ranking, TwelveSliderCrankPosesGiveTheSliderCrankFirstAndOnce) {
           digits == 0 ? PlanarMotionTask(generated.poses)
                       : testing::ReadRounded(testing::PlanarMotionText(generated.poses, digits));
       const PlanarMotionResult result = SolvePlanarTask(task);
-      EXPECT_EQ(Copies(result.dyads, generated.input, generated.poses), 1);
-      EXPECT_EQ(Copies(result.dyads, generated.output, generated.poses), 1);
       ExpectJudgedOnce(result, kDefaultMinTransmissionDeg);
       ExpectFirstIsTheRecommendation(result, task);
       ASSERT_FALSE(result.mechanisms.empty());
@@ -122,6 +124,8 @@ TEST(Ranking, TwelveSliderCrankPosesGiveTheSliderCrankFirstAndOnce) {
         ASSERT_TRUE(report.error_bound.has_value());
         EXPECT_LE(testing::DyadDistance(report.dyad, expected, size) * size,
                   2.0 * *report.error_bound + 1e-9 * size);
+        // And listed once.
+        EXPECT_EQ(Copies(result.dyads, expected, generated.poses, *report.error_bound), 1);
       }
     }
   }

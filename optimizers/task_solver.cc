@@ -612,6 +612,27 @@ std::vector<DyadReport> BestDistinct(std::vector<DyadReport> found, int count, B
   return kept;
 }
 
+// Drops the dyads no listed four-bar uses, but for those `kept` marks (a shorter `kept`: the
+// rest unmarked), and renumbers the four-bars' dyads.
+void DropUnusedDyads(std::vector<bool> kept, PlanarMotionResult* result) {
+  kept.resize(result->dyads.size(), false);
+  for (const MechanismReport& mechanism : result->mechanisms) {
+    kept[mechanism.input_dyad] = kept[mechanism.output_dyad] = true;
+  }
+  std::vector<int> index(result->dyads.size(), -1);
+  std::vector<DyadReport> dyads;
+  for (size_t i = 0; i < result->dyads.size(); ++i) {
+    if (!kept[i]) continue;
+    index[i] = static_cast<int>(dyads.size());
+    dyads.push_back(result->dyads[i]);
+  }
+  for (MechanismReport& mechanism : result->mechanisms) {
+    mechanism.input_dyad = index[mechanism.input_dyad];
+    mechanism.output_dyad = index[mechanism.output_dyad];
+  }
+  result->dyads = std::move(dyads);
+}
+
 // Keeps the four-bars of effort level `top` (both dyads among its own: `mechanism_levels` has
 // its bit) and of each lower level its best fit, the four-bar of least RMS pose error on one
 // branch, where that fits better than the kept ones: so a higher effort never fits worse. Drops
@@ -639,27 +660,14 @@ void KeepLevel(int top, const std::vector<int>& dyad_levels,
     }
     if (best < mechanisms.size()) keep[best] = true;
   }
-  std::vector<bool> used(result->dyads.size(), false);
-  for (size_t i = 0; i < dyad_levels.size(); ++i) used[i] = dyad_levels[i] >> top & 1;
+  std::vector<bool> kept_dyads(result->dyads.size(), false);
+  for (size_t i = 0; i < dyad_levels.size(); ++i) kept_dyads[i] = dyad_levels[i] >> top & 1;
   std::vector<MechanismReport> kept;
   for (size_t m = 0; m < mechanisms.size(); ++m) {
-    if (!keep[m]) continue;
-    kept.push_back(mechanisms[m]);
-    used[mechanisms[m].input_dyad] = used[mechanisms[m].output_dyad] = true;
+    if (keep[m]) kept.push_back(mechanisms[m]);
   }
-  std::vector<int> index(result->dyads.size(), -1);
-  std::vector<DyadReport> dyads;
-  for (size_t i = 0; i < result->dyads.size(); ++i) {
-    if (!used[i]) continue;
-    index[i] = static_cast<int>(dyads.size());
-    dyads.push_back(result->dyads[i]);
-  }
-  for (MechanismReport& mechanism : kept) {
-    mechanism.input_dyad = index[mechanism.input_dyad];
-    mechanism.output_dyad = index[mechanism.output_dyad];
-  }
-  result->dyads = std::move(dyads);
   result->mechanisms = std::move(kept);
+  DropUnusedDyads(kept_dyads, result);
 }
 
 // Two refinements can end on one four-bar (the same two dyads): listed once, the first (best
@@ -943,6 +951,18 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     // Violating four-bars that share both dyads with ones already refined onto the bounds mostly
     // end on the same design: those refined bring a dyad not yet refined onto the bounds.
     std::vector<bool> onto_dyads(result.dyads.size(), false);
+    // A refined dyad's index: the listed one it repeats (SameDyad, or one optimum reached twice:
+    // within `optimum` in every parameter), else a new one appended.
+    const auto listed_or_added = [&](const DyadReport& report, double optimum) {
+      for (size_t i = 0; i < result.dyads.size(); ++i) {
+        if (same(report, result.dyads[i]) ||
+            (optimum > 0.0 && NearDyads(report.dyad, result.dyads[i].dyad, optimum, length))) {
+          return static_cast<int>(i);
+        }
+      }
+      result.dyads.push_back(report);
+      return static_cast<int>(result.dyads.size()) - 1;
+    };
     // One refinement of `current` (the seed `seed`, or the last round's refinement of it) with
     // `refiner`: the refined four-bar, or nothing where it is dropped (below). Its dyads, each
     // the listed one it repeats or a new one appended.
@@ -967,15 +987,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         report.max_residual = dyad.MaxResidual(poses);
         report.rms_residual = WeightedRms(dyad, poses, weights);
         report.error_bound = DyadErrorBound(dyad, poses, task.precision, length);
-        index[k] = -1;
-        for (size_t i = 0; i < result.dyads.size() && index[k] < 0; ++i) {
-          if (same(report, result.dyads[i])) index[k] = static_cast<int>(i);
-        }
-        if (index[k] < 0) {
-          index[k] = static_cast<int>(result.dyads.size());
-          result.dyads.push_back(report);
-        }
-        ++k;
+        index[k++] = listed_or_added(report, 0.0);
       }
       // Re-analysed, the refined pair may be driven by its other dyad (AnalyzeDyadPair), and
       // its errors are those of that drive: a refinement that adds a defect, breaks a
@@ -1120,25 +1132,13 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         active[k] = 0;
         if (!polished[i]) continue;
         MechanismReport& listed = result.mechanisms[k];
-        // The refined dyads, each the listed one it repeats (SameDyad, or one optimum reached
-        // twice: kSamePlanarOptimum) or a new one appended, and the
-        // four-bar they make taken where it fits better than the listed one (not where both
-        // repeat one dyad: no four-bar).
+        // The refined dyads, each the listed one it repeats (or one optimum reached twice:
+        // kSamePlanarOptimum) or a new one appended, and the four-bar they make taken where it
+        // fits better than the listed one (not where both repeat one dyad: no four-bar).
         const size_t listed_dyads = result.dyads.size();
         int index[2];
         for (int d = 0; d < 2; ++d) {
-          const DyadReport& report = polished[i]->dyads[d];
-          index[d] = -1;
-          for (size_t j = 0; j < result.dyads.size() && index[d] < 0; ++j) {
-            if (same(report, result.dyads[j]) ||
-                NearDyads(report.dyad, result.dyads[j].dyad, kSamePlanarOptimum * length, length)) {
-              index[d] = static_cast<int>(j);
-            }
-          }
-          if (index[d] < 0) {
-            index[d] = static_cast<int>(result.dyads.size());
-            result.dyads.push_back(report);
-          }
+          index[d] = listed_or_added(polished[i]->dyads[d], kSamePlanarOptimum * length);
         }
         MechanismReport refined;
         if (index[0] != index[1]) {
@@ -1157,25 +1157,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       ListOnce(&result.mechanisms, &active);
     }
     // The dyads this stage added that no listed four-bar kept (refinements onto one optimum).
-    {
-      std::vector<bool> used(result.dyads.size(), false);
-      for (size_t i = 0; i < stage_dyads; ++i) used[i] = true;
-      for (const MechanismReport& mechanism : result.mechanisms) {
-        used[mechanism.input_dyad] = used[mechanism.output_dyad] = true;
-      }
-      std::vector<int> index(result.dyads.size(), -1);
-      std::vector<DyadReport> dyads;
-      for (size_t i = 0; i < result.dyads.size(); ++i) {
-        if (!used[i]) continue;
-        index[i] = static_cast<int>(dyads.size());
-        dyads.push_back(result.dyads[i]);
-      }
-      for (MechanismReport& mechanism : result.mechanisms) {
-        mechanism.input_dyad = index[mechanism.input_dyad];
-        mechanism.output_dyad = index[mechanism.output_dyad];
-      }
-      result.dyads = std::move(dyads);
-    }
+    DropUnusedDyads(std::vector<bool>(stage_dyads, true), &result);
     result.stages.push_back(Stage("refine the listed", stage_start, result));
   }
   // Ranked, and a bounded list (ListedWithinBound): the best ranked, and the best fit of each

@@ -200,19 +200,9 @@ TradeOutcome RunPath(std::mt19937_64& rng, Effort effort, int count, double nois
                      bool free_timing) {
   const testing::GeneratedPathTask generated = testing::RandomPathTask(rng, DyadType::kRR, count);
   const double length = testing::PathLength(generated.points);
-  std::normal_distribution<double> normal;
-  Task task;
-  task.problem = ProblemKind::kPath;
-  task.effort = effort;
+  const Task task = testing::NoisyPathTask(generated, noise, free_timing, effort, rng);
   std::vector<Eigen::Vector2d> points;
-  for (size_t j = 0; j < generated.points.size(); ++j) {
-    TimedPoint point;
-    point.point_in_fixed =
-        generated.points[j] + noise * length * Eigen::Vector2d(normal(rng), normal(rng));
-    if (!free_timing) point.input_angle = generated.input_angles[j];
-    points.push_back(point.point_in_fixed);
-    task.points.push_back(point);
-  }
+  for (const TimedPoint& point : task.points) points.push_back(point.point_in_fixed);
   TradeOutcome outcome;
   const auto begin = std::chrono::steady_clock::now();
   const PathResult result = SolvePathTask(task);

@@ -156,15 +156,19 @@ void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, doub
   kind.input_rotates_fully = mechanism->input_rotates_fully;
   mechanism->violates = MotionViolations(task.constraints, input, output, kind, length);
   std::vector<std::string>& defects = mechanism->defects;
-  // A link the data's precision cannot resolve (issue 35): no longer than how far that precision
-  // can move its pivots (the dyads' finite error bounds) plus kModelUnits of the data's rounding.
+  // A link the data cannot resolve (issue 35): no longer than how far their precision can move
+  // its pivots (the dyads' finite error bounds) plus kModelUnits of the data's rounding, or, for
+  // a least-squares fit, than its RMS pose error (the poses scatter about the fit by more than
+  // the link: two dyads fitted toward one, whose coupler keeps a second freedom that fits
+  // anything).
   const auto bound = [](const DyadReport& report) {
     return report.error_bound && std::isfinite(*report.error_bound) ? *report.error_bound : 0.0;
   };
-  const double rounding = kModelUnits * task.precision.length;
+  const double resolution =
+      std::max(kModelUnits * task.precision.length, mechanism->rms_pose_error.value_or(0.0));
   const FourBarLinks links = MotionFourBarLinks(input, output);
   const auto unresolved = [&](const std::optional<double>& link, double moves) {
-    return link && *link <= moves + rounding;
+    return link && *link <= moves + resolution;
   };
   if (unresolved(links.coupler, bound(input_report) + bound(output_report)) ||
       unresolved(links.ground, bound(input_report) + bound(output_report)) ||

@@ -791,11 +791,13 @@ void SolvePenalty(const ScaledTask& task, double penalty, const double* bounds_w
 }
 
 // Exact elimination: pose errors of the assembled four-bar, pose weights `weights`, shifts
-// `shifts`. Returns whether it stopped short of coincident dyads.
+// `shifts`. Returns whether it stopped short of coincident dyads; `converged` says whether the
+// solve ended on a tolerance (or at that stop), not on its iteration limit.
 bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
                     const std::vector<double>& weights, const std::vector<Eigen::Vector3d>& shifts,
                     const double* bounds_weight, const ceres::Solver::Options& base_options,
-                    DyadBlocks* input, DyadBlocks* output, int* iterations, std::string* message) {
+                    DyadBlocks* input, DyadBlocks* output, int* iterations, std::string* message,
+                    bool* converged) {
   ceres::Problem problem;
   for (size_t j = 0; j < task.poses.size(); ++j) {
     problem.AddResidualBlock(
@@ -820,6 +822,7 @@ bool SolveAssembled(const ScaledTask& task, const std::vector<int>& labels,
   ceres::Solve(solver_options, &problem, &summary);
   *iterations += summary.num_successful_steps + summary.num_unsuccessful_steps;
   *message = summary.message;
+  *converged = summary.termination_type != ceres::NO_CONVERGENCE;
   return guard.Restore();
 }
 
@@ -961,9 +964,10 @@ bool AllFinite(const Unknowns& unknowns) {
 struct Candidate {
   PlanarDyad input;
   PlanarDyad output;
-  Judgement judgement;  // does not assemble unless refined
-  std::string origin;   // which start it came from
-  std::string message;  // Ceres's, of its last solve
+  Judgement judgement;    // does not assemble unless refined
+  bool converged = true;  // its last solve ended on a tolerance, not on max_iterations
+  std::string origin;     // which start it came from
+  std::string message;    // Ceres's, of its last solve
   int exact_rounds = 0;
   int bound_rounds = 0;               // rounds of a raised penalty onto the design bounds
   bool short_of_coincidence = false;  // stopped where the dyads were about to coincide
@@ -1104,9 +1108,9 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
     std::vector<Eigen::Vector3d> errors;
     const bool reachable = AssembledErrors(task, labels, input_blocks, output_blocks, &errors);
     if (reachable) {
-      candidate.short_of_coincidence =
-          SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
-                         &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
+      candidate.short_of_coincidence = SolveAssembled(
+          task, labels, pose_weights, shifts, &bounds_weight, solver_options, &input_blocks,
+          &output_blocks, &summary.iterations, &candidate.message, &candidate.converged);
       const auto kept = [&]() {
         return Violation(task.bounds, input_blocks, output_blocks) <= kBoundSlack &&
                TransmissionShortfall(task, labels, input_blocks, output_blocks) <=
@@ -1115,9 +1119,9 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
       for (int bound_round = 0; bound_round < kBoundRounds && !kept(); ++bound_round) {
         NextBoundRound(Violation(task.bounds, input_blocks, output_blocks), &task.bounds,
                        &bounds_weight);
-        candidate.short_of_coincidence |=
-            SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
-                           &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
+        candidate.short_of_coincidence |= SolveAssembled(
+            task, labels, pose_weights, shifts, &bounds_weight, solver_options, &input_blocks,
+            &output_blocks, &summary.iterations, &candidate.message, &candidate.converged);
         candidate.bound_rounds = bound_round + 1;
       }
     } else {
@@ -1130,9 +1134,9 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
       for (size_t j = 0; j < task.poses.size(); ++j) {
         if (task.exact[j]) shifts[j] += errors[j];
       }
-      candidate.short_of_coincidence |=
-          SolveAssembled(task, labels, pose_weights, shifts, &bounds_weight, solver_options,
-                         &input_blocks, &output_blocks, &summary.iterations, &candidate.message);
+      candidate.short_of_coincidence |= SolveAssembled(
+          task, labels, pose_weights, shifts, &bounds_weight, solver_options, &input_blocks,
+          &output_blocks, &summary.iterations, &candidate.message, &candidate.converged);
       ++round;
     }
     if (reachable) {
@@ -1189,6 +1193,7 @@ RefinerSummary RefineFourBar(const std::vector<PlanarPose>& poses,
   if (accept) {
     *input = best.input;
     *output = best.output;
+    summary.converged = best.converged;
   } else {
     note += "; seed kept: the refined design is worse (" + Describe(best.judgement, exact_limit) +
             " vs " + Describe(initial, exact_limit) + ")";

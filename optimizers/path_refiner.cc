@@ -373,14 +373,16 @@ double TransmissionShortfall(const ScaledTask& task, const State& state, double 
 // keeping the order by box bounds: each turn within the window halfway to its neighbours'
 // turns; a turn the optimum would move past its window stops at its edge, and the windows are
 // then re-centred and the solve repeated (at most kWindowRounds times, all within the options'
-// iterations).
+// iterations). `converged`: whether its last solve ended on a tolerance, not on the iteration
+// limit.
 void Solve(const ScaledTask& task, double sign, const std::vector<double>& weights,
            const std::vector<Eigen::Vector2d>& shifts, const ceres::Solver::Options& options,
-           State* state, int* iterations, std::string* message) {
+           State* state, int* iterations, std::string* message, bool* converged) {
   const bool free_timing = !state->turns.empty();
   const double direction =
       free_timing && Turn(task, *state, task.points.size() - 1) < 0.0 ? -1.0 : 1.0;
   int budget = options.max_num_iterations;  // shared by the windowed rounds
+  *converged = true;
   const State start = *state;
   // Round 0: the turns free within [0, 2 pi] of the first point's: at an optimum the ordering
   // rarely binds, and when the turns come out in order they are the constrained optimum too.
@@ -453,6 +455,7 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
     solve_options.max_num_iterations = budget;
     ceres::Solver::Summary summary;
     ceres::Solve(solve_options, &problem, &summary);
+    *converged = summary.termination_type != ceres::NO_CONVERGENCE;
     const int used = summary.num_successful_steps + summary.num_unsuccessful_steps;
     *iterations += used;
     *message = summary.message;
@@ -690,14 +693,17 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   }
   std::vector<Eigen::Vector2d> shifts(points.size(), Eigen::Vector2d::Zero()), errors;
   std::string message;
-  Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
+  bool converged = true;
+  Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message,
+        &converged);
   // The design bounds: the penalty raised until the design keeps them (design_bounds.h).
   int bound_rounds = 0;
   while (bound_rounds < kBoundRounds &&
          (Violation(task, state) > kBoundSlack ||
           TransmissionShortfall(task, state, sign) > kTransmissionSlack)) {
     NextBoundRound(Violation(task, state), &task.bounds, &task.bounds_weight);
-    Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
+    Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message,
+          &converged);
     ++bound_rounds;
   }
   const auto worst_exact = [&]() {
@@ -715,7 +721,8 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     for (size_t j = 0; j < points.size(); ++j) {
       if (task.exact[j]) shifts[j] += errors[j];
     }
-    Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message);
+    Solve(task, sign, point_weights, shifts, solver_options, &state, &summary.iterations, &message,
+          &converged);
   }
   std::string note = round > 0 ? std::to_string(round) + " multiplier rounds" : "";
   if (bound_rounds > 0) {
@@ -733,9 +740,10 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     ceres::Solver::Options projection_options = solver_options;
     projection_options.parameter_tolerance = kProjectionTolerance;
     std::string projection_message;
+    bool projected = true;
     Solve(task, sign, exact_only,
           std::vector<Eigen::Vector2d>(points.size(), Eigen::Vector2d::Zero()), projection_options,
-          &state, &summary.iterations, &projection_message);
+          &state, &summary.iterations, &projection_message, &projected);
     note += std::string(note.empty() ? "" : "; ") + "projected onto the exact points";
   }
 
@@ -780,6 +788,7 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
   if (accept) {
     *four_bar = refined;
     if (free_timing) *input_angles = refined_angles;
+    summary.converged = converged;
     const bool runaway =
         refined.input.radius > kRunawayRadius * length ||
         (refined.output.type == DyadType::kRR && refined.output.radius > kRunawayRadius * length);

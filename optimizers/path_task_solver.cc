@@ -61,10 +61,12 @@ constexpr int kRefineRounds = 4;
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
 // The listed four-bars' refinement (Finish) goes on, in kPolishRounds at most, while a round
-// lowers the RMS point error by more than this share: `linkfit refine` then improves no listed
-// four-bar by more (issue 35).
+// lowers the RMS point error by more than kPolishGain, or by more than kDescentGain where it
+// stopped at its iteration limit (a slow descent, where one round's gain is no guide to the
+// next): `linkfit refine` then improves no listed four-bar by more than 1 % (issue 35).
 constexpr double kPolishGain = 0.005;
-constexpr int kPolishRounds = 3;
+constexpr double kDescentGain = 0.0005;
+constexpr int kPolishRounds = 20;
 // Free timing: a near miss, a four-bar that misses the points by at most this many times their
 // tolerance (PassTolerance): refined, it may pass them.
 constexpr double kNearMiss = 10.0;
@@ -157,6 +159,18 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   options.closed = data.closed;
   const PathFourBarAnalysis analysis =
       AnalyzePathFourBar(design, data.points, angles, data.length, options);
+  // The design as the result writes it, its joints in its first configuration (E = Sigma
+  // there): a design whose output does not close at its stored joints (a search's, whose radius
+  // is its own parameter) is re-expressed in the configuration it is driven from, and its radii
+  // are its joints' distances (as a result file read back gives them), so that the joints the
+  // result gives make the four-bar analysed and `linkfit refine` starts from that very design.
+  if (!analysis.configurations.empty()) {
+    report.design = MoveToFirstConfiguration(design, analysis.configurations.front());
+    for (PlanarDyad* dyad : {&report.design.input, &report.design.output}) {
+      if (dyad->type == DyadType::kRR)
+        dyad->radius = (dyad->moving_pivot - dyad->fixed_pivot).norm();
+    }
+  }
   report.max_point_error = analysis.max_point_error;
   report.rms_point_error = analysis.rms_point_error;
   if (std::find(data.exact.begin(), data.exact.end(), true) != data.exact.end()) {
@@ -182,7 +196,7 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   kind.type = report.type;
   kind.grashof = report.grashof;
   kind.input_rotates_fully = report.input_rotates_fully;
-  report.violates = PathViolations(data.constraints, design, kind, data.length);
+  report.violates = PathViolations(data.constraints, report.design, kind, data.length);
   return report;
 }
 
@@ -449,14 +463,15 @@ StageReport Stage(const std::string& name, std::chrono::steady_clock::time_point
 }
 
 // `design` refined on the points under the prescribed timing, and its report; nothing when the
-// refiner cannot take it.
+// refiner cannot take it. `converged`: whether the refinement ended on a tolerance.
 std::optional<PathMechanismReport> RefinedReport(const PathData& data,
                                                  const PathRefinerOptions& options,
-                                                 PathFourBar design) {
+                                                 PathFourBar design, bool* converged = nullptr) {
   std::vector<double> angles = data.angles;
   try {
-    RefinePathFourBar(data.points, data.weights, data.exact, data.length, false, &angles, &design,
-                      options);
+    const RefinerSummary summary = RefinePathFourBar(data.points, data.weights, data.exact,
+                                                     data.length, false, &angles, &design, options);
+    if (converged != nullptr) *converged = summary.converged;
   } catch (const std::invalid_argument&) {
     return std::nullopt;
   }
@@ -578,8 +593,8 @@ bool Monotonic(const std::vector<double>& angles);  // below
 // as `linkfit refine` refines it (RefinePathDesign; issue 35: a designer who refines a listed
 // four-bar finds it at its optimum already), taken where it lowers the RMS point error and is not
 // worse by the ranking's rule (PathRankKey: a broken default orders near ties only) nor adds a
-// kinematic defect, in rounds while each lowers it by more than
-// kPolishGain, and the list made distinct and ranked again: four-bars that refine to one optimum
+// kinematic defect, in rounds while each lowers it enough (kPolishRounds), and the list made
+// distinct and ranked again: four-bars that refine to one optimum
 // are listed once. Beyond kFreeTimingScreenPoints points, the first listed only.
 void Finish(const Task& task, const PathData& data, const TaskSolverOptions& options, int reported,
             std::vector<PathMechanismReport> candidates, PathResult* result) {
@@ -609,9 +624,10 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
       for (int round = 0; round < kPolishRounds; ++round) {
         const PathMechanismReport& from = polished[k];
         PathMechanismReport better;
+        bool converged = true;
         try {
           const PathResult refined =
-              RefinePathDesign(task, from.design, from.input_angles, options);
+              RefinePathDesign(task, from.design, from.input_angles, options, &converged);
           if (refined.mechanisms.empty()) return;
           // Reported as the solver reports its own four-bars (judged below, with them).
           const PathMechanismReport& design = refined.mechanisms.front();
@@ -641,7 +657,8 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
         better.seed_max_point_error =
             listed.seed_max_point_error ? listed.seed_max_point_error : listed.max_point_error;
         polished[k] = better;
-        if (!(*better.rms_point_error < (1.0 - kPolishGain) * before)) return;
+        const double gain = converged ? kPolishGain : kDescentGain;
+        if (!(*better.rms_point_error < (1.0 - gain) * before)) return;
       }
     });
     std::vector<PathMechanismReport> again;
@@ -1804,7 +1821,8 @@ bool RefineInSteps(const PathData& data, const PathRefinerOptions& options, bool
 
 PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
                             const std::vector<double>& input_angles,
-                            const TaskSolverOptions& options) {
+                            const TaskSolverOptions& options, bool* converged) {
+  bool ended = true;  // the refinement returned ended on a tolerance (see the header)
   const auto start = std::chrono::steady_clock::now();
   const PathData data = Data(task);
   PathRefinerOptions refiner = options.path_refiner;
@@ -1851,9 +1869,10 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
         start.output = drivable;
       }
     }
-    const std::optional<PathMechanismReport> once = RefinedReport(data, refiner, start);
+    const std::optional<PathMechanismReport> once = RefinedReport(data, refiner, start, &ended);
     refined = once ? *once : seed;
     if (!Improves(refined, seed)) {
+      ended = true;
       PathFourBar design = start;
       std::vector<double> angles = data.angles;
       if (RefineInSteps(data, refiner, false, &design, &angles)) {
@@ -1936,6 +1955,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
         const RefinerSummary summary =
             RefinePathFourBar(data.points, data.weights, data.exact, data.length, true,
                               &free_angles, &design, free_options);
+        ended = summary.converged;
         if (!(summary.final_cost < 0.999 * cost) || !(summary.final_cost > 0.0)) break;
         cost = summary.final_cost;
       }
@@ -1946,6 +1966,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
     } catch (const std::invalid_argument&) {
     }
     if (!direct) {
+      ended = true;
       refined = seed;
       RefineFreeTiming(data, refiner, &refined);
     }
@@ -1968,6 +1989,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
                       (*refined.max_point_error > *seed.max_point_error &&
                        refined.rms_point_error.value_or(0.0) > seed.rms_point_error.value_or(0.0)));
   if (worse || (seed.max_point_error && new_defect)) {
+    ended = true;
     refined = seed;
     JudgeTransmission(data, &refined);
     result.notes.push_back("no refinement improved the design: it is given back unchanged");
@@ -1994,6 +2016,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
   stage.best_max_point_error = refined.max_point_error;
   result.stages.push_back(stage);
   result.solve_seconds = Seconds(start);
+  if (converged != nullptr) *converged = ended;
   return result;
 }
 

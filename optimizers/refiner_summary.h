@@ -19,7 +19,10 @@ struct RefinerSummary {
   int iterations = 0;          // solver iterations, summed over every model refined
   double seconds = 0.0;        // wall time of the whole refinement
   bool model_changed = false;  // the design changed type (for a spatial dyad: SS <-> PS)
-  std::string message;         // Ceres termination message, with the refiner's own notes
+  // RefineFourBar and RefinePathFourBar: false when the returned design's last solve stopped at
+  // its iteration limit (a slow descent), so that a refinement from it may still gain.
+  bool converged = true;
+  std::string message;  // Ceres termination message, with the refiner's own notes
 };
 
 }  // namespace linkfit

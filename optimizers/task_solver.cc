@@ -45,9 +45,13 @@ constexpr int kConstrainedRefinedFactor = 3;
 constexpr int kPolishRounds = 3;
 constexpr double kPolishGain = 0.005;
 // The listed four-bars are refined as `linkfit refine` refines them in rounds while a round
-// gains more than kPolishGain, in kListedRounds at most (a refinement can stop at its iteration
-// limit, on a slow descent toward a near slider).
-constexpr int kListedRounds = 6;
+// gains more than kPolishGain, or more than kDescentGain where it stopped at its iteration limit,
+// in kListedRounds at most: a slow descent along a curved valley of the fit, toward a near
+// slider or another listed optimum, can take a thousand Levenberg-Marquardt steps, and one
+// round's gain there is no guide to the next; one that crawls slower is at its optimum as far
+// as 1 % tells.
+constexpr double kDescentGain = 0.0005;
+constexpr int kListedRounds = 20;
 
 // Whether two planar dyads are of one type and agree to `tolerance` (length units) in every
 // parameter (line directions to tolerance / length).
@@ -1088,7 +1092,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
     // Every listed four-bar refined as `linkfit refine` refines it (RefinePlanarDesign; issue 35:
     // a designer who refines a listed four-bar finds it at its optimum already). The list as
     // ranked and bounded (below); in rounds, each of its four-bars that misses the poses by more
-    // than their precision (and gained more than kPolishGain in the last round) refined, and
+    // than their precision (and gained enough in the last round: kListedRounds) refined, and
     // taken where it fits better and is not worse by the ranking's rule (misses no exact pose it
     // met, breaks no given constraint it kept, no higher defect level, no new kinematic defect);
     // after each round, four-bars refined onto one are listed once, so that a round refines each
@@ -1111,11 +1115,14 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       }
       if (refined_now.empty()) break;
       std::vector<std::optional<PlanarMotionResult>> polished(refined_now.size());
+      std::vector<char> descending(refined_now.size(), 0);  // stopped at its iteration limit
       ParallelFor(refined_now.size(), ThreadCount(options.threads), [&](size_t i) {
         const MechanismReport& listed = result.mechanisms[refined_now[i]];
+        bool converged = true;
         PlanarMotionResult refined =
             RefinePlanarDesign(task, result.dyads[listed.input_dyad].dyad,
-                               result.dyads[listed.output_dyad].dyad, options);
+                               result.dyads[listed.output_dyad].dyad, options, &converged);
+        descending[i] = !converged;
         const MechanismReport& mechanism = refined.mechanisms[0];
         const RankKey key = MechanismRankKey(mechanism, precision_fit, task.constraints);
         const RankKey listed_key = MechanismRankKey(listed, precision_fit, task.constraints);
@@ -1149,7 +1156,8 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
           result.dyads.resize(listed_dyads);
           continue;
         }
-        active[k] = *refined.rms_pose_error < (1.0 - kPolishGain) * *listed.rms_pose_error;
+        active[k] = *refined.rms_pose_error <
+                    (1.0 - (descending[i] ? kDescentGain : kPolishGain)) * *listed.rms_pose_error;
         refined.seed_max_pose_error =
             listed.seed_max_pose_error ? listed.seed_max_pose_error : listed.max_pose_error;
         listed = refined;
@@ -1251,7 +1259,8 @@ std::string TransmissionNote(const DesignConstraints& constraints) {
 }
 
 PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
-                                      const PlanarDyad& output, const TaskSolverOptions& options) {
+                                      const PlanarDyad& output, const TaskSolverOptions& options,
+                                      bool* converged) {
   const std::vector<PlanarPose>& poses = task.planar_poses;
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);
   FourBarRefinerOptions refiner = options.four_bar_refiner;
@@ -1302,11 +1311,18 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
       const int kinematic = static_cast<int>(
           std::count_if(mechanism.defects.begin(), mechanism.defects.end(),
                         [](const std::string& defect) { return defect != "transmission"; }));
+      // The fit's own measure: the RMS pose error where least squares reports it (a design
+      // with a smaller largest error but a larger RMS is no better fit), else the largest.
+      const std::optional<double>& error =
+          mechanism.rms_pose_error ? mechanism.rms_pose_error : mechanism.max_pose_error;
       return std::make_tuple(!mechanism.max_pose_error.has_value(), kinematic,
-                             mechanism.violates.size(),
-                             mechanism.max_pose_error.value_or(kInfinityValue));
+                             mechanism.violates.size(), error.value_or(kInfinityValue));
     };
-    if (key(via.mechanisms[0]) < key(result.mechanisms[0])) {
+    // A start RefineFourBar returns unchanged (its dyads coincide: both reached one dyad
+    // optimum, or it does not assemble) is no refinement: two dyads at one optimum make no
+    // four-bar, however well their near-copy fits.
+    if (std::isfinite(via_summary.final_rms) &&
+        key(via.mechanisms[0]) < key(result.mechanisms[0])) {
       via_summary.initial_cost = summary->initial_cost;
       via_summary.initial_rms = summary->initial_rms;
       via_summary.initial_max = summary->initial_max;
@@ -1382,6 +1398,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
                           added + "): it is given back unchanged");
     summary.final_max = summary.initial_max;
     summary.final_rms = summary.initial_rms;
+    summary.converged = true;
     result = given;
   } else if (seed_transmission_kept && has(result.mechanisms[0], "transmission")) {
     result.notes.push_back(TransmissionNote(task.constraints));
@@ -1402,6 +1419,7 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
                                       summary.final_max, summary.final_rms, summary.iterations));
   if (!summary.message.empty()) result.notes.push_back(summary.message);
   result.solve_seconds = summary.seconds;
+  if (converged != nullptr) *converged = summary.converged;
   return result;
 }
 

@@ -153,15 +153,19 @@ TaskResult RefineTask(const Task& task, const TaskDesign& design, const RefineCh
 // where the design's did not (a task without constraints: the refinement is the fit's).
 std::string TransmissionNote(const DesignConstraints& constraints);
 
-// The refinements RefineTask dispatches to, one per kind of task.
+// The refinements RefineTask dispatches to, one per kind of task. `converged` (planar motion
+// and paths), when given, says whether the refinement of the design returned ended on a
+// tolerance; false where it stopped at its iteration limit (RefinerSummary::converged), so that
+// refining the result again may still gain.
 PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
                                       const PlanarDyad& output,
-                                      const TaskSolverOptions& options = {});
+                                      const TaskSolverOptions& options = {},
+                                      bool* converged = nullptr);
 // `input_angles`: free timing's starting angles (radians, one per point), or empty. Throws
 // std::invalid_argument when the four-bar does not assemble at its crank's first angle.
 PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
                             const std::vector<double>& input_angles,
-                            const TaskSolverOptions& options = {});
+                            const TaskSolverOptions& options = {}, bool* converged = nullptr);
 // `platform`: five indices into `dyads`, or empty for the default five (AddPlatform).
 SpatialMotionResult RefineSpatialDesign(const Task& task, const std::vector<SpatialDyad>& dyads,
                                         const std::vector<int>& platform,

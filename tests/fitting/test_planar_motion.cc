@@ -135,8 +135,9 @@ TEST(PlanarMotion, CrankRockerTaskComesBackWithoutDefects) {
   }
 }
 
-// Issue 35: a four-bar with a link the data's precision cannot resolve is "degenerate", and one
-// that misses minimal data by more than their precision on its circuit "misses"; both are
+// Issue 35: a four-bar with a link the data's precision cannot resolve (or, fitted, shorter than
+// the poses' RMS scatter about it) is "degenerate", and one that misses minimal data by more
+// than their precision on its circuit "misses"; both are
 // kinematic defects (never ranked among the defect-free), and neither is said of a sound one.
 TEST(PlanarMotion, UnresolvedLinksAndMissedPosesAreDefects) {
   std::mt19937_64 rng(3529);
@@ -182,6 +183,20 @@ TEST(PlanarMotion, UnresolvedLinksAndMissedPosesAreDefects) {
     fitted.max_pose_error = 2.0 * tolerance;
     JudgeMechanism(six, dyads, length, &fitted);
     EXPECT_FALSE(has(fitted.defects, "misses"));
+    EXPECT_FALSE(has(fitted.defects, "degenerate"));
+    // A least-squares fit whose poses scatter about it by more than its shortest link (RMS pose
+    // error beyond that link's length: as of two dyads fitted toward one) cannot resolve it.
+    const FourBarLinks links = MotionFourBarLinks(generated.input, generated.output);
+    const double shortest = std::min({*links.ground, *links.input, *links.coupler, *links.output});
+    MechanismReport scattered = fitted;
+    scattered.defects.clear();
+    scattered.rms_pose_error = 0.5 * shortest;
+    JudgeMechanism(six, dyads, length, &scattered);
+    EXPECT_FALSE(has(scattered.defects, "degenerate"));
+    scattered.defects.clear();
+    scattered.rms_pose_error = 1.1 * shortest;
+    JudgeMechanism(six, dyads, length, &scattered);
+    EXPECT_TRUE(has(scattered.defects, "degenerate"));
   }
 }
 

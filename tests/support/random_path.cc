@@ -1,6 +1,7 @@
 #include "tests/support/random_path.h"
 
 #include <cmath>
+#include <random>
 
 #include "lib/mechanism.h"
 #include "tests/support/random_mechanism.h"
@@ -59,6 +60,23 @@ double PathLength(const std::vector<Eigen::Vector2d>& points) {
   double sum = 0.0;
   for (const Eigen::Vector2d& point : points) sum += (point - centroid).squaredNorm();
   return std::sqrt(sum / static_cast<double>(points.size()));
+}
+
+Task NoisyPathTask(const GeneratedPathTask& generated, double noise, bool free_timing,
+                   Effort effort, std::mt19937_64& rng) {
+  const double length = PathLength(generated.points);
+  std::normal_distribution<double> normal;
+  Task task;
+  task.problem = ProblemKind::kPath;
+  task.effort = effort;
+  for (size_t j = 0; j < generated.points.size(); ++j) {
+    TimedPoint point;
+    point.point_in_fixed =
+        generated.points[j] + noise * length * Eigen::Vector2d(normal(rng), normal(rng));
+    if (!free_timing) point.input_angle = generated.input_angles[j];
+    task.points.push_back(point);
+  }
+  return task;
 }
 
 }  // namespace linkfit::testing

@@ -9,6 +9,7 @@
 
 #include "lib/dyad.h"
 #include "lib/path_motion.h"
+#include "lib/task.h"
 #include "tests/support/random_mechanism.h"
 
 namespace linkfit::testing {
@@ -37,6 +38,12 @@ double PathFourBarDistance(const PathFourBar& found, const PathFourBar& expected
 
 // The task's L: the RMS distance of the points from their centroid.
 double PathLength(const std::vector<Eigen::Vector2d>& points);
+
+// The path task of `generated`'s points, each moved by Gaussian noise of sigma `noise` times
+// their PathLength (drawn from `rng`, two draws per point whatever the noise), with their crank
+// angles unless `free_timing`, to be solved at `effort` (the trade of `linkfit bench`).
+Task NoisyPathTask(const GeneratedPathTask& generated, double noise, bool free_timing,
+                   Effort effort, std::mt19937_64& rng);
 
 }  // namespace linkfit::testing
 

@@ -41,6 +41,7 @@ constexpr const char* kCouplerFill = "#bcbd22";         // coupler body
 constexpr const char* kCouplerStroke = "#6b6b12";
 constexpr const char* kBlockFill = "#d9d9d9";      // slider blocks
 constexpr const char* kOffViewColour = "#8b0000";  // arrows to elements beyond the view
+constexpr const char* kBoxColour = "#2e7d32";      // the constraints' pivot boxes
 constexpr const char* kGridColour = "#ececec";
 constexpr const char* kGridTextColour = "#9a9a9a";
 
@@ -386,6 +387,10 @@ Box PanelBox(const Picture& picture, const PictureMechanism* mechanism, double l
   auto consider = [&](const Vec& p, double within) {
     if (Ok(p) && core.Distance(p) <= within) box.Add(p);
   };
+  if (picture.fixed_pivots_box) {
+    consider(picture.fixed_pivots_box->min, reach);
+    consider(picture.fixed_pivots_box->max, reach);
+  }
   if (mechanism != nullptr) {
     std::vector<PlanarPose> poses = {mechanism->first_pose};
     if (with_cycle) poses.insert(poses.end(), mechanism->cycle.begin(), mechanism->cycle.end());
@@ -720,7 +725,27 @@ class OffViewMarkers {
 struct Shown {
   bool task = false, coupler_curve = false, center_curves = false, circle_curves = false;
   bool path_points = false, mechanism = false, slider = false, off_view = false;
+  bool fixed_box = false, moving_box = false;
 };
+
+// The corners of a pivot box, mapped by `pose` (its frame's pose in Sigma).
+std::vector<Vec> BoxCorners(const PlanarBox& box, const PlanarPose& pose) {
+  return {pose.ToFixed(box.min), pose.ToFixed(Vec(box.max.x(), box.min.y())), pose.ToFixed(box.max),
+          pose.ToFixed(Vec(box.min.x(), box.max.y()))};
+}
+
+// A pivot box as a dashed outline, lightly filled: the fixed pivots' (solid dashes) or the
+// moving pivots' (shorter dashes).
+void DrawPivotBox(Svg* svg, const View& view, const std::vector<Vec>& corners, bool moving) {
+  std::vector<Vec> pixels;
+  for (const Vec& corner : corners) {
+    if (!Ok(corner)) return;
+    pixels.push_back(view.Px(corner));
+  }
+  svg->Polygon(pixels, "fill=\"" + std::string(kBoxColour) + "\" fill-opacity=\"0.06\" stroke=\"" +
+                           kBoxColour + "\" stroke-width=\"1.5\" stroke-dasharray=\"" +
+                           (moving ? "3 3" : "8 4") + "\"");
+}
 
 // Light grid with values at the left and bottom edges; the frame Sigma when in view and
 // `sigma_axes`.
@@ -818,6 +843,14 @@ void DrawPlot(Svg* svg, const View& view, const Picture& picture, const PictureM
     }
   }
   DrawGrid(svg, view, sigma_axes);
+  if (picture.fixed_pivots_box) {
+    DrawPivotBox(svg, view, BoxCorners(*picture.fixed_pivots_box, PlanarPose()), false);
+    shown->fixed_box = true;
+  }
+  if (picture.moving_pivots_box && mechanism != nullptr && Ok(mechanism->first_pose)) {
+    DrawPivotBox(svg, view, BoxCorners(*picture.moving_pivots_box, mechanism->first_pose), true);
+    shown->moving_box = true;
+  }
   DrawCurves(svg, view, picture.center_point_curves, kCenterCurveColour, "");
   DrawCurves(svg, view, picture.circle_point_curves, kCircleCurveColour,
              " stroke-dasharray=\"6 3\"");
@@ -896,6 +929,8 @@ double DrawLegend(Svg* svg, const Picture& picture, const Shown& shown, double l
     items.push_back({"coupler", 7});
   }
   if (shown.slider) items.push_back({"slider", 8});
+  if (shown.fixed_box) items.push_back({"fixed-pivot box", 10});
+  if (shown.moving_box) items.push_back({"moving-pivot box (in E)", 11});
   if (shown.off_view) items.push_back({"beyond the view", 9});
   if (items.empty()) items.push_back({"empty task", -1});
   double x = left, y = top + 12.0;
@@ -950,6 +985,14 @@ double DrawLegend(Svg* svg, const Picture& picture, const Shown& shown, double l
         break;
       case 9:
         Arrow(svg, s + Vec(-10.0, 0.0), Vec(1.0, 0.0), 20.0, kOffViewColour, 2.0);
+        break;
+      case 10:
+      case 11:
+        svg->Polygon(
+            {s + Vec(-10.0, -6.0), s + Vec(10.0, -6.0), s + Vec(10.0, 6.0), s + Vec(-10.0, 6.0)},
+            "fill=\"" + std::string(kBoxColour) + "\" fill-opacity=\"0.06\" stroke=\"" +
+                kBoxColour + "\" stroke-width=\"1.5\" stroke-dasharray=\"" +
+                (item.symbol == 11 ? "3 3" : "8 4") + "\"");
         break;
       default:
         break;
@@ -1007,6 +1050,8 @@ Picture MakePicture(const std::string& title, const Task& task, const PlanarMoti
   picture.title = title;
   picture.task_poses = task.planar_poses;
   picture.length = result.scale;
+  picture.fixed_pivots_box = task.constraints.fixed_pivots_box;
+  picture.moving_pivots_box = task.constraints.moving_pivots_box;
   for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
   picture.center_point_curves = result.center_point_curves;
   if (!task.planar_poses.empty()) {
@@ -1029,6 +1074,8 @@ Picture MakePicture(const std::string& title, const Task& task, const PlanarMoti
                       std::to_string(report.input_dyad) + "+" + std::to_string(report.output_dyad);
     for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
     if (report.defects.empty()) mechanism.labels.push_back("no defects");
+    for (const std::string& bound : report.violates)
+      mechanism.labels.push_back("violates " + bound);
     if (report.transmission_min_deg) {
       char text[64];
       std::snprintf(text, sizeof(text), "transmission angle >= %.0f deg",
@@ -1073,6 +1120,7 @@ Picture MakePathPicture(const std::string& title, const Task& task, const PathRe
   picture.title = title;
   picture.length = result.scale;
   picture.coupler_curve_label = "coupler curve (coupler point)";
+  picture.fixed_pivots_box = task.constraints.fixed_pivots_box;
   for (const TimedPoint& point : task.points) picture.path_points.push_back(point.point_in_fixed);
   for (size_t m = 0; m < result.mechanisms.size() && m < max_panels; ++m) {
     const PathMechanismReport& report = result.mechanisms[m];
@@ -1092,6 +1140,8 @@ Picture MakePathPicture(const std::string& title, const Task& task, const PathRe
                       (report.grashof.empty() ? "" : ", " + report.grashof);
     for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
     if (report.defects.empty()) mechanism.labels.push_back("no defects");
+    for (const std::string& bound : report.violates)
+      mechanism.labels.push_back("violates " + bound);
     char text[64];
     if (report.max_point_error) {
       std::snprintf(text, sizeof(text), "max point error %.3g", *report.max_point_error);
@@ -1565,6 +1615,14 @@ std::string PictureToJson(const Picture& picture) {
                                                                    : picture.circle_point_curves;
     root[key] = Json::array();
     for (const auto& curve : curves) root[key].push_back(polyline(curve));
+  }
+  if (picture.fixed_pivots_box) {
+    const PlanarBox& box = *picture.fixed_pivots_box;
+    root["fixed_pivots_box"] = Json({box.min.x(), box.min.y(), box.max.x(), box.max.y()});
+  }
+  if (picture.moving_pivots_box) {
+    const PlanarBox& box = *picture.moving_pivots_box;
+    root["moving_pivots_box"] = Json({box.min.x(), box.min.y(), box.max.x(), box.max.y()});
   }
   const auto view = [](const Box& box) { return Json({box.x0, box.y0, box.x1, box.y1}); };
   root["view"] = view(PanelBox(picture, nullptr, length, false));

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/dyad.h"
 #include "lib/planar_pose.h"
 #include "lib/result.h"
@@ -37,6 +38,11 @@ struct Picture {
   std::vector<Eigen::Vector2d> path_points;  // path problems: the points to pass, marked
   // What the coupler curve traces (path problems put E's origin at the coupler point).
   std::string coupler_curve_label = "coupler curve (E origin)";
+  // The task's design constraints' pivot boxes (lib/design_constraints.h): the fixed pivots' in
+  // Sigma, drawn in every panel; the moving pivots' in E (motion), drawn where E is in each
+  // mechanism's panel.
+  std::optional<PlanarBox> fixed_pivots_box;
+  std::optional<PlanarBox> moving_pivots_box;
 };
 
 // The picture of a solved task: planar motion (its poses, its mechanisms in ranked order, at most
@@ -50,6 +56,7 @@ std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
 // The picture's geometry as JSON, for drawing elsewhere (linkfit.plot): "kind": "planar",
 // "title", "length", "task_poses" ([x, y, theta] in Sigma, theta in radians), "path_points",
 // "center_point_curves" and "circle_point_curves" (polylines in Sigma), "coupler_curve_label",
+// "fixed_pivots_box" ([x0, y0, x1, y1] in Sigma) and "moving_pivots_box" (in E), when given,
 // "view" (the panel's region, [x0, y0, x1, y1], for a panel without mechanism) and "mechanisms":
 // each with "title", "labels", "input" and "output" dyads ("type", "fixed" in Sigma, "moving" and
 // for RP the line in E, for PR the line in Sigma: "line_point", "line_direction"), "first_pose"

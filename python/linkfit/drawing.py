@@ -15,6 +15,7 @@ import math
 TASK_X = "#d62728"
 TASK_Y = "#2ca02c"
 COUPLER_CURVE = "#1f77b4"
+PIVOT_BOX = "#2e7d32"  # the constraints' pivot boxes
 CENTER_CURVE = "#9467bd"
 CIRCLE_CURVE = "#ff7f0e"
 PATH_POINT = "#c51b8a"
@@ -166,9 +167,35 @@ def _draw_mechanism(ax, mechanism, length):
     ax.plot([origin[0]], [origin[1]], "o", color=COUPLER_CURVE, markersize=3, zorder=5)
 
 
+def _box_corners(box, pose=None):
+    """A pivot box [x0, y0, x1, y1] as its four corners, mapped by pose [x, y, theta]."""
+    corners = [(box[0], box[1]), (box[2], box[1]), (box[2], box[3]), (box[0], box[3])]
+    if pose is None:
+        return corners
+    c, s = math.cos(pose[2]), math.sin(pose[2])
+    return [(pose[0] + c * x - s * y, pose[1] + s * x + c * y) for x, y in corners]
+
+
+def _draw_pivot_boxes(ax, picture, mechanism):
+    """The constraints' pivot boxes: the fixed pivots' in Sigma, the moving pivots' where E is."""
+    import matplotlib.patches as patches
+    boxes = []
+    if picture.get("fixed_pivots_box"):
+        boxes.append((_box_corners(picture["fixed_pivots_box"]), (0, (8, 4))))
+    if picture.get("moving_pivots_box") and mechanism is not None:
+        boxes.append((_box_corners(picture["moving_pivots_box"], mechanism["first_pose"]),
+                      (0, (3, 3))))
+    for corners, dashes in boxes:
+        ax.add_patch(patches.Polygon(corners, closed=True, facecolor=PIVOT_BOX, alpha=0.06,
+                                     zorder=0))
+        ax.add_patch(patches.Polygon(corners, closed=True, fill=False, edgecolor=PIVOT_BOX,
+                                     lw=1.2, ls=dashes, zorder=1))
+
+
 def _draw_panel(ax, picture, mechanism):
     length = picture["length"]
     view = mechanism["view"] if mechanism is not None else picture["view"]
+    _draw_pivot_boxes(ax, picture, mechanism)
     for curve in picture["center_point_curves"]:
         if curve:
             ax.plot([p[0] for p in curve], [p[1] for p in curve], color=CENTER_CURVE, lw=1.2)

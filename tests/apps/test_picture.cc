@@ -413,6 +413,65 @@ TEST_F(PictureTest, PathPointsAreMarked) {
   EXPECT_NE(svg.find("path point"), std::string::npos);
 }
 
+// Issue 35: the task's pivot boxes are drawn (the fixed pivots' in Sigma in every panel, the
+// moving pivots' where E is in each), in the legend and in the picture's JSON; a listed four-bar
+// that breaks a constraint says so on its panel.
+TEST_F(PictureTest, PivotBoxesAreDrawnAndViolationsNamed) {
+  Picture picture = TwoMechanisms();
+  PlanarBox fixed;
+  fixed.min = Vec(-1.0, -1.0);
+  fixed.max = Vec(5.0, 1.0);
+  PlanarBox moving;
+  moving.min = Vec(-0.5, -0.5);
+  moving.max = Vec(0.5, 0.5);
+  picture.fixed_pivots_box = fixed;
+  picture.moving_pivots_box = moving;
+  const std::string svg = RenderSvg(picture);
+  Image image;
+  ASSERT_NO_FATAL_FAILURE(CheckAndRender("boxes", svg, &image));
+  EXPECT_NE(svg.find("fixed-pivot box"), std::string::npos);
+  EXPECT_NE(svg.find("moving-pivot box (in E)"), std::string::npos);
+  EXPECT_EQ(CountOf(svg, "stroke-dasharray=\"8 4\""), 3);  // two panels and the legend
+  EXPECT_EQ(CountOf(svg, "stroke-dasharray=\"3 3\""), 3);
+  const int half = image.width / 2;
+  for (int side = 0; side < 2; ++side) {
+    SCOPED_TRACE(side == 0 ? "left panel" : "right panel");
+    EXPECT_GT(CountColour(image, "#2e7d32", side * half, side * half + half), kMinColourPixels);
+  }
+  const nlohmann::json json = nlohmann::json::parse(PictureToJson(picture));
+  EXPECT_EQ(json.at("fixed_pivots_box"), nlohmann::json({-1.0, -1.0, 5.0, 1.0}));
+  EXPECT_EQ(json.at("moving_pivots_box"), nlohmann::json({-0.5, -0.5, 0.5, 0.5}));
+  // Without boxes: neither drawn nor written.
+  const Picture plain = TwoMechanisms();
+  EXPECT_EQ(RenderSvg(plain).find("pivot box"), std::string::npos);
+  EXPECT_FALSE(nlohmann::json::parse(PictureToJson(plain)).contains("fixed_pivots_box"));
+
+  // A solved task whose box no exact four-bar keeps: its panels name the broken constraint.
+  const PictureMechanism four_bar = FourBar();
+  Task task = PlanarMotionTask(TaskPoses(four_bar));
+  PlanarBox far;
+  far.min = Vec(100.0, 100.0);
+  far.max = Vec(101.0, 101.0);
+  task.constraints.fixed_pivots_box = far;
+  task.constraints.given = true;
+  const TaskResult result = SolveTask(task);
+  const std::optional<Picture> solved = TaskPicture("boxed", task, result, 4);
+  ASSERT_TRUE(solved.has_value());
+  ASSERT_TRUE(solved->fixed_pivots_box.has_value());
+  ASSERT_FALSE(solved->mechanisms.empty());
+  const PlanarMotionResult& motion = std::get<PlanarMotionResult>(result);
+  int violating = 0;
+  for (size_t k = 0; k < solved->mechanisms.size(); ++k) {
+    const std::vector<std::string>& labels = solved->mechanisms[k].labels;
+    for (const std::string& bound : motion.mechanisms[k].violates) {
+      ++violating;
+      EXPECT_NE(std::find(labels.begin(), labels.end(), "violates " + bound), labels.end())
+          << solved->mechanisms[k].title;
+    }
+  }
+  EXPECT_GT(violating, 0);  // the exact four-bars, listed after those that keep the box
+}
+
 TEST_F(PictureTest, FarPivotDoesNotCollapseTheView) {
   Picture near_picture, far_picture;
   near_picture.mechanisms = {FourBar()};

@@ -196,3 +196,19 @@ def test_plot_draws_a_result_read_back_from_a_file():
     assert table.splitlines()[1].split()[:3] == ["#", "type", "grashof"]
     assert table.splitlines()[2].split()[:2] == ["1", back["mechanisms"][0]["type"]]
     pyplot.close("all")
+
+
+def test_plot_draws_the_tasks_pivot_box():
+    """A task's fixed_pivots_box is drawn in each panel where the task puts it (as the SVG)."""
+    task = json.loads((DATA / "bounded_four_bar_5_poses.json").read_text())
+    (x0, y0), (x1, y1) = task["constraints"]["fixed_pivots_box"]
+    result = linkfit.solve(task)
+    figure = linkfit.plot(result)
+    axes = [axis for axis in figure.axes if axis.get_visible()]
+    assert axes
+    corners = {(x0, y0), (x1, y0), (x1, y1), (x0, y1)}
+    for axis in axes:
+        outlines = [{(round(float(x), 9), round(float(y), 9)) for x, y in patch.get_xy()}
+                    for patch in axis.patches if hasattr(patch, "get_xy")]
+        assert any(corners <= outline for outline in outlines), axis.get_title(loc="left")
+    matplotlib.pyplot.close(figure)

@@ -66,6 +66,9 @@ constexpr int kFreeTimingIterations = 400;
 // next): `linkfit refine` then improves no listed four-bar by more than 1 % (issue 35).
 constexpr double kPolishGain = 0.005;
 constexpr double kDescentGain = 0.0005;
+// A design whose dyads miss its stored joints by more than this (times L) is re-expressed in its
+// first configuration (Report).
+constexpr double kReexpressed = 1e-6;
 constexpr int kPolishRounds = 20;
 // Free timing: a near miss, a four-bar that misses the points by at most this many times their
 // tolerance (PassTolerance): refined, it may pass them.
@@ -149,28 +152,41 @@ bool StartResult(const Task& task, const PathData& data, PathResult* result) {
   return free_timing;
 }
 
+// `design` with its RR radii its joints' distances, as a result file read back gives them.
+PathFourBar WithJointRadii(PathFourBar design) {
+  for (PlanarDyad* dyad : {&design.input, &design.output}) {
+    if (dyad->type == DyadType::kRR) dyad->radius = (dyad->moving_pivot - dyad->fixed_pivot).norm();
+  }
+  return design;
+}
+
 PathMechanismReport Report(const PathFourBar& design, const PathData& data,
                            const std::vector<double>& angles) {
   PathMechanismReport report;
-  report.design = design;
   report.type = ClassifyFourBar(design.input.type, design.output.type);
   PathAnalysisOptions options;
   options.transmission_samples = kPathTransmissionSamples;
   options.closed = data.closed;
-  const PathFourBarAnalysis analysis =
-      AnalyzePathFourBar(design, data.points, angles, data.length, options);
-  // The design as the result writes it, its joints in its first configuration (E = Sigma
-  // there): a design whose output does not close at its stored joints (a search's, whose radius
-  // is its own parameter) is re-expressed in the configuration it is driven from, and its radii
-  // are its joints' distances (as a result file read back gives them), so that the joints the
-  // result gives make the four-bar analysed and `linkfit refine` starts from that very design.
-  if (!analysis.configurations.empty()) {
-    report.design = MoveToFirstConfiguration(design, analysis.configurations.front());
-    for (PlanarDyad* dyad : {&report.design.input, &report.design.output}) {
-      if (dyad->type == DyadType::kRR)
-        dyad->radius = (dyad->moving_pivot - dyad->fixed_pivot).norm();
+  // The design as the result writes it and a result file reads it back, so that the joints the
+  // result gives make the four-bar analysed and `linkfit refine` starts from that very design:
+  // its radii its joints' distances, and, where its dyads do not close at its stored joints (a
+  // search's design, whose radius is its own parameter), first re-expressed in the configuration
+  // it is driven from (only beyond rounding: near a stationary configuration at the first point,
+  // moving a design that closes to 1e-9 L can pick the other assembly).
+  const PlanarPose joints;  // E = Sigma: the stored joints
+  const bool closes = design.input.Residual(joints) <= kReexpressed * data.length &&
+                      design.output.Residual(joints) <= kReexpressed * data.length;
+  report.design = WithJointRadii(design);
+  if (!closes) {
+    const PathFourBarAnalysis given =
+        AnalyzePathFourBar(design, data.points, angles, data.length, options);
+    if (!given.configurations.empty()) {
+      report.design =
+          WithJointRadii(MoveToFirstConfiguration(design, given.configurations.front()));
     }
   }
+  const PathFourBarAnalysis analysis =
+      AnalyzePathFourBar(report.design, data.points, angles, data.length, options);
   report.max_point_error = analysis.max_point_error;
   report.rms_point_error = analysis.rms_point_error;
   if (std::find(data.exact.begin(), data.exact.end(), true) != data.exact.end()) {
@@ -190,7 +206,7 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   report.transmission_min_deg = analysis.transmission_min_deg;
   report.transmission_max_deg = analysis.transmission_max_deg;
   if (report.type == FourBarType::k4R) {
-    report.grashof = GrashofType(design.input, design.output, data.length);
+    report.grashof = GrashofType(report.design.input, report.design.output, data.length);
   }
   FourBarClass kind;
   kind.type = report.type;

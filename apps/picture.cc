@@ -734,17 +734,21 @@ std::vector<Vec> BoxCorners(const PlanarBox& box, const PlanarPose& pose) {
           pose.ToFixed(Vec(box.min.x(), box.max.y()))};
 }
 
-// A pivot box as a dashed outline, lightly filled: the fixed pivots' (solid dashes) or the
-// moving pivots' (shorter dashes).
+// The style of a pivot box: a dashed outline, lightly filled; the fixed pivots' long dashes, the
+// moving pivots' short ones.
+std::string PivotBoxStyle(bool moving) {
+  return "fill=\"" + std::string(kBoxColour) + "\" fill-opacity=\"0.06\" stroke=\"" + kBoxColour +
+         "\" stroke-width=\"1.5\" stroke-dasharray=\"" + (moving ? "3 3" : "8 4") + "\"";
+}
+
+// A pivot box (PivotBoxStyle) through `corners` (in Sigma).
 void DrawPivotBox(Svg* svg, const View& view, const std::vector<Vec>& corners, bool moving) {
   std::vector<Vec> pixels;
   for (const Vec& corner : corners) {
     if (!Ok(corner)) return;
     pixels.push_back(view.Px(corner));
   }
-  svg->Polygon(pixels, "fill=\"" + std::string(kBoxColour) + "\" fill-opacity=\"0.06\" stroke=\"" +
-                           kBoxColour + "\" stroke-width=\"1.5\" stroke-dasharray=\"" +
-                           (moving ? "3 3" : "8 4") + "\"");
+  svg->Polygon(pixels, PivotBoxStyle(moving));
 }
 
 // Light grid with values at the left and bottom edges; the frame Sigma when in view and
@@ -990,9 +994,7 @@ double DrawLegend(Svg* svg, const Picture& picture, const Shown& shown, double l
       case 11:
         svg->Polygon(
             {s + Vec(-10.0, -6.0), s + Vec(10.0, -6.0), s + Vec(10.0, 6.0), s + Vec(-10.0, 6.0)},
-            "fill=\"" + std::string(kBoxColour) + "\" fill-opacity=\"0.06\" stroke=\"" +
-                kBoxColour + "\" stroke-width=\"1.5\" stroke-dasharray=\"" +
-                (item.symbol == 11 ? "3 3" : "8 4") + "\"");
+            PivotBoxStyle(item.symbol == 11));
         break;
       default:
         break;

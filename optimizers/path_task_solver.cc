@@ -66,10 +66,10 @@ constexpr int kFreeTimingIterations = 400;
 // next): `linkfit refine` then improves no listed four-bar by more than 1 % (issue 35).
 constexpr double kPolishGain = 0.005;
 constexpr double kDescentGain = 0.0005;
+constexpr int kPolishRounds = 20;
 // A design whose dyads miss its stored joints by more than this (times L) is re-expressed in its
 // first configuration (Report).
-constexpr double kReexpressed = 1e-6;
-constexpr int kPolishRounds = 20;
+constexpr double kJointClosureTolerance = 1e-6;
 // Free timing: a near miss, a four-bar that misses the points by at most this many times their
 // tolerance (PassTolerance): refined, it may pass them.
 constexpr double kNearMiss = 10.0;
@@ -174,16 +174,18 @@ PathMechanismReport Report(const PathFourBar& design, const PathData& data,
   // it is driven from (only beyond rounding: near a stationary configuration at the first point,
   // moving a design that closes to 1e-9 L can pick the other assembly).
   const PlanarPose joints;  // E = Sigma: the stored joints
-  const bool closes = design.input.Residual(joints) <= kReexpressed * data.length &&
-                      design.output.Residual(joints) <= kReexpressed * data.length;
+  const bool closes = design.input.Residual(joints) <= kJointClosureTolerance * data.length &&
+                      design.output.Residual(joints) <= kJointClosureTolerance * data.length;
   report.design = WithJointRadii(design);
   if (!closes) {
+    // Where it does not even assemble at the first point, it is reported as it is (its radii
+    // from its joints would make another four-bar).
     const PathFourBarAnalysis given =
         AnalyzePathFourBar(design, data.points, angles, data.length, options);
-    if (!given.configurations.empty()) {
-      report.design =
-          WithJointRadii(MoveToFirstConfiguration(design, given.configurations.front()));
-    }
+    report.design =
+        given.configurations.empty()
+            ? design
+            : WithJointRadii(MoveToFirstConfiguration(design, given.configurations.front()));
   }
   const PathFourBarAnalysis analysis =
       AnalyzePathFourBar(report.design, data.points, angles, data.length, options);
@@ -1901,11 +1903,13 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
     if (task.constraints.given && !refiner.min_transmission_deg && transmission(refined)) {
       PathRefinerOptions held = refiner;
       held.min_transmission_deg = MinTransmissionAngleDeg(task.constraints);
-      std::optional<PathMechanismReport> holding = RefinedReport(data, held, four_bar);
+      bool held_ended = true;
+      std::optional<PathMechanismReport> holding = RefinedReport(data, held, four_bar, &held_ended);
       if (holding) {
         JudgeTransmission(data, &*holding);
         if (holding->violates.empty() && holding->max_point_error && !transmission(*holding)) {
           refined = *holding;
+          ended = held_ended;
           result.notes.push_back(
               "the refinement held the transmission angle: without the hold it ended below the "
               "task's minimum");
@@ -1990,6 +1994,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
       PathFourBar design = four_bar;
       std::vector<double> stepped = angles;
       if (RefineInSteps(data, refiner, true, &design, &stepped)) {
+        ended = true;
         refined = Report(design, data, stepped);
         refined.input_angles = stepped;
       }

@@ -1290,7 +1290,8 @@ PlanarMotionResult RefinePlanarDesign(const Task& task, const PlanarDyad& input,
   // solver's dyad stage, planar_dyad_refiner.h): a design outside the four-bar refiner's reach
   // (it does not assemble at the first pose, or its circuit leads elsewhere) comes in from its
   // dyads' own optima. The better of the two is kept: the one driven through the poses, then
-  // with fewer kinematic defects, fewer broken constraints, the smaller largest pose error.
+  // with fewer kinematic defects, fewer broken constraints, the smaller RMS pose error (the
+  // largest for minimal data). A second start RefineFourBar gives back unchanged is not taken.
   const auto refine = [&](const FourBarRefinerOptions& with, RefinerSummary* summary) {
     PlanarMotionResult result = refine_from(input, output, with, summary);
     PlanarDyadRefinerOptions dyad_options = options.planar_refiner;

@@ -135,10 +135,10 @@ TEST(PlanarMotion, CrankRockerTaskComesBackWithoutDefects) {
   }
 }
 
-// Issue 35: a four-bar with a link the data's precision cannot resolve (or, fitted, shorter than
-// the poses' RMS scatter about it) is "degenerate", and one that misses minimal data by more
-// than their precision on its circuit "misses"; both are
-// kinematic defects (never ranked among the defect-free), and neither is said of a sound one.
+// Issue 35: a four-bar with a link the data's precision cannot resolve (or, fitted, a coupler and
+// a ground link both shorter than the poses' RMS scatter about it) is "degenerate", and one that
+// misses minimal data by more than their precision on its circuit "misses"; both are kinematic
+// defects (never ranked among the defect-free), and neither is said of a sound one.
 TEST(PlanarMotion, UnresolvedLinksAndMissedPosesAreDefects) {
   std::mt19937_64 rng(3529);
   for (int t = 0; t < 20; ++t) {
@@ -184,19 +184,24 @@ TEST(PlanarMotion, UnresolvedLinksAndMissedPosesAreDefects) {
     JudgeMechanism(six, dyads, length, &fitted);
     EXPECT_FALSE(has(fitted.defects, "misses"));
     EXPECT_FALSE(has(fitted.defects, "degenerate"));
-    // A least-squares fit whose poses scatter about it by more than its shortest link (RMS pose
-    // error beyond that link's length: as of two dyads fitted toward one) cannot resolve it.
+    // A least-squares fit whose poses scatter about it by more than both its coupler and its
+    // ground link (as of two dyads fitted toward one) cannot resolve them; scatter beyond one
+    // of them only (a short link a fit of many poses can determine) is no defect.
     const FourBarLinks links = MotionFourBarLinks(generated.input, generated.output);
-    const double shortest = std::min({*links.ground, *links.input, *links.coupler, *links.output});
-    MechanismReport scattered = fitted;
-    scattered.defects.clear();
-    scattered.rms_pose_error = 0.5 * shortest;
-    JudgeMechanism(six, dyads, length, &scattered);
-    EXPECT_FALSE(has(scattered.defects, "degenerate"));
-    scattered.defects.clear();
-    scattered.rms_pose_error = 1.1 * shortest;
-    JudgeMechanism(six, dyads, length, &scattered);
-    EXPECT_TRUE(has(scattered.defects, "degenerate"));
+    const double shorter = std::min(*links.coupler, *links.ground);
+    const double longer = std::max(*links.coupler, *links.ground);
+    const auto scattered = [&](double rms) {
+      MechanismReport report = fitted;
+      report.defects.clear();
+      report.rms_pose_error = rms;
+      JudgeMechanism(six, dyads, length, &report);
+      return has(report.defects, "degenerate");
+    };
+    EXPECT_FALSE(scattered(0.5 * shorter));
+    if (shorter < 0.9 * longer) {
+      EXPECT_FALSE(scattered(0.5 * (shorter + longer)));
+    }
+    EXPECT_TRUE(scattered(1.1 * longer));
   }
 }
 

@@ -380,7 +380,7 @@ TEST(TaskRefiner, SlowDescentsAndCoincidingDyadsAreRefinedToTheirEnd) {
                  {4092567173234157122ull, 10, 1e-2, 9}};
   for (const auto& motion : motions) {
     SCOPED_TRACE("motion task " + std::to_string(motion.index) + " of " +
-                 std::to_string(motion.count) + " poses");
+                 std::to_string(motion.count) + " poses, seed " + std::to_string(motion.seed));
     ExpectEveryListedRefined(
         TradeMotionTask(motion.seed, motion.count, motion.noise, motion.index));
   }

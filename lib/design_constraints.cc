@@ -140,6 +140,13 @@ std::vector<std::string> AddedKinematicDefects(const std::vector<std::string>& b
   return added;
 }
 
+bool WorseRanked(const RankKey& before, const std::vector<std::string>& before_defects,
+                 const RankKey& after, const std::vector<std::string>& after_defects) {
+  return (after.misses_exact && !before.misses_exact) || (after.violates && !before.violates) ||
+         after.defect_level > before.defect_level ||
+         !AddedKinematicDefects(before_defects, after_defects).empty();
+}
+
 void JudgeMisses(const std::optional<double>& error, double tolerance,
                  std::vector<std::string>* defects) {
   if (error && *error > tolerance && !HasKinematicDefect(*defects)) AddDefect("misses", defects);

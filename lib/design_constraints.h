@@ -202,6 +202,14 @@ void JudgeWithDefaults(const DesignConstraints& constraints,
                        const std::vector<std::string>& violates,
                        const std::vector<std::string>& defects, bool driven, RankKey* key);
 
+// Whether a refinement, ranked `after` with `after_defects`, is worse by the ranking's rule than
+// the design it refines (`before`, `before_defects`): it misses an exact item the design met,
+// breaks a given constraint the design kept, has a higher defect level, or adds a kinematic
+// defect (AddedKinematicDefects). A default the task did not give orders near ties only: not
+// counted here.
+bool WorseRanked(const RankKey& before, const std::vector<std::string>& before_defects,
+                 const RankKey& after, const std::vector<std::string>& after_defects);
+
 // The worst transmission angle as a near tie's tie-break (RankKey::transmission_min_deg):
 // `angle`, unless the task gives min_transmission_angle_deg. The preference for a better angle
 // is the default's; a task that states the angle it needs has made it a rule (kept or violated),

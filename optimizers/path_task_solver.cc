@@ -61,11 +61,8 @@ constexpr int kRefineRounds = 4;
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
 // The listed four-bars' refinement (Finish) goes on, in kPolishRounds at most, while a round
-// lowers the RMS point error by more than kPolishGain, or by more than kDescentGain where it
-// stopped at its iteration limit (a slow descent, where one round's gain is no guide to the
-// next): `linkfit refine` then improves no listed four-bar by more than 1 % (issue 35).
-constexpr double kPolishGain = 0.005;
-constexpr double kDescentGain = 0.0005;
+// gains (AnotherRound, refiner_summary.h): `linkfit refine` then improves no listed four-bar by
+// more than 1 % (issue 35).
 constexpr int kPolishRounds = 20;
 // A design whose dyads miss its stored joints by more than this (times L) is re-expressed in its
 // first configuration (Report).
@@ -661,22 +658,17 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
         }
         // Not worse by the ranking's rule (a default the task did not give orders near ties
         // only), and no new kinematic defect.
-        const bool adds_defect = !AddedKinematicDefects(from.defects, better.defects).empty();
         const RankKey from_key = PathRankKey(true, PassTolerance(data), data.constraints, from);
         const RankKey key = PathRankKey(true, PassTolerance(data), data.constraints, better);
-        const bool breaks = (key.violates && !from_key.violates) ||
-                            (key.misses_exact && !from_key.misses_exact) ||
-                            key.defect_level > from_key.defect_level;
         const double before = from.rms_point_error.value_or(kInfinity);
-        if (!better.max_point_error || adds_defect || breaks ||
+        if (!better.max_point_error || WorseRanked(from_key, from.defects, key, better.defects) ||
             !(better.rms_point_error.value_or(kInfinity) < before)) {
           return;
         }
         better.seed_max_point_error =
             listed.seed_max_point_error ? listed.seed_max_point_error : listed.max_point_error;
         polished[k] = better;
-        const double gain = converged ? kPolishGain : kDescentGain;
-        if (!(*better.rms_point_error < (1.0 - gain) * before)) return;
+        if (!AnotherRound(before, *better.rms_point_error, converged)) return;
       }
     });
     std::vector<PathMechanismReport> again;

@@ -25,6 +25,17 @@ struct RefinerSummary {
   std::string message;  // Ceres termination message, with the refiner's own notes
 };
 
+// A design refined in rounds (the solvers' listed four-bars, issue 35) goes on while a round
+// lowers its error by more than kRoundGain, or by more than kDescentGain where the round stopped
+// at its iteration limit (RefinerSummary::converged false): a slow descent along a curved valley
+// of the fit can take a thousand Levenberg-Marquardt steps, and one round's gain there is no
+// guide to the next; one that crawls slower is at its optimum as far as 1 % tells.
+inline constexpr double kRoundGain = 0.005;
+inline constexpr double kDescentGain = 0.0005;
+inline bool AnotherRound(double before, double after, bool converged) {
+  return after < (1.0 - (converged ? kRoundGain : kDescentGain)) * before;
+}
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_OPTIMIZERS_REFINER_SUMMARY_H_

@@ -40,17 +40,10 @@ constexpr double kSameSphericalOptimum = 1e-7;
 // constrained part of `linkfit bench`).
 constexpr int kConstrainedDyadsFactor = 2;
 constexpr int kConstrainedRefinedFactor = 3;
-// A listed four-bar is refined again while a round lowers its RMS pose error by more than
-// kPolishGain, in kPolishRounds at most: `linkfit refine` then improves it by less than 1 %.
+// A listed four-bar is refined again while a round gains (AnotherRound, refiner_summary.h), in
+// kPolishRounds at most at the mechanism level and kListedRounds as `linkfit refine` refines it:
+// `linkfit refine` then improves it by less than 1 %.
 constexpr int kPolishRounds = 3;
-constexpr double kPolishGain = 0.005;
-// The listed four-bars are refined as `linkfit refine` refines them in rounds while a round
-// gains more than kPolishGain, or more than kDescentGain where it stopped at its iteration limit,
-// in kListedRounds at most: a slow descent along a curved valley of the fit, toward a near
-// slider or another listed optimum, can take a thousand Levenberg-Marquardt steps, and one
-// round's gain there is no guide to the next; one that crawls slower is at its optimum as far
-// as 1 % tells.
-constexpr double kDescentGain = 0.0005;
 constexpr int kListedRounds = 20;
 
 // Whether two planar dyads are of one type and agree to `tolerance` (length units) in every
@@ -933,7 +926,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
   if (task.effort != Effort::kFast) {
     // Mechanism level: the best-ranked four-bars refined on their pose error, the first
     // refined_mechanisms of each level above fast, each in rounds while a round lowers its RMS
-    // pose error by more than kPolishGain (issue 35: `linkfit refine` then improves the first
+    // pose error by more than kRoundGain (issue 35: `linkfit refine` then improves the first
     // listed by less than 1 %). A refined four-bar gets its own two dyads, appended to the list
     // (or the listed ones it repeats): four-bars refined onto one optimum are listed once
     // (below). When the first already meets the poses within their precision, without defect and
@@ -1026,7 +1019,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
       return refined;
     };
     // A four-bar that keeps the constraints, refined in rounds while a round gains more than
-    // kPolishGain (a refinement can stop at its iteration limit): `mechanism` becomes the last
+    // kRoundGain (a refinement can stop at its iteration limit): `mechanism` becomes the last
     // round's four-bar, or is marked tried (its "before_refinement" is itself) where no round
     // improves it.
     const auto polish = [&](MechanismReport* mechanism) {
@@ -1038,7 +1031,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
             refine_once(seed, *refined, false, four_bar_refiner);
         if (!again) break;
         refined = again;
-        if (!(*again->rms_pose_error < (1.0 - kPolishGain) * before)) break;
+        if (!AnotherRound(before, *again->rms_pose_error, true)) break;
       }
       if (refined) {
         *mechanism = *refined;
@@ -1127,9 +1120,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
         const RankKey key = MechanismRankKey(mechanism, precision_fit, task.constraints);
         const RankKey listed_key = MechanismRankKey(listed, precision_fit, task.constraints);
         if (!mechanism.rms_pose_error || !(*mechanism.rms_pose_error < *listed.rms_pose_error) ||
-            (key.misses_exact && !listed_key.misses_exact) ||
-            (key.violates && !listed_key.violates) || key.defect_level > listed_key.defect_level ||
-            !AddedKinematicDefects(listed.defects, mechanism.defects).empty()) {
+            WorseRanked(listed_key, listed.defects, key, mechanism.defects)) {
           return;
         }
         polished[i] = std::move(refined);
@@ -1156,8 +1147,7 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
           result.dyads.resize(listed_dyads);
           continue;
         }
-        active[k] = *refined.rms_pose_error <
-                    (1.0 - (descending[i] ? kDescentGain : kPolishGain)) * *listed.rms_pose_error;
+        active[k] = AnotherRound(*listed.rms_pose_error, *refined.rms_pose_error, !descending[i]);
         refined.seed_max_pose_error =
             listed.seed_max_pose_error ? listed.seed_max_pose_error : listed.max_pose_error;
         listed = refined;

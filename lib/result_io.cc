@@ -16,6 +16,9 @@ using Json = nlohmann::ordered_json;
 
 constexpr const char* kNotFinite = "not finite";
 
+// A path four-bar's `input_deg` (InputAngleAsWritten reads it back as task_io does).
+double InputDegrees(double radians) { return radians * 180.0 / M_PI + 0.0; }
+
 // object[key] = value, or object[key + "_note"] when the value is not finite. Adding 0.0
 // writes -0 as 0.
 void PutNumber(Json* object, const std::string& key, double value) {
@@ -349,7 +352,7 @@ Json PathMechanismToJson(const PathMechanismReport& report) {
   }
   if (!report.input_angles.empty()) {
     Json angles = Json::array();
-    for (double angle : report.input_angles) angles.push_back(angle * 180.0 / M_PI + 0.0);
+    for (double angle : report.input_angles) angles.push_back(InputDegrees(angle));
     object["input_deg"] = angles;
   }
   return object;
@@ -533,6 +536,10 @@ std::string Dump(const Json& root, int indent) {
 }
 
 }  // namespace
+
+double InputAngleAsWritten(double radians) {
+  return InputDegrees(radians) * (M_PI / 180.0);  // task_io: input_deg times kDegree
+}
 
 std::string ResultToJson(const SpatialMotionResult& result, int indent) {
   Json root;

@@ -19,6 +19,7 @@
 #include "lib/parallel.h"
 #include "lib/path_motion.h"
 #include "lib/precision.h"
+#include "lib/result_io.h"
 #include "optimizers/coupler_atlas.h"
 #include "optimizers/path_search.h"
 #include "optimizers/task_solver.h"
@@ -47,6 +48,7 @@ constexpr size_t kFreeTimingScreenPoints = 120;
 constexpr int kScreenRefined = 3;
 // The iterations of that refinement with the angles free, from the screened optimum.
 constexpr int kScreenFreeIterations = 100;
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 // Free timing: seed four-bars refined per timing guess.
 constexpr int kFreeTimingStarts = 1;
 // Free timing: five-point subsets solved per timing guess.
@@ -55,8 +57,13 @@ constexpr int kFreeTimingSubsets = 2;
 // refinement under a fixed timing and projection before the angles are freed.
 constexpr int kProjectionSamples = 180;
 constexpr int kAlternations = 3;
-// Rounds of a refine's joint free-timing refinement while each lowers the cost.
+// Rounds of the solver's joint free-timing refinement (RefineFreeTiming) while each lowers the
+// cost by a thousandth.
 constexpr int kRefineRounds = 4;
+// A refine's solves at most, each from where the last stopped while it gains (SolveAgain,
+// refiner_summary.h): of the refiner's iterations each under a prescribed timing, of
+// kFreeTimingIterations under free timing.
+constexpr int kRefineSolves = 50;
 // Free timing: Levenberg-Marquardt iterations of the final solve with the angles free (it
 // converges slowly near the end; the other solves keep the refiner's default).
 constexpr int kFreeTimingIterations = 400;
@@ -603,6 +610,12 @@ int RefineAll(const PathData& data, const PathRefinerOptions& options,
 
 bool Monotonic(const std::vector<double>& angles);  // below
 
+// Fitted input angles as a result file gives them back (InputAngleAsWritten).
+std::vector<double> AsWritten(std::vector<double> angles) {
+  for (double& angle : angles) angle = InputAngleAsWritten(angle);
+  return angles;
+}
+
 // The distinct candidates, judged (JudgeTransmission) and ranked; at most `reported` listed,
 // with a note of how many more were dropped. Above fast, every listed four-bar is then refined
 // as `linkfit refine` refines it (RefinePathDesign; issue 35: a designer who refines a listed
@@ -623,7 +636,16 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
   if (task.effort != Effort::kFast && !distinct.empty() &&
       data.points.size() == task.points.size()) {
     const auto start = std::chrono::steady_clock::now();
-    constexpr double kInfinity = std::numeric_limits<double>::infinity();
+    // Fitted angles as the result file gives them back, so that the refinement below starts
+    // where `linkfit refine` starts from the file (a start near a stall can end apart from one
+    // rounding away).
+    for (PathMechanismReport& report : distinct) {
+      if (report.input_angles.empty()) continue;
+      report.input_angles = AsWritten(report.input_angles);
+      const PathMechanismReport judged = Report(report.design, data, report.input_angles);
+      report.max_point_error = judged.max_point_error;
+      report.rms_point_error = judged.rms_point_error;
+    }
     std::vector<PathMechanismReport> polished = distinct;
     // Beyond kFreeTimingScreenPoints (a long trace, each refinement costly), the first listed
     // only: the answer a designer reads first.
@@ -649,9 +671,11 @@ void Finish(const Task& task, const PathData& data, const TaskSolverOptions& opt
           if (from.input_angles.empty()) {
             better = Report(design.design, data, data.angles);
           } else {
-            if (!Monotonic(design.input_angles)) return;
-            better = Report(design.design, data, design.input_angles);
-            better.input_angles = design.input_angles;
+            // Out of order only where the listed one was (an `order` defect it has already).
+            if (!Monotonic(design.input_angles) && Monotonic(from.input_angles)) return;
+            const std::vector<double> angles = AsWritten(design.input_angles);
+            better = Report(design.design, data, angles);
+            better.input_angles = angles;
           }
         } catch (const std::invalid_argument&) {
           return;  // not driven from its first angle: listed as it is
@@ -1044,9 +1068,9 @@ void RefineFreeTiming(const PathData& data, const PathRefinerOptions& options,
     PathRefinerOptions free_options = options;
     free_options.max_iterations = free_iterations;
     // A long, flat valley of the fit (an ill-conditioned four-bar) can take more than one
-    // round of iterations: further rounds (up to kRefineRounds in all, as a refine's) while a
-    // round runs out of iterations and lowers the cost by a thousandth; `linkfit refine` then
-    // finds the design refined.
+    // round of iterations: further rounds (up to kRefineRounds in all) while a round runs out of
+    // iterations and lowers the cost by a thousandth (the listed four-bars are then refined as
+    // `linkfit refine` refines them: Finish).
     double cost = std::numeric_limits<double>::infinity();
     try {
       for (int round = 0; round < kRefineRounds; ++round) {
@@ -1760,18 +1784,14 @@ PathResult SolvePathTask(const Task& task, const TaskSolverOptions& given_option
 
 namespace {
 
-// The refinement of a design whose least-squares optimum lies past a defect (a step through a
-// stationary configuration: on coarse data the fit can pull a crank onto its Grashof limit), or
-// where the refiner keeps the seed for another reason: shorter refinements in turn, each from
-// the last one accepted (the refiner accepts none that adds a defect), halving the iterations
-// when one is refused; the design walks toward the optimum and stops before the defect. Returns
-// whether it moved.
 // Whether a refinement result is better than its seed: driven through every point, without a
-// kinematic defect the seed did not have, and a smaller largest point error.
+// kinematic defect the seed did not have, and a smaller RMS point error (the refiner's objective:
+// a least-squares optimum can miss one point by more than its start did).
 bool Improves(const PathMechanismReport& refined, const PathMechanismReport& seed) {
   if (!refined.max_point_error) return false;
   if (!AddedKinematicDefects(seed.defects, refined.defects).empty()) return false;
-  return !seed.max_point_error || *refined.max_point_error < *seed.max_point_error;
+  return !seed.max_point_error ||
+         refined.rms_point_error.value_or(kInfinity) < seed.rms_point_error.value_or(kInfinity);
 }
 
 // A projected timing's points out of order (a coupler curve that passes near itself offers a
@@ -1796,12 +1816,19 @@ void InterpolateOutOfOrder(const std::vector<Eigen::Vector2d>& points,
   if (!ordered(a[n - 2], a[n - 1])) a[n - 1] = a[n - 2] + (a[n - 2] - a[n - 3]);
 }
 
+// The refinement of a design whose least-squares optimum lies past a defect (a step through a
+// stationary configuration: on coarse data the fit can pull a crank onto its Grashof limit), or
+// where the refiner keeps the seed for another reason: shorter refinements in turn, each from
+// the last one accepted (the refiner accepts none that adds a defect), halving the iterations
+// when one is refused; the design walks toward the optimum and stops before the defect. Returns
+// whether it moved; `ended`: whether it stopped because no step was accepted (not on its rounds).
 bool RefineInSteps(const PathData& data, const PathRefinerOptions& options, bool free_timing,
-                   PathFourBar* design, std::vector<double>* angles) {
+                   PathFourBar* design, std::vector<double>* angles, bool* ended) {
   constexpr int kFirstSteps = 64, kMaxRounds = 40;
   bool moved = false;
   double cost = std::numeric_limits<double>::infinity();
   int iterations = kFirstSteps;
+  *ended = false;
   for (int round = 0; round < kMaxRounds && iterations >= 1; ++round) {
     PathFourBar next = *design;
     std::vector<double> next_angles = *angles;
@@ -1812,6 +1839,7 @@ bool RefineInSteps(const PathData& data, const PathRefinerOptions& options, bool
       summary = RefinePathFourBar(data.points, data.weights, data.exact, data.length, free_timing,
                                   &next_angles, &next, steps);
     } catch (const std::invalid_argument&) {
+      *ended = true;
       return moved;
     }
     if (!std::isfinite(cost)) cost = summary.initial_cost;
@@ -1824,6 +1852,7 @@ bool RefineInSteps(const PathData& data, const PathRefinerOptions& options, bool
       iterations /= 2;
     }
   }
+  if (iterations < 1) *ended = true;
   return moved;
 }
 
@@ -1879,13 +1908,29 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
         start.output = drivable;
       }
     }
-    const std::optional<PathMechanismReport> once = RefinedReport(data, refiner, start, &ended);
+    // The solve again from where it stopped, while that gains: a long, curved valley can take
+    // it many times its iterations, and where a step would break assembly (a point near a dead
+    // point) Levenberg-Marquardt's trust region shrinks until it stops on its step tolerance
+    // short of the optimum; a fresh solve from an optimum stops at once. The design `linkfit
+    // refine` gives back is then at its optimum.
+    std::optional<PathMechanismReport> once = RefinedReport(data, refiner, start, &ended);
+    // Two solves in a row that gain too little end them (a stall is often passed only from a
+    // step further along).
+    for (int solve = 1, idle = 0; solve < kRefineSolves && once && idle < 2; ++solve) {
+      bool again_ended = true;
+      const std::optional<PathMechanismReport> again =
+          RefinedReport(data, refiner, once->design, &again_ended);
+      if (!again || !Improves(*again, *once)) break;  // from the same start, the same again
+      const double before = once->rms_point_error.value_or(kInfinity);
+      once = again;
+      ended = again_ended;
+      idle = SolveAgain(before, *again->rms_point_error, again_ended) ? 0 : idle + 1;
+    }
     refined = once ? *once : seed;
     if (!Improves(refined, seed)) {
-      ended = true;
       PathFourBar design = start;
       std::vector<double> angles = data.angles;
-      if (RefineInSteps(data, refiner, false, &design, &angles)) {
+      if (RefineInSteps(data, refiner, false, &design, &angles, &ended)) {
         refined = Report(design, data, data.angles);
       }
     }
@@ -1961,20 +2006,24 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
       PathRefinerOptions free_options = refiner;
       free_options.max_iterations = kFreeTimingIterations;
       // An ill-conditioned four-bar (a long, flat valley of the fit) can take more than one
-      // round of iterations: further rounds while each lowers the cost by a thousandth.
+      // round of iterations, and a solve can stall short of the optimum: further solves from
+      // where the last stopped while each gains (SolveAgain).
       double cost = std::numeric_limits<double>::infinity();
-      for (int round = 0; round < kRefineRounds; ++round) {
+      for (int round = 0; round < kRefineSolves; ++round) {
         const RefinerSummary summary =
             RefinePathFourBar(data.points, data.weights, data.exact, data.length, true,
                               &free_angles, &design, free_options);
         ended = summary.converged;
-        if (!(summary.final_cost < 0.999 * cost) || !(summary.final_cost > 0.0)) break;
+        if (!SolveAgain(cost, summary.final_cost, summary.converged) ||
+            !(summary.final_cost > 0.0)) {
+          break;
+        }
         cost = summary.final_cost;
       }
       refined = Report(design, data, free_angles);
       refined.input_angles = free_angles;
-      direct =
-          refined.max_point_error && Monotonic(free_angles) && !HasKinematicDefect(refined.defects);
+      direct = refined.max_point_error && Monotonic(free_angles) &&
+               AddedKinematicDefects(seed.defects, refined.defects).empty();
     } catch (const std::invalid_argument&) {
     }
     if (!direct) {
@@ -1985,8 +2034,7 @@ PathResult RefinePathDesign(const Task& task, const PathFourBar& four_bar,
     if (!Improves(refined, seed)) {
       PathFourBar design = four_bar;
       std::vector<double> stepped = angles;
-      if (RefineInSteps(data, refiner, true, &design, &stepped)) {
-        ended = true;
+      if (RefineInSteps(data, refiner, true, &design, &stepped, &ended)) {
         refined = Report(design, data, stepped);
         refined.input_angles = stepped;
       }

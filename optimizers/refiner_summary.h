@@ -36,6 +36,17 @@ inline bool AnotherRound(double before, double after, bool converged) {
   return after < (1.0 - (converged ? kRoundGain : kDescentGain)) * before;
 }
 
+// Within one refinement (the path refinements of `linkfit refine`), the solve again from where
+// the last one stopped: after one that stopped at its iteration limit while it gains more than
+// kDescentGain (a slow descent), after one that stopped on a tolerance while it gains more than
+// kRestartGain. Where steps would break assembly (a point near a dead point), Levenberg-Marquardt's
+// trust region collapses and it stops on its step tolerance short of the optimum, a stall a fresh
+// solve often passes; from an optimum, a fresh solve stops at once.
+inline constexpr double kRestartGain = 1e-9;
+inline bool SolveAgain(double before, double after, bool converged) {
+  return after < (1.0 - (converged ? kRestartGain : kDescentGain)) * before;
+}
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_OPTIMIZERS_REFINER_SUMMARY_H_

@@ -1,0 +1,76 @@
+// Five-pose synthesis of planar six-bars on a given 3R chain (McCarthy and Soh, Geometric Design
+// of Linkages, 2nd ed., 2011, ch. 6; lib/six_bar.h). The chain's inverse kinematics places its
+// links at every task pose; an RR link joining two bodies must keep one point of one on a circle
+// about a point of the other, which is the Burmester problem of the two bodies' relative motion
+// (fitting/planar_burmester.h): T_i,k^-1 T_j,k, k = 1..5, each body's frame Sigma at the first
+// pose, so that every root's pivots are its joints there. The body pairs a chain grounded at one
+// end admits, and their six-bars:
+//   ground-forearm (0, 2) and upper link-task body (1, 3):  Watt I,
+//   ground-forearm (0, 2) and ground-task body (0, 3):       Stephenson II,
+//   ground-task body (0, 3) and upper link-task body (1, 3): Stephenson III,
+// and, on a new crank C (an RR link from ground, whose turns its root gives):
+//   C on the task body (0, 3) and C-upper link (4, 1):       Stephenson I,
+//   C on the task body (0, 3) and C-forearm (4, 2):          Stephenson III,
+//   C on the forearm (0, 2) and C-task body (4, 3):          Watt I.
+// (A Watt II needs a ternary ground adjacent to a ternary link: none of these.) The relative
+// motions of adjacent bodies are rotations about their joint, and the chain's own links are roots
+// of two problems (the upper link of ground-forearm, the forearm of upper link-task body): these
+// trivial roots are recognized and not listed.
+#ifndef LINKFIT_FITTING_SIX_BAR_SYNTHESIS_H_
+#define LINKFIT_FITTING_SIX_BAR_SYNTHESIS_H_
+
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fitting/planar_burmester.h"
+#include "lib/planar_pose.h"
+#include "lib/six_bar.h"
+
+namespace linkfit {
+
+// A 3R chain the six-bar is built on: its ground pivot, its wrist in E, its two link lengths,
+// and which of the two elbow places it takes at the first pose: the one nearer
+// `elbow_at_first_pose` when given, else the one to the left of the line from the ground pivot
+// to the wrist (`elbow_left`) or to its right. At later poses the elbow stays on the same side
+// of that line (the inverse kinematics' branch followed through the poses).
+struct SixBarChain {
+  Eigen::Vector2d ground_pivot = Eigen::Vector2d::Zero();
+  Eigen::Vector2d wrist_in_moving = Eigen::Vector2d::Zero();
+  double upper_length = 1.0;    // ground pivot to elbow (a12)
+  double forearm_length = 1.0;  // elbow to wrist (a23)
+  std::optional<Eigen::Vector2d> elbow_at_first_pose;
+  bool elbow_left = true;
+};
+
+struct SixBarSynthesisOptions {
+  PlanarBurmesterOptions burmester;
+  // A root whose joints are within this (times L) of a chain link's joints is that link.
+  double trivial_tolerance = 1e-6;
+};
+
+struct SixBarSynthesisSummary {
+  int burmester_problems = 0;  // relative motions solved
+  int roots_total = 0;         // their roots, complex ones included
+  int roots_real = 0;          // real RR roots, the trivial ones included
+  int roots_trivial = 0;       // the chain's own links among them
+  int six_bars = 0;            // six-bars returned
+  // The first pose the chain cannot reach (its wrist beyond the two links), or -1.
+  int unreachable_pose = -1;
+};
+
+// The chain's elbow at each pose (Sigma), or false (and summary->unreachable_pose) where a pose
+// puts the wrist out of the chain's reach.
+bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
+                 std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose);
+
+// Every six-bar of the chain's topologies whose RR links are real roots of their five-pose
+// Burmester problems (RR dyads only). Requires exactly five poses. Returns the count written.
+int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
+                      const SixBarSynthesisOptions& options, std::vector<SixBar>* six_bars,
+                      SixBarSynthesisSummary* summary = nullptr);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_FITTING_SIX_BAR_SYNTHESIS_H_

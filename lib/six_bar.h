@@ -1,0 +1,90 @@
+// Planar six-bar linkages built on a 3R serial chain (McCarthy and Soh, Geometric Design of
+// Linkages, 2nd ed., 2011, ch. 6): ground (body 0); the upper link (body 1), turning about the
+// ground pivot G; the forearm (body 2), joined to it at the elbow; and the task body E (body 3),
+// joined to the forearm at the wrist. Two RR links make the chain's three freedoms one. Each joins
+// two bodies: two of the chain's, or (a "new crank") the first RR link itself (body 4), turning
+// about its ground pivot, and a chain body. The second RR link is body 5.
+//
+// Every joint is given by where it is in Sigma at the reference configuration (the first task
+// pose), and every body's frame is Sigma at the reference: a body's configuration is the planar
+// displacement from its reference place, T_k(p) = T_parent(k)(x_k) + R(alpha_k) (p - x_k), with
+// x_k the joint by which body k hangs from its parent in the tree 0 <- 1 <- 2 <- 3 (and each RR
+// link from its first body), and alpha_k its turn from the reference. The loop closures are the
+// two RR links' second joints: T_link(p) = T_body(p) at the joint's reference place p.
+#ifndef LINKFIT_LIB_SIX_BAR_H_
+#define LINKFIT_LIB_SIX_BAR_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "lib/planar_pose.h"
+
+namespace linkfit {
+
+// The six-bar's kind: which of its links are ternary and whether they are adjacent (Watt) or
+// not (Stephenson), and which link is ground. A 3R chain grounded at one end admits these four.
+enum class SixBarTopology { kWattI, kStephensonI, kStephensonII, kStephensonIII };
+
+// "Watt I", "Stephenson I", ...
+const char* SixBarTopologyName(SixBarTopology topology);
+
+// The bodies of a six-bar (see the file comment).
+enum SixBarBody : int {
+  kSixBarGround = 0,
+  kSixBarUpperLink = 1,
+  kSixBarForearm = 2,
+  kSixBarTaskBody = 3,
+  kSixBarFirstLink = 4,
+  kSixBarSecondLink = 5,
+};
+
+// An RR link: the body it hangs from (its first joint) and the body its second joint closes on,
+// both joints in Sigma at the reference configuration.
+struct SixBarRRLink {
+  int from_body = kSixBarGround;
+  int to_body = kSixBarTaskBody;
+  Eigen::Vector2d from_joint = Eigen::Vector2d::Zero();
+  Eigen::Vector2d to_joint = Eigen::Vector2d::Zero();
+  double Length() const { return (to_joint - from_joint).norm(); }
+};
+
+struct SixBar {
+  SixBarTopology topology = SixBarTopology::kWattI;
+  // The 3R chain's joints at the reference configuration, in Sigma.
+  Eigen::Vector2d ground_pivot = Eigen::Vector2d::Zero();
+  Eigen::Vector2d elbow = Eigen::Vector2d::Zero();
+  Eigen::Vector2d wrist = Eigen::Vector2d::Zero();
+  // The task body's pose at the reference configuration (E in Sigma): the first task pose.
+  PlanarPose reference_pose;
+  // links[0] is body 4, links[1] body 5; links[1] may hang from body 4 (a new crank).
+  std::array<SixBarRRLink, 2> links;
+};
+
+// The turns alpha_1 .. alpha_5 of bodies 1 to 5 from the reference (radians).
+using SixBarAngles = Eigen::Matrix<double, 5, 1>;
+
+// Body k's displacement from its reference place at `angles` (k = 0 .. 5).
+PlanarPose SixBarBodyDisplacement(const SixBar& six_bar, const SixBarAngles& angles, int body);
+
+// The task body's pose (E in Sigma) at `angles`.
+PlanarPose SixBarTaskPose(const SixBar& six_bar, const SixBarAngles& angles);
+
+// The two loop closures (4 residuals, length units): each RR link's second joint on the link
+// minus the same joint on the body it closes on.
+Eigen::Vector4d SixBarClosure(const SixBar& six_bar, const SixBarAngles& angles);
+
+// Assembles the six-bar with the turn of body `input` (1, 4 or 5: a link turning about ground)
+// set to `input_angle`, by Newton's method from `angles` (read as the start, written with the
+// result). Returns false where it does not converge to `tolerance` (length units) in
+// `max_iterations`, or the closure's Jacobian is singular there (a dead point).
+bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,
+                    double tolerance, int max_iterations = 30);
+
+// Whether body `body`'s turn can drive the six-bar: a link turning about a ground pivot.
+bool SixBarGroundedLink(const SixBar& six_bar, int body);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_LIB_SIX_BAR_H_

@@ -95,6 +95,37 @@ bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
   return true;
 }
 
+std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
+                                              const std::vector<PlanarPose>& poses,
+                                              const std::vector<Eigen::Vector2d>& elbows) {
+  std::vector<SixBarAngles> at_poses;
+  const Eigen::Vector2d wrist_in_moving = six_bar.reference_pose.ToMoving(six_bar.wrist);
+  for (size_t k = 0; k < poses.size(); ++k) {
+    SixBarAngles angles = SixBarAngles::Zero();
+    const Eigen::Vector2d wrist = poses[k].ToFixed(wrist_in_moving);
+    angles[0] =
+        Angle(elbows[k] - six_bar.ground_pivot) - Angle(six_bar.elbow - six_bar.ground_pivot);
+    angles[1] = Angle(wrist - elbows[k]) - Angle(six_bar.wrist - six_bar.elbow);
+    angles[2] = poses[k].theta - poses[0].theta;
+    // Each turn continued from the previous pose's (not wrapped: the input's turns run on).
+    for (int l = 0; l < 2; ++l) {
+      const SixBarRRLink& link = six_bar.links[l];
+      const Eigen::Vector2d from =
+          SixBarBodyDisplacement(six_bar, angles, link.from_body).ToFixed(link.from_joint);
+      const Eigen::Vector2d to =
+          SixBarBodyDisplacement(six_bar, angles, link.to_body).ToFixed(link.to_joint);
+      angles[3 + l] = Angle(to - from) - Angle(link.to_joint - link.from_joint);
+    }
+    if (k > 0) {
+      for (int j = 0; j < 5; ++j) {
+        angles[j] = at_poses.back()[j] + std::remainder(angles[j] - at_poses.back()[j], 2.0 * M_PI);
+      }
+    }
+    at_poses.push_back(angles);
+  }
+  return at_poses;
+}
+
 int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                       const SixBarSynthesisOptions& options, std::vector<SixBar>* six_bars,
                       SixBarSynthesisSummary* summary) {

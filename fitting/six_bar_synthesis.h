@@ -65,6 +65,12 @@ struct SixBarSynthesisSummary {
 bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                  std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose);
 
+// The six-bar's turns (lib/six_bar.h) at each task pose: the chain's from its elbows
+// (ChainElbows), each RR link's from where its joints are on their bodies.
+std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
+                                              const std::vector<PlanarPose>& poses,
+                                              const std::vector<Eigen::Vector2d>& elbows);
+
 // Every six-bar of the chain's topologies whose RR links are real roots of their five-pose
 // Burmester problems (RR dyads only). Requires exactly five poses. Returns the count written.
 int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,

@@ -1,6 +1,7 @@
 #include "lib/six_bar.h"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 
 namespace linkfit {
@@ -60,6 +61,27 @@ Eigen::Vector4d Closure(const SixBar& six_bar, const SixBarAngles& angles,
   return residual;
 }
 
+// The turns' rates for a unit rate of the input (J_free rates = -J_input), or false at a dead
+// point of the input.
+bool Rates(const SixBar& six_bar, const SixBarAngles& angles, int input, SixBarAngles* velocity) {
+  Eigen::Matrix<double, 4, 5> jacobian;
+  Closure(six_bar, angles, &jacobian);
+  Eigen::Matrix4d square;
+  int free[4], count = 0;
+  for (int k = 0; k < 5; ++k) {
+    if (k != input - 1) free[count++] = k;
+  }
+  for (int c = 0; c < 4; ++c) square.col(c) = jacobian.col(free[c]);
+  Eigen::FullPivLU<Eigen::Matrix4d> lu(square);
+  lu.setThreshold(1e-10);
+  if (lu.rank() < 4) return false;
+  const Eigen::Vector4d rates = lu.solve(-Eigen::Vector4d(jacobian.col(input - 1)));
+  velocity->setZero();
+  (*velocity)[input - 1] = 1.0;
+  for (int c = 0; c < 4; ++c) (*velocity)[free[c]] = rates[c];
+  return true;
+}
+
 }  // namespace
 
 const char* SixBarTopologyName(SixBarTopology topology) {
@@ -99,6 +121,111 @@ bool SixBarGroundedLink(const SixBar& six_bar, int body) {
     return six_bar.links[body - kSixBarFirstLink].from_body == kSixBarGround;
   }
   return false;
+}
+
+bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
+                 double length, double max_step) {
+  const double tolerance = 1e-13 * length;
+  double step = max_step;
+  while (std::abs(to_angle - (*angles)[input - 1]) > 0.0) {
+    const double remaining = to_angle - (*angles)[input - 1];
+    const double delta = std::copysign(std::min(step, std::abs(remaining)), remaining);
+    SixBarAngles velocity;
+    if (!Rates(six_bar, *angles, input, &velocity)) return false;
+    const SixBarAngles predicted = *angles + delta * velocity;
+    SixBarAngles next = predicted;
+    const double target =
+        std::abs(delta) < std::abs(remaining) ? (*angles)[input - 1] + delta : to_angle;
+    if (AssembleSixBar(six_bar, input, target, &next, tolerance) &&
+        (next - predicted).cwiseAbs().maxCoeff() <= std::max(std::abs(delta), 1e-6)) {
+      *angles = next;
+      step = std::min(max_step, 2.0 * step);
+      continue;
+    }
+    step /= 2.0;
+    if (step < 1e-9) return false;
+  }
+  return true;
+}
+
+std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles,
+                                            int input) {
+  std::array<double, 2> degrees = {90.0, 90.0};
+  SixBarAngles velocity;
+  if (!Rates(six_bar, angles, input, &velocity)) return {0.0, 0.0};  // a dead point
+  for (int l = 0; l < 2; ++l) {
+    const SixBarRRLink& link = six_bar.links[l];
+    Eigen::Matrix<double, 2, 5> gradient;
+    const Eigen::Vector2d to = Place(six_bar, angles, link.to_body, link.to_joint, &gradient);
+    const Eigen::Vector2d from = Place(six_bar, angles, link.from_body, link.from_joint, nullptr);
+    const Eigen::Vector2d moves = gradient * velocity;
+    const Eigen::Vector2d along = to - from;
+    if (!(moves.norm() > 1e-12 * along.norm()) || !(along.norm() > 0.0)) continue;
+    const double cosine = std::abs(along.normalized().dot(moves.normalized()));
+    degrees[l] = 90.0 - std::acos(std::min(1.0, cosine)) * 180.0 / M_PI;
+  }
+  return degrees;
+}
+
+SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
+                             int input, double length, double step) {
+  SixBarAnalysis analysis;
+  if (at_poses.empty()) return analysis;
+  const int index = input - 1;
+  for (const SixBarAngles& angles : at_poses) {
+    analysis.input_angles.push_back(angles[index] - at_poses[0][index]);
+  }
+  const auto add = [&](const char* defect) {
+    if (std::find(analysis.defects.begin(), analysis.defects.end(), defect) ==
+        analysis.defects.end()) {
+      analysis.defects.push_back(defect);
+    }
+  };
+  for (size_t k = 2; k < at_poses.size(); ++k) {
+    const double before = analysis.input_angles[k - 1] - analysis.input_angles[k - 2];
+    const double after = analysis.input_angles[k] - analysis.input_angles[k - 1];
+    if (before * after <= 0.0) add("order");
+  }
+  const auto transmission = [&](const SixBarAngles& angles) {
+    const std::array<double, 2> degrees = SixBarTransmissionDeg(six_bar, angles, input);
+    for (int l = 0; l < 2; ++l) {
+      analysis.transmission_min_deg[l] = std::min(analysis.transmission_min_deg[l], degrees[l]);
+    }
+  };
+  // From each pose to the next along the input (its turns as the poses give them).
+  SixBarAngles angles = at_poses[0];
+  transmission(angles);
+  for (size_t k = 1; k < at_poses.size(); ++k) {
+    const double from = at_poses[k - 1][index], to = at_poses[k][index];
+    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / step)));
+    bool driven = true;
+    for (int s = 1; s <= steps && driven; ++s) {
+      driven = DriveSixBar(six_bar, input, from + (to - from) * s / steps, &angles, length, step);
+      if (driven) transmission(angles);
+    }
+    if (!driven) {
+      add("branch");
+      break;
+    }
+    // Arrived in the pose's own assembly: the same turns (up to whole turns).
+    double apart = 0.0;
+    for (int j = 0; j < 5; ++j) {
+      apart = std::max(apart, std::abs(std::remainder(angles[j] - at_poses[k][j], 2.0 * M_PI)));
+    }
+    if (apart > 1e-6) {
+      add("circuit");
+      angles = at_poses[k];  // on from the pose itself
+    }
+  }
+  // A whole turn of the input from the first pose.
+  angles = at_poses[0];
+  const int turn_steps = static_cast<int>(std::ceil(2.0 * M_PI / step));
+  analysis.input_rotates_fully = true;
+  for (int s = 1; s <= turn_steps && analysis.input_rotates_fully; ++s) {
+    analysis.input_rotates_fully = DriveSixBar(
+        six_bar, input, at_poses[0][index] + 2.0 * M_PI * s / turn_steps, &angles, length, step);
+  }
+  return analysis;
 }
 
 bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,

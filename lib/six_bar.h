@@ -82,8 +82,43 @@ Eigen::Vector4d SixBarClosure(const SixBar& six_bar, const SixBarAngles& angles)
 bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,
                     double tolerance, int max_iterations = 30);
 
+// Drives the six-bar by body `input` from `angles` (an assembly) to the input turn `to_angle`
+// by continuation: steps of at most `max_step` radians, each predicted along the closure's
+// tangent and corrected by AssembleSixBar, halved where the correction is larger than the step
+// (a jump toward another assembly) or Newton fails. Returns false at a dead point (the step
+// falls below 1e-9 radians); `angles` is then the last assembly reached.
+bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
+                 double length, double max_step);
+
 // Whether body `body`'s turn can drive the six-bar: a link turning about a ground pivot.
 bool SixBarGroundedLink(const SixBar& six_bar, int body);
+
+// The transmission angle of each RR link at a configuration driven by body `input`, folded into
+// [0, 90] degrees as a four-bar's (lib/four_bar_motion.h TransmissionAngleDeg): 90 minus the
+// angle between the link (its joint on the body it closes on, from its first joint) and the
+// direction in which that joint moves with the body as the input turns (the closure's velocity,
+// the null vector of its Jacobian with the input's rate 1). 90 where the joint does not move
+// (a dead point of the other loop).
+std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles,
+                                            int input);
+
+// The six-bar driven by body `input` through task poses it reaches at `at_poses` (the turns at
+// each pose, e.g. from the chain's inverse kinematics): by continuation along the input's turn
+// (AssembleSixBar in steps of at most `step` radians) from the first pose to each next.
+//   order:   the input's turns at the poses do not run one way;
+//   branch:  a dead point (singular closure) lies between two poses: the input cannot drive on;
+//   circuit: the continuation arrives at a pose's input turn in another assembly than the pose's.
+struct SixBarAnalysis {
+  std::vector<std::string> defects;
+  std::vector<double> input_angles;  // the input's turn from the first pose at each pose
+  // The smallest transmission angle of each RR link from the first pose to the last (over the
+  // driven range where a defect stops it), degrees.
+  std::array<double, 2> transmission_min_deg = {90.0, 90.0};
+  bool input_rotates_fully = false;  // a whole turn of the input meets no dead point
+};
+inline constexpr double kSixBarDriveStep = 0.008726646259971648;  // half a degree
+SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
+                             int input, double length, double step = kSixBarDriveStep);
 
 }  // namespace linkfit
 

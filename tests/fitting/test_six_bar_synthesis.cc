@@ -4,6 +4,7 @@
 // it returns reaches the five poses on the chain's elbow.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -14,28 +15,6 @@
 
 namespace linkfit {
 namespace {
-
-double Angle(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
-
-// The six-bar's turns at task pose k, from the chain's inverse kinematics (ChainElbows) and its
-// RR links' joints placed on their bodies.
-SixBarAngles AnglesAt(const SixBar& six_bar, const std::vector<PlanarPose>& poses,
-                      const std::vector<Eigen::Vector2d>& elbows, int k) {
-  SixBarAngles angles = SixBarAngles::Zero();
-  const Eigen::Vector2d wrist = poses[k].ToFixed(six_bar.reference_pose.ToMoving(six_bar.wrist));
-  angles[0] = Angle(elbows[k] - six_bar.ground_pivot) - Angle(six_bar.elbow - six_bar.ground_pivot);
-  angles[1] = Angle(wrist - elbows[k]) - Angle(six_bar.wrist - six_bar.elbow);
-  angles[2] = poses[k].theta - poses[0].theta;
-  for (int l = 0; l < 2; ++l) {
-    const SixBarRRLink& link = six_bar.links[l];
-    const Eigen::Vector2d from =
-        SixBarBodyDisplacement(six_bar, angles, link.from_body).ToFixed(link.from_joint);
-    const Eigen::Vector2d to =
-        SixBarBodyDisplacement(six_bar, angles, link.to_body).ToFixed(link.to_joint);
-    angles[3 + l] = Angle(to - from) - Angle(link.to_joint - link.from_joint);
-  }
-  return angles;
-}
 
 bool SameSixBar(const SixBar& a, const SixBar& b, double tolerance) {
   if (a.topology != b.topology) return false;
@@ -85,10 +64,19 @@ TEST(SixBarSynthesis, EveryLayoutGivesItsGeneratorBack) {
       int unreachable = -1;
       ASSERT_TRUE(ChainElbows(task.poses, task.chain, &elbows, &unreachable));
       for (const SixBar& six_bar : six_bars) {
+        const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, task.poses, elbows);
         for (int k = 0; k < 5; ++k) {
-          const SixBarAngles angles = AnglesAt(six_bar, task.poses, elbows, k);
-          EXPECT_LT(SixBarClosure(six_bar, angles).norm(), 1e-8) << "pose " << k;
-          EXPECT_LT(PoseError(SixBarTaskPose(six_bar, angles), task.poses[k], 1.0), 1e-9);
+          EXPECT_LT(SixBarClosure(six_bar, at_poses[k]).norm(), 1e-8) << "pose " << k;
+          EXPECT_LT(PoseError(SixBarTaskPose(six_bar, at_poses[k]), task.poses[k], 1.0), 1e-9);
+        }
+        // The generator, driven by its upper link as it was made, has no defect.
+        if (SameSixBar(six_bar, task.six_bar, 1e-7)) {
+          const SixBarAnalysis analysis = AnalyzeSixBar(six_bar, at_poses, kSixBarUpperLink, 1.0);
+          EXPECT_TRUE(analysis.defects.empty()) << analysis.defects.front();
+          for (int k = 0; k < 5; ++k) {
+            EXPECT_NEAR(analysis.input_angles[k],
+                        task.configurations[k][0] - task.configurations[0][0], 1e-9);
+          }
         }
       }
     }
@@ -104,6 +92,46 @@ TEST(SixBarSynthesis, APoseOutOfTheChainsReachIsNamed) {
   SixBarSynthesisSummary summary;
   EXPECT_EQ(SynthesizeSixBars(task.poses, task.chain, {}, &six_bars, &summary), 0);
   EXPECT_EQ(summary.unreachable_pose, 2);
+}
+
+// Defects by continuation along the upper link (lib/six_bar.h AnalyzeSixBar): the poses in
+// another order are an order defect; a last pose in the other assembly of the first loop (the
+// forearm's joint with the first RR link reflected across the line from the elbow to that link's
+// ground pivot, the second loop closed by Newton's method) is reached on another circuit.
+TEST(SixBarAnalysis, PosesOutOfOrderAndAnotherAssemblyAreDefects) {
+  std::mt19937_64 rng(3603);
+  int circuits = 0;
+  for (int trial = 0; trial < 10; ++trial) {
+    // Watt I: the first RR link joins ground and the forearm.
+    const testing::GeneratedSixBarTask task =
+        testing::RandomSixBarTask(rng, testing::SixBarLayouts()[0]);
+    const SixBar& six_bar = task.six_bar;
+    std::vector<SixBarAngles> swapped = task.configurations;
+    std::swap(swapped[2], swapped[3]);
+    EXPECT_EQ(AnalyzeSixBar(six_bar, swapped, kSixBarUpperLink, 1.0).defects,
+              std::vector<std::string>{"order"});
+    std::vector<SixBarAngles> other = task.configurations;
+    SixBarAngles start = other[4];
+    const SixBarRRLink& link = six_bar.links[0];
+    const Eigen::Vector2d elbow =
+        SixBarBodyDisplacement(six_bar, start, kSixBarUpperLink).ToFixed(six_bar.elbow);
+    const Eigen::Vector2d joint =
+        SixBarBodyDisplacement(six_bar, start, kSixBarForearm).ToFixed(link.to_joint);
+    const Eigen::Vector2d axis = (link.from_joint - elbow).normalized();
+    const Eigen::Vector2d reflected =
+        elbow + 2.0 * (joint - elbow).dot(axis) * axis - (joint - elbow);
+    const auto angle = [](const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); };
+    start[1] = angle(reflected - elbow) - angle(link.to_joint - six_bar.elbow);
+    start[3] = angle(reflected - link.from_joint) - angle(link.to_joint - link.from_joint);
+    if (!AssembleSixBar(six_bar, kSixBarUpperLink, other[4][0], &start, 1e-12)) continue;
+    if (!(std::abs(std::remainder(start[1] - other[4][1], 2.0 * M_PI)) > 1e-3)) continue;
+    other[4] = start;
+    const SixBarAnalysis analysis = AnalyzeSixBar(six_bar, other, kSixBarUpperLink, 1.0);
+    EXPECT_NE(std::find(analysis.defects.begin(), analysis.defects.end(), "circuit"),
+              analysis.defects.end());
+    ++circuits;
+  }
+  EXPECT_GE(circuits, 5);
 }
 
 }  // namespace

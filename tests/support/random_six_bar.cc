@@ -67,7 +67,8 @@ GeneratedSixBarTask RandomSixBarTask(std::mt19937_64& rng, const SixBarLayout& l
     bool ok = true;
     int next = 1;
     for (int s = 1; s <= steps && ok; ++s) {
-      ok = AssembleSixBar(six_bar, kSixBarUpperLink, total * s / steps, &angles, 1e-13) &&
+      ok = DriveSixBar(six_bar, kSixBarUpperLink, total * s / steps, &angles, 1.0,
+                       kSixBarDriveStep) &&
            ElbowSide(six_bar, angles) == side;
       // The poses at equal shares of the turn.
       while (ok && next < count &&

@@ -29,7 +29,7 @@ struct GeneratedSixBarTask {
 
 // A random six-bar of `layout` (chain links 0.6 to 1.4, joints in a box of half-width 1.5),
 // driven by its upper link through `count` poses spread over a turn of 40 to 100 degrees by
-// continuation (AssembleSixBar in 1 degree steps); drawn again where the continuation meets a
+// continuation (DriveSixBar); drawn again where the continuation meets a
 // dead point or the chain's elbow changes side on the way, or where the two bodies an RR link
 // joins turn apart by less than 20 degrees over the poses (a nearly rigid relative motion, whose
 // five-pose Burmester problem is ill-conditioned: its roots come to a few digits only).

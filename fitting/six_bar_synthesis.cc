@@ -1,12 +1,15 @@
 #include "fitting/six_bar_synthesis.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
+
+#include "lib/design_constraints.h"
 
 namespace linkfit {
 namespace {
-
-Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
 
 double Angle(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
 
@@ -61,39 +64,6 @@ std::vector<PlanarPose> Relative(const std::vector<PlanarPose>& from,
 }
 
 }  // namespace
-
-bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
-                 std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose) {
-  elbows->clear();
-  *unreachable_pose = -1;
-  const double a = chain.upper_length, b = chain.forearm_length;
-  double side = chain.elbow_left ? 1.0 : -1.0;
-  for (size_t k = 0; k < poses.size(); ++k) {
-    const Eigen::Vector2d wrist = poses[k].ToFixed(chain.wrist_in_moving);
-    const Eigen::Vector2d to_wrist = wrist - chain.ground_pivot;
-    const double d = to_wrist.norm();
-    // The elbow: on the circle of radius a about G and of radius b about the wrist.
-    const double along = d > 0.0 ? (a * a - b * b + d * d) / (2.0 * d) : 0.0;
-    const double reach = a * a - along * along;
-    const double slack = 1e-12 * (a + b) * (a + b);
-    if (!(d > 0.0) || reach < -slack) {
-      *unreachable_pose = static_cast<int>(k);
-      return false;
-    }
-    const Eigen::Vector2d u = to_wrist / d;
-    const double h = std::sqrt(std::max(reach, 0.0));
-    const Eigen::Vector2d base = chain.ground_pivot + along * u;
-    if (k == 0 && chain.elbow_at_first_pose) {
-      const Eigen::Vector2d left = base + h * Perp(u), right = base - h * Perp(u);
-      side =
-          (left - *chain.elbow_at_first_pose).norm() <= (right - *chain.elbow_at_first_pose).norm()
-              ? 1.0
-              : -1.0;
-    }
-    elbows->push_back(base + side * h * Perp(u));
-  }
-  return true;
-}
 
 std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
                                               const std::vector<PlanarPose>& poses,
@@ -227,6 +197,91 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   }
   summary->six_bars = static_cast<int>(six_bars->size());
   return summary->six_bars;
+}
+
+PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  PlanarMotionResult result;
+  result.method = "exact";
+  result.precision = task.precision;
+  result.constraints = task.constraints;
+  result.chain = task.chain;
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  result.scale = task.scale ? *task.scale : CharacteristicLength(poses);
+  const double length = result.scale > 0.0 ? result.scale : 1.0;
+  SixBarSynthesisOptions synthesis = options;
+  synthesis.burmester.precision = task.precision;
+  std::vector<SixBar> six_bars;
+  SixBarSynthesisSummary summary;
+  SynthesizeSixBars(poses, *task.chain, synthesis, &six_bars, &summary);
+  result.burmester_problems = summary.burmester_problems;
+  result.roots_total = summary.roots_total;
+  result.roots_real = summary.roots_real - summary.roots_trivial;
+  std::vector<Eigen::Vector2d> elbows;
+  int unreachable = -1;
+  ChainElbows(poses, *task.chain, &elbows, &unreachable);
+  const double least_transmission = MinTransmissionAngleDeg(task.constraints);
+  for (const SixBar& six_bar : six_bars) {
+    const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, poses, elbows);
+    SixBarReport best;
+    bool have = false;
+    const auto key = [](const SixBarReport& report) {
+      return std::make_tuple(
+          report.defects.size(), !report.input_rotates_fully,
+          -std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]));
+    };
+    for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
+      if (!SixBarGroundedLink(six_bar, input)) continue;
+      const SixBarAnalysis analysis = AnalyzeSixBar(six_bar, at_poses, input, length);
+      SixBarReport report;
+      report.six_bar = six_bar;
+      report.input = input;
+      report.defects = analysis.defects;
+      report.input_angles = analysis.input_angles;
+      report.transmission_min_deg = analysis.transmission_min_deg;
+      report.input_rotates_fully = analysis.input_rotates_fully;
+      if (std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]) <
+          least_transmission) {
+        report.defects.push_back("transmission");
+      }
+      for (size_t k = 0; k < poses.size(); ++k) {
+        report.max_pose_error =
+            std::max(report.max_pose_error,
+                     PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length));
+      }
+      if (!have || key(report) < key(best)) best = report;
+      have = true;
+    }
+    result.six_bars.push_back(best);
+  }
+  std::stable_sort(
+      result.six_bars.begin(), result.six_bars.end(),
+      [](const SixBarReport& a, const SixBarReport& b) {
+        const auto kinematic = [](const SixBarReport& report) {
+          return std::count_if(report.defects.begin(), report.defects.end(),
+                               [](const std::string& defect) { return defect != "transmission"; });
+        };
+        const double ta = std::min(a.transmission_min_deg[0], a.transmission_min_deg[1]);
+        const double tb = std::min(b.transmission_min_deg[0], b.transmission_min_deg[1]);
+        return std::make_tuple(kinematic(a), a.defects.size(), -ta) <
+               std::make_tuple(kinematic(b), b.defects.size(), -tb);
+      });
+  result.notes.push_back(
+      "six-bars on the given 3R chain: Watt I, Stephenson I, II and III (a chain grounded at one "
+      "end admits no Watt II); each RR link is the five-pose Burmester problem of the relative "
+      "motion of the two bodies it joins (" +
+      std::to_string(summary.burmester_problems) + " problems, " +
+      std::to_string(summary.roots_total) + " roots, " + std::to_string(summary.roots_real) +
+      " real, " + std::to_string(summary.roots_trivial) + " of them the chain's own links)");
+  if (result.six_bars.empty()) {
+    result.notes.push_back(
+        "no six-bar on this chain: the relative motions' Burmester problems have no real root "
+        "that is not the chain's own link; try another chain (its wrist or ground pivot "
+        "elsewhere, other link lengths, the other elbow)");
+  }
+  result.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
 }
 
 }  // namespace linkfit

@@ -26,23 +26,11 @@
 
 #include "fitting/planar_burmester.h"
 #include "lib/planar_pose.h"
+#include "lib/result.h"
 #include "lib/six_bar.h"
+#include "lib/task.h"
 
 namespace linkfit {
-
-// A 3R chain the six-bar is built on: its ground pivot, its wrist in E, its two link lengths,
-// and which of the two elbow places it takes at the first pose: the one nearer
-// `elbow_at_first_pose` when given, else the one to the left of the line from the ground pivot
-// to the wrist (`elbow_left`) or to its right. At later poses the elbow stays on the same side
-// of that line (the inverse kinematics' branch followed through the poses).
-struct SixBarChain {
-  Eigen::Vector2d ground_pivot = Eigen::Vector2d::Zero();
-  Eigen::Vector2d wrist_in_moving = Eigen::Vector2d::Zero();
-  double upper_length = 1.0;    // ground pivot to elbow (a12)
-  double forearm_length = 1.0;  // elbow to wrist (a23)
-  std::optional<Eigen::Vector2d> elbow_at_first_pose;
-  bool elbow_left = true;
-};
 
 struct SixBarSynthesisOptions {
   PlanarBurmesterOptions burmester;
@@ -60,11 +48,6 @@ struct SixBarSynthesisSummary {
   int unreachable_pose = -1;
 };
 
-// The chain's elbow at each pose (Sigma), or false (and summary->unreachable_pose) where a pose
-// puts the wrist out of the chain's reach.
-bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
-                 std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose);
-
 // The six-bar's turns (lib/six_bar.h) at each task pose: the chain's from its elbows
 // (ChainElbows), each RR link's from where its joints are on their bodies.
 std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
@@ -76,6 +59,14 @@ std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
 int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                       const SixBarSynthesisOptions& options, std::vector<SixBar>* six_bars,
                       SixBarSynthesisSummary* summary = nullptr);
+
+// A validated "linkage": "six-bar" task (five planar poses and its chain): every six-bar of the
+// chain, each driven by the grounded link that drives it best (fewest defects, then a whole turn,
+// then the larger least transmission angle), judged (AnalyzeSixBar; a least transmission angle
+// below the task's minimum, by default 30 degrees, is the defect "transmission") and ranked:
+// the defect-free first, then by fewer defects, then by the larger least transmission angle.
+// Notes say what the chain admits and when no six-bar is real.
+PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options = {});
 
 }  // namespace linkfit
 

@@ -2,6 +2,7 @@
 #ifndef LINKFIT_LIB_RESULT_H_
 #define LINKFIT_LIB_RESULT_H_
 
+#include <array>
 #include <optional>
 #include <string>
 #include <variant>
@@ -97,6 +98,20 @@ struct MechanismReport {
   std::vector<double> pose_errors;
 };
 
+// A six-bar of a "linkage": "six-bar" task (issue 36; lib/six_bar.h), driven by `input` (a body
+// turning about ground: 1 the chain's upper link, 4 or 5 an RR link) as lib/six_bar.h
+// AnalyzeSixBar drives it through the poses.
+struct SixBarReport {
+  SixBar six_bar;
+  int input = kSixBarUpperLink;
+  std::vector<std::string> defects;  // "order", "branch", "circuit"; "transmission"
+  std::vector<std::string> violates;
+  std::vector<double> input_angles;  // the input's turn at each pose, radians
+  std::array<double, 2> transmission_min_deg = {90.0, 90.0};  // each RR link's least
+  bool input_rotates_fully = false;
+  double max_pose_error = 0.0;  // length units, with L for the angle (PoseError)
+};
+
 struct PlanarMotionResult {
   ProblemKind problem = ProblemKind::kMotion;
   Space space = Space::kPlanar;
@@ -124,6 +139,10 @@ struct PlanarMotionResult {
   DataPrecision precision;          // the data precision assumed (the task's)
   bool closed = false;              // the task's last pose repeated the first (dropped)
   DesignConstraints constraints;    // the task's, echoed
+  // "linkage": "six-bar": the chain used and the six-bars on it (the four-bar lists are empty).
+  std::optional<SixBarChain> chain;
+  std::vector<SixBarReport> six_bars;
+  int burmester_problems = 0;  // the relative motions solved for them
 };
 
 struct SpatialDyadReport {

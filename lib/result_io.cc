@@ -535,6 +535,51 @@ std::string Dump(const Json& root, int indent) {
   return indent < 0 ? text : CompactNumberArrays(text);
 }
 
+// A six-bar (lib/six_bar.h) as a result lists it: its joints at the first task pose in Sigma, its
+// links by name and length, the body that drives it, and its analysis.
+Json SixBarToJson(const SixBarReport& report) {
+  static const char* const kBodies[] = {"ground",    "upper link", "forearm",
+                                        "task body", "first link", "second link"};
+  const SixBar& six_bar = report.six_bar;
+  const auto point = [](const Eigen::Vector2d& p) { return Json::array({p.x(), p.y()}); };
+  Json object;
+  object["linkage"] = "six-bar";
+  object["topology"] = SixBarTopologyName(six_bar.topology);
+  object["input"] = kBodies[report.input];
+  Json joints;
+  joints["ground_pivot"] = point(six_bar.ground_pivot);
+  joints["elbow"] = point(six_bar.elbow);
+  joints["wrist"] = point(six_bar.wrist);
+  Json links = Json::array();
+  for (const SixBarRRLink& link : six_bar.links) {
+    Json entry;
+    entry["from"] = kBodies[link.from_body];
+    entry["to"] = kBodies[link.to_body];
+    entry["from_joint"] = point(link.from_joint);
+    entry["to_joint"] = point(link.to_joint);
+    PutNumber(&entry, "length", link.Length());
+    links.push_back(entry);
+  }
+  joints["links"] = links;
+  object["joints_at_first_pose"] = joints;
+  Json lengths;
+  PutNumber(&lengths, "upper_link", (six_bar.elbow - six_bar.ground_pivot).norm());
+  PutNumber(&lengths, "forearm", (six_bar.wrist - six_bar.elbow).norm());
+  PutNumber(&lengths, "first_link", six_bar.links[0].Length());
+  PutNumber(&lengths, "second_link", six_bar.links[1].Length());
+  object["link_lengths"] = lengths;
+  object["defects"] = report.defects;
+  object["violates"] = report.violates;
+  object["transmission_angle_min_deg"] =
+      Json::array({report.transmission_min_deg[0], report.transmission_min_deg[1]});
+  object["input_rotates_fully"] = report.input_rotates_fully;
+  PutNumber(&object, "max_pose_error", report.max_pose_error);
+  Json angles = Json::array();
+  for (double angle : report.input_angles) angles.push_back(InputDegrees(angle));
+  object["input_deg"] = angles;
+  return object;
+}
+
 }  // namespace
 
 double InputAngleAsWritten(double radians) {
@@ -744,6 +789,24 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
                                         at_pose(mechanism.output_dyad), pose.origin_in_fixed);
     }
     root["mechanisms"].push_back(object);
+  }
+  if (result.chain) {
+    const SixBarChain& chain = *result.chain;
+    Json object;
+    object["ground_pivot"] = Json::array({chain.ground_pivot.x(), chain.ground_pivot.y()});
+    object["wrist"] = Json::array({chain.wrist_in_moving.x(), chain.wrist_in_moving.y()});
+    object["link_lengths"] = Json::array({chain.upper_length, chain.forearm_length});
+    if (chain.elbow_at_first_pose) {
+      object["elbow_at_first_pose"] =
+          Json::array({chain.elbow_at_first_pose->x(), chain.elbow_at_first_pose->y()});
+    } else {
+      object["elbow"] = chain.elbow_left ? "left" : "right";
+    }
+    root["chain"] = object;
+    root["six_bars"] = Json::array();
+    for (const SixBarReport& report : result.six_bars) {
+      root["six_bars"].push_back(SixBarToJson(report));
+    }
   }
   if (result.roots_total > 0) {
     root["roots"] = Json{{"total", result.roots_total}, {"real", result.roots_real}};

@@ -7,6 +7,8 @@
 namespace linkfit {
 namespace {
 
+Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
+
 // The body body `body` hangs from and the joint by which it does (its reference place).
 void Parent(const SixBar& six_bar, int body, int* parent, Eigen::Vector2d* joint) {
   switch (body) {
@@ -123,6 +125,39 @@ bool SixBarGroundedLink(const SixBar& six_bar, int body) {
   return false;
 }
 
+bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
+                 std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose) {
+  elbows->clear();
+  *unreachable_pose = -1;
+  const double a = chain.upper_length, b = chain.forearm_length;
+  double side = chain.elbow_left ? 1.0 : -1.0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const Eigen::Vector2d wrist = poses[k].ToFixed(chain.wrist_in_moving);
+    const Eigen::Vector2d to_wrist = wrist - chain.ground_pivot;
+    const double d = to_wrist.norm();
+    // The elbow: on the circle of radius a about G and of radius b about the wrist.
+    const double along = d > 0.0 ? (a * a - b * b + d * d) / (2.0 * d) : 0.0;
+    const double reach = a * a - along * along;
+    const double slack = 1e-12 * (a + b) * (a + b);
+    if (!(d > 0.0) || reach < -slack) {
+      *unreachable_pose = static_cast<int>(k);
+      return false;
+    }
+    const Eigen::Vector2d u = to_wrist / d;
+    const double h = std::sqrt(std::max(reach, 0.0));
+    const Eigen::Vector2d base = chain.ground_pivot + along * u;
+    if (k == 0 && chain.elbow_at_first_pose) {
+      const Eigen::Vector2d left = base + h * Perp(u), right = base - h * Perp(u);
+      side =
+          (left - *chain.elbow_at_first_pose).norm() <= (right - *chain.elbow_at_first_pose).norm()
+              ? 1.0
+              : -1.0;
+    }
+    elbows->push_back(base + side * h * Perp(u));
+  }
+  return true;
+}
+
 bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
                  double length, double max_step) {
   const double tolerance = 1e-13 * length;
@@ -148,21 +183,22 @@ bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles
   return true;
 }
 
-std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles,
-                                            int input) {
+std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles) {
   std::array<double, 2> degrees = {90.0, 90.0};
-  SixBarAngles velocity;
-  if (!Rates(six_bar, angles, input, &velocity)) return {0.0, 0.0};  // a dead point
   for (int l = 0; l < 2; ++l) {
     const SixBarRRLink& link = six_bar.links[l];
-    Eigen::Matrix<double, 2, 5> gradient;
-    const Eigen::Vector2d to = Place(six_bar, angles, link.to_body, link.to_joint, &gradient);
+    // The loop's coupler-rocker angle at the joint J the link closes on: between the link and
+    // the body's lever from J to the joint K by which that body hangs from its parent.
+    int parent = 0;
+    Eigen::Vector2d hinge;
+    Parent(six_bar, link.to_body, &parent, &hinge);
+    const Eigen::Vector2d j = Place(six_bar, angles, link.to_body, link.to_joint, nullptr);
+    const Eigen::Vector2d k = Place(six_bar, angles, link.to_body, hinge, nullptr);
     const Eigen::Vector2d from = Place(six_bar, angles, link.from_body, link.from_joint, nullptr);
-    const Eigen::Vector2d moves = gradient * velocity;
-    const Eigen::Vector2d along = to - from;
-    if (!(moves.norm() > 1e-12 * along.norm()) || !(along.norm() > 0.0)) continue;
-    const double cosine = std::abs(along.normalized().dot(moves.normalized()));
-    degrees[l] = 90.0 - std::acos(std::min(1.0, cosine)) * 180.0 / M_PI;
+    const Eigen::Vector2d a = from - j, b = k - j;
+    if (!(a.norm() > 0.0) || !(b.norm() > 0.0)) continue;
+    const double sine = std::abs(a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
+    degrees[l] = std::asin(std::min(1.0, sine)) * 180.0 / M_PI;
   }
   return degrees;
 }
@@ -187,7 +223,7 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
     if (before * after <= 0.0) add("order");
   }
   const auto transmission = [&](const SixBarAngles& angles) {
-    const std::array<double, 2> degrees = SixBarTransmissionDeg(six_bar, angles, input);
+    const std::array<double, 2> degrees = SixBarTransmissionDeg(six_bar, angles);
     for (int l = 0; l < 2; ++l) {
       analysis.transmission_min_deg[l] = std::min(analysis.transmission_min_deg[l], degrees[l]);
     }

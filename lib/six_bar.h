@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -82,6 +83,25 @@ Eigen::Vector4d SixBarClosure(const SixBar& six_bar, const SixBarAngles& angles)
 bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,
                     double tolerance, int max_iterations = 30);
 
+// A 3R chain the six-bar is built on: its ground pivot, its wrist in E, its two link lengths,
+// and which of the two elbow places it takes at the first pose: the one nearer
+// `elbow_at_first_pose` when given, else the one to the left of the line from the ground pivot
+// to the wrist (`elbow_left`) or to its right. At later poses the elbow stays on the same side
+// of that line (the inverse kinematics' branch followed through the poses).
+struct SixBarChain {
+  Eigen::Vector2d ground_pivot = Eigen::Vector2d::Zero();
+  Eigen::Vector2d wrist_in_moving = Eigen::Vector2d::Zero();
+  double upper_length = 1.0;    // ground pivot to elbow (a12)
+  double forearm_length = 1.0;  // elbow to wrist (a23)
+  std::optional<Eigen::Vector2d> elbow_at_first_pose;
+  bool elbow_left = true;
+};
+
+// The chain's elbow at each pose (Sigma), or false (and summary->unreachable_pose) where a pose
+// puts the wrist out of the chain's reach.
+bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
+                 std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose);
+
 // Drives the six-bar by body `input` from `angles` (an assembly) to the input turn `to_angle`
 // by continuation: steps of at most `max_step` radians, each predicted along the closure's
 // tangent and corrected by AssembleSixBar, halved where the correction is larger than the step
@@ -93,14 +113,12 @@ bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles
 // Whether body `body`'s turn can drive the six-bar: a link turning about a ground pivot.
 bool SixBarGroundedLink(const SixBar& six_bar, int body);
 
-// The transmission angle of each RR link at a configuration driven by body `input`, folded into
-// [0, 90] degrees as a four-bar's (lib/four_bar_motion.h TransmissionAngleDeg): 90 minus the
-// angle between the link (its joint on the body it closes on, from its first joint) and the
-// direction in which that joint moves with the body as the input turns (the closure's velocity,
-// the null vector of its Jacobian with the input's rate 1). 90 where the joint does not move
-// (a dead point of the other loop).
-std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles,
-                                            int input);
+// The transmission angle of each RR link's loop at a configuration, folded into [0, 90] degrees
+// as a four-bar's (lib/four_bar_motion.h TransmissionAngleDeg): at the joint J where the link
+// closes on its body, the angle between the link and that body's lever from J to the joint by
+// which the body hangs from its parent (the loop's coupler-rocker angle); 90 is best, 0 a dead
+// point of the loop.
+std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles);
 
 // The six-bar driven by body `input` through task poses it reaches at `at_poses` (the turns at
 // each pose, e.g. from the chain's inverse kinematics): by continuation along the input's turn

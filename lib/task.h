@@ -14,6 +14,7 @@
 #include "lib/path_motion.h"
 #include "lib/planar_pose.h"
 #include "lib/precision.h"
+#include "lib/six_bar.h"
 #include "lib/spatial_dyad.h"
 #include "lib/spatial_pose.h"
 
@@ -64,6 +65,10 @@ struct Task {
   // Spatial motion: the five dyads (indices into the result's dyads) to build the platform
   // from; empty for the default (the five of smallest radius).
   std::vector<int> platform;
+  // Planar motion with "linkage": "six-bar" (issue 36): six-bars on the 3R chain `chain`
+  // (lib/six_bar.h) instead of four-bars.
+  bool six_bar = false;
+  std::optional<SixBarChain> chain;
   std::optional<double> scale;  // characteristic length L, when given
   // Planar motion and path problems: the design's bounds (lib/design_constraints.h).
   DesignConstraints constraints;

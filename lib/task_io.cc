@@ -554,7 +554,7 @@ class TaskParser {
     CheckKeys(root, "",
               {"problem", "space", "poses", "points", "scale", "precision", "options",
                "moving_pivots", "fixed_pivots", "moving_axes", "fixed_axes", "platform",
-               "constraints", "pairs", "angles", "ground", "function"});
+               "constraints", "pairs", "angles", "ground", "function", "linkage", "chain"});
 
     Task task;
     task.problem = ParseEnum<ProblemKind>(root, "", "problem", ProblemKind::kMotion,
@@ -652,7 +652,66 @@ class TaskParser {
       Fail("platform", "used by spatial motion problems only");
     }
     if (root.contains("constraints")) ReadConstraints(root.at("constraints"), &task);
+    ReadSixBar(root, &task);
     return task;
+  }
+
+  // "linkage": "six-bar" and its "chain" (planar motion, five poses; lib/six_bar.h): the 3R
+  // chain's ground pivot (Sigma), wrist (E), link lengths and elbow, every pose within its reach.
+  void ReadSixBar(const Json& root, Task* task) const {
+    task->six_bar =
+        ParseEnum<bool>(root, "", "linkage", false, {{"four-bar", false}, {"six-bar", true}});
+    if (!task->six_bar) {
+      if (root.contains("chain")) Fail("chain", "used with \"linkage\": \"six-bar\" only");
+      return;
+    }
+    if (task->problem != ProblemKind::kMotion || task->space != Space::kPlanar) {
+      Fail("linkage", "six-bars are synthesized for planar motion only");
+    }
+    if (task->planar_poses.size() != 5) {
+      Fail("poses",
+           "a six-bar task takes exactly five poses (more, by least squares, is not "
+           "implemented yet); got " +
+               std::to_string(task->planar_poses.size()));
+    }
+    if (!root.contains("chain")) {
+      Fail("chain",
+           "missing field: give the 3R chain the six-bar is built on (choosing one is "
+           "not implemented yet)");
+    }
+    const Json& value = Object(root.at("chain"), "chain");
+    CheckKeys(value, "chain",
+              {"ground_pivot", "wrist", "link_lengths", "elbow_at_first_pose", "elbow"});
+    SixBarChain chain;
+    chain.ground_pivot = Vector<2>(Field(value, "chain", "ground_pivot"), "chain.ground_pivot");
+    chain.wrist_in_moving = Vector<2>(Field(value, "chain", "wrist"), "chain.wrist");
+    const Json& lengths = Field(value, "chain", "link_lengths");
+    if (!lengths.is_array() || lengths.size() != 2) {
+      Fail("chain.link_lengths", "expected [upper, forearm], got " + Describe(lengths));
+    }
+    chain.upper_length = Positive(lengths[0], "chain.link_lengths[0]");
+    chain.forearm_length = Positive(lengths[1], "chain.link_lengths[1]");
+    if (value.contains("elbow_at_first_pose") && value.contains("elbow")) {
+      Fail("chain.elbow", "give \"elbow\" or \"elbow_at_first_pose\", not both");
+    }
+    if (value.contains("elbow_at_first_pose")) {
+      chain.elbow_at_first_pose =
+          Vector<2>(value.at("elbow_at_first_pose"), "chain.elbow_at_first_pose");
+    }
+    chain.elbow_left =
+        ParseEnum<bool>(value, "chain", "elbow", true, {{"left", true}, {"right", false}});
+    std::vector<Eigen::Vector2d> elbows;
+    int unreachable = -1;
+    if (!ChainElbows(task->planar_poses, chain, &elbows, &unreachable)) {
+      const Eigen::Vector2d wrist = task->planar_poses[unreachable].ToFixed(chain.wrist_in_moving);
+      Fail(IndexItem("poses", unreachable),
+           "out of the chain's reach: its wrist is " +
+               FormatNumber((wrist - chain.ground_pivot).norm()) +
+               " from the ground pivot, the links reach " +
+               FormatNumber(std::abs(chain.upper_length - chain.forearm_length)) + " to " +
+               FormatNumber(chain.upper_length + chain.forearm_length));
+    }
+    task->chain = chain;
   }
 
  private:

@@ -11,6 +11,7 @@
 
 #include "fitting/exact_items.h"
 #include "fitting/model_choice.h"
+#include "fitting/six_bar_synthesis.h"
 #include "lib/parallel.h"
 #include "lib/task_io.h"
 #include "lib/text_format.h"
@@ -746,6 +747,7 @@ std::string TypingNote(const Task& task, const TaskSolverOptions& options,
 }  // namespace
 
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options) {
+  if (task.six_bar) return SolveSixBarMotion(task);  // issue 36: five poses, a given chain
   const std::vector<PlanarPose>& poses = task.planar_poses;
   if (poses.size() <= 5) {
     PlanarMotionResult result = SolvePlanarMotion(task, options.planar);

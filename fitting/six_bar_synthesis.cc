@@ -21,6 +21,15 @@ PlanarPose Displacement(const Eigen::Vector2d& from, const Eigen::Vector2d& to, 
   return pose;
 }
 
+// The chain's turns at a task pose from the first (lib/six_bar.h: upper link, forearm, task
+// body), with its elbow and wrist there; the RR links' turns left as they are.
+void ChainTurns(const SixBar& six_bar, const Eigen::Vector2d& elbow, const Eigen::Vector2d& wrist,
+                double task_turn, SixBarAngles* angles) {
+  (*angles)[0] = Angle(elbow - six_bar.ground_pivot) - Angle(six_bar.elbow - six_bar.ground_pivot);
+  (*angles)[1] = Angle(wrist - elbow) - Angle(six_bar.wrist - six_bar.elbow);
+  (*angles)[2] = task_turn;
+}
+
 // An RR root of the relative motion of body `to` seen from body `from`: its joints (Sigma at the
 // first pose) and whether it is one of the chain's own links.
 struct Root {
@@ -72,11 +81,8 @@ std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
   const Eigen::Vector2d wrist_in_moving = six_bar.reference_pose.ToMoving(six_bar.wrist);
   for (size_t k = 0; k < poses.size(); ++k) {
     SixBarAngles angles = SixBarAngles::Zero();
-    const Eigen::Vector2d wrist = poses[k].ToFixed(wrist_in_moving);
-    angles[0] =
-        Angle(elbows[k] - six_bar.ground_pivot) - Angle(six_bar.elbow - six_bar.ground_pivot);
-    angles[1] = Angle(wrist - elbows[k]) - Angle(six_bar.wrist - six_bar.elbow);
-    angles[2] = poses[k].theta - poses[0].theta;
+    ChainTurns(six_bar, elbows[k], poses[k].ToFixed(wrist_in_moving),
+               poses[k].theta - poses[0].theta, &angles);
     // Each turn continued from the previous pose's (not wrapped: the input's turns run on).
     for (int l = 0; l < 2; ++l) {
       const SixBarRRLink& link = six_bar.links[l];
@@ -113,15 +119,21 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   const double tolerance = options.trivial_tolerance * length;
   const Eigen::Vector2d& pivot = chain.ground_pivot;
   const Eigen::Vector2d wrist = poses[0].ToFixed(chain.wrist_in_moving);
-  // Each body's displacement from its place at the first pose (lib/six_bar.h's frames).
+  // The chain at the first pose, and each body's displacement from its place there
+  // (lib/six_bar.h's frames).
+  SixBar chain_only;
+  chain_only.ground_pivot = pivot;
+  chain_only.elbow = elbows[0];
+  chain_only.wrist = wrist;
+  chain_only.reference_pose = poses[0];
   std::vector<std::vector<PlanarPose>> bodies(4, std::vector<PlanarPose>(5));
   for (int k = 0; k < 5; ++k) {
-    const Eigen::Vector2d wrist_k = poses[k].ToFixed(chain.wrist_in_moving);
-    bodies[kSixBarUpperLink][k] =
-        Displacement(pivot, pivot, Angle(elbows[k] - pivot) - Angle(elbows[0] - pivot));
-    bodies[kSixBarForearm][k] =
-        Displacement(elbows[0], elbows[k], Angle(wrist_k - elbows[k]) - Angle(wrist - elbows[0]));
-    bodies[kSixBarTaskBody][k] = poses[k] * poses[0].Inverse();
+    SixBarAngles angles = SixBarAngles::Zero();
+    ChainTurns(chain_only, elbows[k], poses[k].ToFixed(chain.wrist_in_moving),
+               poses[k].theta - poses[0].theta, &angles);
+    for (const int body : {kSixBarUpperLink, kSixBarForearm, kSixBarTaskBody}) {
+      bodies[body][k] = SixBarBodyDisplacement(chain_only, angles, body);
+    }
   }
   const Root upper{pivot, elbows[0]}, forearm{elbows[0], wrist};
   const auto roots = [&](int from, int to, const std::vector<Root>& trivial) {
@@ -133,12 +145,8 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
 
   const auto six_bar = [&](SixBarTopology topology, int from0, int to0, const Root& first,
                            int from1, int to1, const Root& second) {
-    SixBar made;
+    SixBar made = chain_only;
     made.topology = topology;
-    made.ground_pivot = pivot;
-    made.elbow = elbows[0];
-    made.wrist = wrist;
-    made.reference_pose = poses[0];
     made.links[0] = {from0, to0, first.from_joint, first.to_joint};
     made.links[1] = {from1, to1, second.from_joint, second.to_joint};
     six_bars->push_back(made);

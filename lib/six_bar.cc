@@ -63,20 +63,28 @@ Eigen::Vector4d Closure(const SixBar& six_bar, const SixBarAngles& angles,
   return residual;
 }
 
+// The closure's Jacobian in the four turns other than the input's (`free`, their indices),
+// factored; false at a dead point of the input (the closure does not fix them to first order).
+bool FreeTurns(const Eigen::Matrix<double, 4, 5>& jacobian, int input, int free[4],
+               Eigen::FullPivLU<Eigen::Matrix4d>* lu) {
+  Eigen::Matrix4d square;
+  for (int k = 0, c = 0; k < 5; ++k) {
+    if (k != input - 1) free[c++] = k;
+  }
+  for (int c = 0; c < 4; ++c) square.col(c) = jacobian.col(free[c]);
+  lu->compute(square);
+  lu->setThreshold(1e-10);
+  return lu->rank() == 4;
+}
+
 // The turns' rates for a unit rate of the input (J_free rates = -J_input), or false at a dead
 // point of the input.
 bool Rates(const SixBar& six_bar, const SixBarAngles& angles, int input, SixBarAngles* velocity) {
   Eigen::Matrix<double, 4, 5> jacobian;
   Closure(six_bar, angles, &jacobian);
-  Eigen::Matrix4d square;
-  int free[4], count = 0;
-  for (int k = 0; k < 5; ++k) {
-    if (k != input - 1) free[count++] = k;
-  }
-  for (int c = 0; c < 4; ++c) square.col(c) = jacobian.col(free[c]);
-  Eigen::FullPivLU<Eigen::Matrix4d> lu(square);
-  lu.setThreshold(1e-10);
-  if (lu.rank() < 4) return false;
+  int free[4];
+  Eigen::FullPivLU<Eigen::Matrix4d> lu;
+  if (!FreeTurns(jacobian, input, free, &lu)) return false;
   const Eigen::Vector4d rates = lu.solve(-Eigen::Vector4d(jacobian.col(input - 1)));
   velocity->setZero();
   (*velocity)[input - 1] = 1.0;
@@ -255,12 +263,8 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   }
   // A whole turn of the input from the first pose.
   angles = at_poses[0];
-  const int turn_steps = static_cast<int>(std::ceil(2.0 * M_PI / step));
-  analysis.input_rotates_fully = true;
-  for (int s = 1; s <= turn_steps && analysis.input_rotates_fully; ++s) {
-    analysis.input_rotates_fully = DriveSixBar(
-        six_bar, input, at_poses[0][index] + 2.0 * M_PI * s / turn_steps, &angles, length, step);
-  }
+  analysis.input_rotates_fully =
+      DriveSixBar(six_bar, input, at_poses[0][index] + 2.0 * M_PI, &angles, length, step);
   return analysis;
 }
 
@@ -268,19 +272,12 @@ bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBar
                     double tolerance, int max_iterations) {
   SixBarAngles x = *angles;
   x[input - 1] = input_angle;
-  int free[4], count = 0;
-  for (int k = 0; k < 5; ++k) {
-    if (k != input - 1) free[count++] = k;
-  }
   for (int iteration = 0; iteration <= max_iterations; ++iteration) {
     Eigen::Matrix<double, 4, 5> jacobian;
     const Eigen::Vector4d residual = Closure(six_bar, x, &jacobian);
-    Eigen::Matrix4d square;
-    for (int c = 0; c < 4; ++c) square.col(c) = jacobian.col(free[c]);
-    Eigen::FullPivLU<Eigen::Matrix4d> lu(square);
-    // A dead point: the closure does not fix the other turns to first order.
-    lu.setThreshold(1e-10);
-    if (lu.rank() < 4) return false;
+    int free[4];
+    Eigen::FullPivLU<Eigen::Matrix4d> lu;
+    if (!FreeTurns(jacobian, input, free, &lu)) return false;  // a dead point
     if (residual.norm() <= tolerance) {
       *angles = x;
       return true;

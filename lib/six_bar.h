@@ -122,7 +122,7 @@ std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarA
 
 // The six-bar driven by body `input` through task poses it reaches at `at_poses` (the turns at
 // each pose, e.g. from the chain's inverse kinematics): by continuation along the input's turn
-// (AssembleSixBar in steps of at most `step` radians) from the first pose to each next.
+// (DriveSixBar, steps of at most `step` radians) from the first pose to each next.
 //   order:   the input's turns at the poses do not run one way;
 //   branch:  a dead point (singular closure) lies between two poses: the input cannot drive on;
 //   circuit: the continuation arrives at a pose's input turn in another assembly than the pose's.

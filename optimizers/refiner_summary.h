@@ -32,8 +32,11 @@ struct RefinerSummary {
 // guide to the next; one that crawls slower is at its optimum as far as 1 % tells.
 inline constexpr double kRoundGain = 0.005;
 inline constexpr double kDescentGain = 0.0005;
+inline bool Gains(double before, double after, double share) {
+  return after < (1.0 - share) * before;
+}
 inline bool AnotherRound(double before, double after, bool converged) {
-  return after < (1.0 - (converged ? kRoundGain : kDescentGain)) * before;
+  return Gains(before, after, converged ? kRoundGain : kDescentGain);
 }
 
 // Within one refinement (the path refinements of `linkfit refine`), the solve again from where
@@ -44,7 +47,7 @@ inline bool AnotherRound(double before, double after, bool converged) {
 // solve often passes; from an optimum, a fresh solve stops at once.
 inline constexpr double kRestartGain = 1e-9;
 inline bool SolveAgain(double before, double after, bool converged) {
-  return after < (1.0 - (converged ? kRestartGain : kDescentGain)) * before;
+  return Gains(before, after, converged ? kRestartGain : kDescentGain);
 }
 
 }  // namespace linkfit

@@ -98,6 +98,7 @@
 #include "tests/support/random_curve.h"
 #include "tests/support/random_mechanism.h"
 #include "tests/support/random_path.h"
+#include "tests/support/random_six_bar.h"
 #include "tests/support/random_spatial.h"
 #include "tests/support/random_spherical.h"
 #include "tests/support/rounded_task.h"
@@ -835,6 +836,73 @@ void RunSpherical(int tasks, uint64_t seed) {
   }
 }
 
+// Six-bars on a given 3R chain (issue 36): per layout of tests/support/random_six_bar.h, random
+// six-bars driven by their upper link through five poses; each task solved end to end
+// (SolvePlanarTask: synthesis, every six-bar's analysis, ranking), the generator recovered (a
+// listed six-bar of its layout within 1e-7 L, no kinematic defect), the six-bars listed, and the
+// tasks where a six-bar without defect is listed although no four-bar through the same five poses
+// (SolvePlanarMotion) is without defect.
+void RunSixBar(int tasks, uint64_t seed) {
+  std::printf(
+      "\nsix-bars on a given chain, five exact poses (SolvePlanarTask, one core): time in ms "
+      "(median, 99th percentile), generators recovered, mean six-bars listed, share of tasks "
+      "with a defect-free six-bar, share with no defect-free four-bar, and of those the share "
+      "with a defect-free six-bar\n");
+  std::printf("%-26s %6s %8s %8s %10s %8s %10s %10s %12s\n", "layout", "tasks", "med_ms", "p99_ms",
+              "recovered", "listed", "free_6bar", "no_4bar", "6bar_of_no4");
+  std::mt19937_64 rng(seed);
+  for (const linkfit::testing::SixBarLayout& layout : linkfit::testing::SixBarLayouts()) {
+    std::vector<double> ms;
+    int recovered = 0, listed = 0, free_six_bar = 0, no_four_bar = 0, six_bar_instead = 0;
+    for (int t = 0; t < tasks; ++t) {
+      const linkfit::testing::GeneratedSixBarTask generated =
+          linkfit::testing::RandomSixBarTask(rng, layout);
+      linkfit::Task task = linkfit::PlanarMotionTask(generated.poses);
+      task.six_bar = true;
+      task.chain = generated.chain;
+      const auto begin = std::chrono::steady_clock::now();
+      const linkfit::PlanarMotionResult result = linkfit::SolvePlanarTask(task);
+      ms.push_back(1e-3 * MicrosecondsSince(begin));
+      listed += static_cast<int>(result.six_bars.size());
+      bool found = false, free = false;
+      for (const linkfit::SixBarReport& report : result.six_bars) {
+        free |= report.defects.empty();
+        bool same = report.six_bar.topology == generated.six_bar.topology &&
+                    !linkfit::HasKinematicDefect(report.defects);
+        for (int l = 0; l < 2 && same; ++l) {
+          same =
+              report.six_bar.links[l].from_body == generated.six_bar.links[l].from_body &&
+              (report.six_bar.links[l].from_joint - generated.six_bar.links[l].from_joint).norm() <
+                  1e-7 &&
+              (report.six_bar.links[l].to_joint - generated.six_bar.links[l].to_joint).norm() <
+                  1e-7;
+        }
+        found |= same;
+      }
+      recovered += found;
+      free_six_bar += free;
+      const linkfit::PlanarMotionResult four_bars =
+          linkfit::SolvePlanarMotion(linkfit::PlanarMotionTask(generated.poses));
+      const bool free_four_bar =
+          std::any_of(four_bars.mechanisms.begin(), four_bars.mechanisms.end(),
+                      [](const linkfit::MechanismReport& m) { return m.defects.empty(); });
+      if (!free_four_bar) {
+        ++no_four_bar;
+        six_bar_instead += free;
+      }
+    }
+    char name[64];
+    std::snprintf(name, sizeof(name), "%s, link 2 from %d",
+                  linkfit::SixBarTopologyName(layout.topology), layout.from1);
+    std::printf("%-26s %6d %8.2f %8.2f %9.1f%% %8.1f %9.1f%% %9.1f%% %11.1f%%\n", name, tasks,
+                linkfit::Percentile(ms, 0.5), linkfit::Percentile(ms, 0.99),
+                100.0 * recovered / tasks, 1.0 * listed / tasks, 100.0 * free_six_bar / tasks,
+                100.0 * no_four_bar / tasks,
+                no_four_bar > 0 ? 100.0 * six_bar_instead / no_four_bar : 0.0);
+    std::fflush(stdout);
+  }
+}
+
 // One run of the `linkfit` program beside this one on `task_path` (result to `result_path`):
 // its exit status, wall time and peak resident memory (wait4's ru_maxrss, kB).
 struct ProgramRun {
@@ -1109,6 +1177,7 @@ int main(int argc, char** argv) {
   int stage_tasks = 1000;
   int spherical_tasks = 200;
   int curve_tasks = 24;
+  int six_bar_tasks = 200;
   bool curve_detail = false;
   std::string curve_rows;  // the curve rows run (their first words: closed, open, partial)
   std::vector<int> scale_counts = {1000, 10000, 100000};
@@ -1131,6 +1200,8 @@ int main(int argc, char** argv) {
       stage_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--curve-tasks") && i + 1 < argc) {
       curve_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--six-bar-tasks") && i + 1 < argc) {
+      six_bar_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--curve-detail")) {
       curve_detail = true;
     } else if (!std::strcmp(argv[i], "--curve-rows") && i + 1 < argc) {
@@ -1148,8 +1219,8 @@ int main(int argc, char** argv) {
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
                    "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] "
                    "[--spherical-tasks K] [--curve-tasks C] [--curve-detail] [--curve-rows R] "
-                   "[--scale-items N,N,...] [--seed S] "
-                   "[--only planar|spatial|path|refine|stages|spherical|scale|curves]\n"
+                   "[--scale-items N,N,...] [--six-bar-tasks X] [--seed S] "
+                   "[--only planar|spatial|path|refine|stages|spherical|scale|curves|six-bar]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -1182,6 +1253,10 @@ int main(int argc, char** argv) {
     RunCurves(curve_tasks, seed, curve_detail, curve_rows);
     return 0;
   }
+  if (only == "six-bar") {
+    RunSixBar(six_bar_tasks, seed);
+    return 0;
+  }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
               static_cast<unsigned long long>(seed));
   std::printf("%-24s %8s %11s %12s %12s %12s %12s %6s %10s %8s %11s\n", "family", "tasks",
@@ -1208,6 +1283,7 @@ int main(int argc, char** argv) {
     RunRefine(refine_tasks, seed);
     RunStages(stage_tasks, seed);
     RunSpherical(spherical_tasks, seed);
+    RunSixBar(six_bar_tasks, seed);
   }
   return 0;
 }

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "fitting/model_choice.h"
 #include "lib/design_constraints.h"
 
 namespace linkfit {
@@ -34,6 +35,7 @@ void ChainTurns(const SixBar& six_bar, const Eigen::Vector2d& elbow, const Eigen
 // first pose) and whether it is one of the chain's own links.
 struct Root {
   Eigen::Vector2d from_joint, to_joint;
+  double error_bound = 0.0;  // how far the data's precision can move it (DyadErrorBound)
 };
 
 // The real RR roots of the five relative poses, less those within `tolerance` of `trivial`
@@ -48,7 +50,10 @@ std::vector<Root> RelativeRoots(const std::vector<PlanarPose>& relative,
   summary->roots_total += burmester.roots_total;
   std::vector<Root> roots;
   for (const PlanarDyad& dyad : dyads) {
-    if (dyad.type != DyadType::kRR) continue;
+    if (dyad.type != DyadType::kRR) {
+      ++summary->roots_sliders;
+      continue;
+    }
     ++summary->roots_real;
     const Root root{dyad.fixed_pivot, dyad.moving_pivot};
     bool own = (root.to_joint - root.from_joint).norm() <= tolerance;
@@ -61,6 +66,8 @@ std::vector<Root> RelativeRoots(const std::vector<PlanarPose>& relative,
       continue;
     }
     roots.push_back(root);
+    roots.back().error_bound =
+        DyadErrorBound(dyad, relative, options.burmester.precision, options.length);
   }
   return roots;
 }
@@ -104,11 +111,13 @@ std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
 
 int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                       const SixBarSynthesisOptions& options, std::vector<SixBar>* six_bars,
-                      SixBarSynthesisSummary* summary) {
+                      SixBarSynthesisSummary* summary,
+                      std::vector<std::array<double, 2>>* error_bounds) {
   SixBarSynthesisSummary local;
   if (summary == nullptr) summary = &local;
   *summary = SixBarSynthesisSummary();
   six_bars->clear();
+  if (error_bounds != nullptr) error_bounds->clear();
   if (poses.size() != 5) {
     throw std::invalid_argument("six-bar synthesis needs exactly five poses");
   }
@@ -117,6 +126,8 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   const double length =
       std::max(CharacteristicLength(poses), std::max(chain.upper_length, chain.forearm_length));
   const double tolerance = options.trivial_tolerance * length;
+  SixBarSynthesisOptions scaled = options;
+  scaled.length = length;
   const Eigen::Vector2d& pivot = chain.ground_pivot;
   const Eigen::Vector2d wrist = poses[0].ToFixed(chain.wrist_in_moving);
   // The chain at the first pose, and each body's displacement from its place there
@@ -137,7 +148,7 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   }
   const Root upper{pivot, elbows[0]}, forearm{elbows[0], wrist};
   const auto roots = [&](int from, int to, const std::vector<Root>& trivial) {
-    return RelativeRoots(Relative(bodies[from], bodies[to]), options, tolerance, trivial, summary);
+    return RelativeRoots(Relative(bodies[from], bodies[to]), scaled, tolerance, trivial, summary);
   };
   const std::vector<Root> ground_forearm = roots(kSixBarGround, kSixBarForearm, {upper});
   const std::vector<Root> ground_task = roots(kSixBarGround, kSixBarTaskBody, {});
@@ -150,6 +161,11 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
     made.links[0] = {from0, to0, first.from_joint, first.to_joint};
     made.links[1] = {from1, to1, second.from_joint, second.to_joint};
     six_bars->push_back(made);
+    // A new crank's second link is solved from the crank's turns, which the first link's
+    // error moves too (to first order, the two add).
+    const double second_bound =
+        second.error_bound + (from1 == kSixBarFirstLink ? first.error_bound : 0.0);
+    if (error_bounds != nullptr) error_bounds->push_back({first.error_bound, second_bound});
   };
   for (const Root& first : ground_forearm) {
     for (const Root& second : upper_task) {
@@ -189,7 +205,7 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
       const std::vector<Root> trivial = {to == kSixBarUpperLink ? Root{first.from_joint, pivot}
                                                                 : Root{first.to_joint, wrist}};
       for (const Root& second :
-           RelativeRoots(Relative(c, bodies[to]), options, tolerance, trivial, summary)) {
+           RelativeRoots(Relative(c, bodies[to]), scaled, tolerance, trivial, summary)) {
         six_bar(topology, kSixBarGround, kSixBarTaskBody, first, kSixBarFirstLink, to, second);
       }
     }
@@ -197,8 +213,8 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   for (const Root& first : ground_forearm) {
     const std::vector<PlanarPose> c = crank(first, kSixBarForearm);
     // C's pin and the task body are joined by the forearm (the pin to the wrist).
-    for (const Root& second : RelativeRoots(Relative(c, bodies[kSixBarTaskBody]), options,
-                                            tolerance, {{first.to_joint, wrist}}, summary)) {
+    for (const Root& second : RelativeRoots(Relative(c, bodies[kSixBarTaskBody]), scaled, tolerance,
+                                            {{first.to_joint, wrist}}, summary)) {
       six_bar(SixBarTopology::kWattI, kSixBarGround, kSixBarForearm, first, kSixBarFirstLink,
               kSixBarTaskBody, second);
     }
@@ -218,10 +234,17 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   result.scale = task.scale ? *task.scale : CharacteristicLength(poses);
   const double length = result.scale > 0.0 ? result.scale : 1.0;
   SixBarSynthesisOptions synthesis = options;
+  // The data's precision types the roots (a circle whose slider reading fits within it is a
+  // slider). It does not make a relative motion a family of dyads: its rows carry the chain's
+  // inverse kinematics, and the six-bar needs its roots, however well the digits fix them
+  // (measured: poses printed to four decimals lost every root of some chains to a "family").
   synthesis.burmester.precision = task.precision;
+  synthesis.burmester.family_units = 0.0;
+  synthesis.burmester.conic_family_units = 0.0;
   std::vector<SixBar> six_bars;
   SixBarSynthesisSummary summary;
-  SynthesizeSixBars(poses, *task.chain, synthesis, &six_bars, &summary);
+  std::vector<std::array<double, 2>> error_bounds;
+  SynthesizeSixBars(poses, *task.chain, synthesis, &six_bars, &summary, &error_bounds);
   result.burmester_problems = summary.burmester_problems;
   result.roots_total = summary.roots_total;
   result.roots_real = summary.roots_real - summary.roots_trivial;
@@ -229,37 +252,51 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   int unreachable = -1;
   ChainElbows(poses, *task.chain, &elbows, &unreachable);
   const double least_transmission = MinTransmissionAngleDeg(task.constraints);
-  for (const SixBar& six_bar : six_bars) {
+  for (size_t i = 0; i < six_bars.size(); ++i) {
+    const SixBar& six_bar = six_bars[i];
     const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, poses, elbows);
-    SixBarReport best;
-    bool have = false;
-    const auto key = [](const SixBarReport& report) {
-      return std::make_tuple(
-          report.defects.size(), !report.input_rotates_fully,
-          -std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]));
-    };
+    // Each grounded input judged through the poses; whether it turns fully is asked only of
+    // those with the fewest defects (it ranks after them).
+    std::vector<SixBarReport> reports;
     for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
       if (!SixBarGroundedLink(six_bar, input)) continue;
-      const SixBarAnalysis analysis = AnalyzeSixBar(six_bar, at_poses, input, length);
+      const SixBarAnalysis analysis =
+          AnalyzeSixBar(six_bar, at_poses, input, length, kSixBarDriveStep, false);
       SixBarReport report;
       report.six_bar = six_bar;
       report.input = input;
       report.defects = analysis.defects;
       report.input_angles = analysis.input_angles;
       report.transmission_min_deg = analysis.transmission_min_deg;
-      report.input_rotates_fully = analysis.input_rotates_fully;
       if (std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]) <
           least_transmission) {
         report.defects.push_back("transmission");
       }
-      for (size_t k = 0; k < poses.size(); ++k) {
-        report.max_pose_error =
-            std::max(report.max_pose_error,
-                     PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length));
-      }
-      if (!have || key(report) < key(best)) best = report;
-      have = true;
+      reports.push_back(report);
     }
+    size_t fewest = reports.front().defects.size();
+    for (const SixBarReport& report : reports) fewest = std::min(fewest, report.defects.size());
+    for (SixBarReport& report : reports) {
+      const bool stopped =
+          std::find(report.defects.begin(), report.defects.end(), "branch") != report.defects.end();
+      if (report.defects.size() == fewest && !stopped) {
+        report.input_rotates_fully =
+            SixBarInputRotatesFully(six_bar, at_poses[0], report.input, length);
+      }
+    }
+    const auto key = [](const SixBarReport& report) {
+      return std::make_tuple(
+          report.defects.size(), !report.input_rotates_fully,
+          -std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]));
+    };
+    SixBarReport best = *std::min_element(
+        reports.begin(), reports.end(),
+        [&](const SixBarReport& a, const SixBarReport& b) { return key(a) < key(b); });
+    for (size_t k = 0; k < poses.size(); ++k) {
+      best.max_pose_error = std::max(
+          best.max_pose_error, PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length));
+    }
+    best.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
     result.six_bars.push_back(best);
   }
   std::stable_sort(
@@ -281,6 +318,12 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
       std::to_string(summary.burmester_problems) + " problems, " +
       std::to_string(summary.roots_total) + " roots, " + std::to_string(summary.roots_real) +
       " real, " + std::to_string(summary.roots_trivial) + " of them the chain's own links)");
+  if (summary.roots_sliders > 0) {
+    result.notes.push_back(
+        std::to_string(summary.roots_sliders) +
+        " real roots of the relative motions are sliders (PR or RP) at the data's precision; "
+        "six-bars with a slider link are not synthesized yet, so those are not listed");
+  }
   if (result.six_bars.empty()) {
     result.notes.push_back(
         "no six-bar on this chain: the relative motions' Burmester problems have no real root "

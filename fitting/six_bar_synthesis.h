@@ -20,6 +20,7 @@
 #define LINKFIT_FITTING_SIX_BAR_SYNTHESIS_H_
 
 #include <Eigen/Core>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,8 @@ struct SixBarSynthesisOptions {
   PlanarBurmesterOptions burmester;
   // A root whose joints are within this (times L) of a chain link's joints is that link.
   double trivial_tolerance = 1e-6;
+  // The length the roots' error bounds are scaled by (SynthesizeSixBars sets it).
+  double length = 1.0;
 };
 
 struct SixBarSynthesisSummary {
@@ -43,6 +46,7 @@ struct SixBarSynthesisSummary {
   int roots_total = 0;         // their roots, complex ones included
   int roots_real = 0;          // real RR roots, the trivial ones included
   int roots_trivial = 0;       // the chain's own links among them
+  int roots_sliders = 0;       // real PR and RP roots (at the data's precision), not used
   int six_bars = 0;            // six-bars returned
   // The first pose the chain cannot reach (its wrist beyond the two links), or -1.
   int unreachable_pose = -1;
@@ -56,9 +60,14 @@ std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
 
 // Every six-bar of the chain's topologies whose RR links are real roots of their five-pose
 // Burmester problems (RR dyads only). Requires exactly five poses. Returns the count written.
+// With `error_bounds`, each six-bar's two links' first-order bounds of how far the data's
+// precision (options.burmester.precision) can move them (fitting/model_choice.h DyadErrorBound
+// of each root on its relative motion; a new crank's second link adds the first's), length
+// units.
 int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                       const SixBarSynthesisOptions& options, std::vector<SixBar>* six_bars,
-                      SixBarSynthesisSummary* summary = nullptr);
+                      SixBarSynthesisSummary* summary = nullptr,
+                      std::vector<std::array<double, 2>>* error_bounds = nullptr);
 
 // A validated "linkage": "six-bar" task (five planar poses and its chain): every six-bar of the
 // chain, each driven by the grounded link that drives it best (fewest defects, then a whole turn,

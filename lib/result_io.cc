@@ -574,6 +574,8 @@ Json SixBarToJson(const SixBarReport& report) {
       Json::array({report.transmission_min_deg[0], report.transmission_min_deg[1]});
   object["input_rotates_fully"] = report.input_rotates_fully;
   PutNumber(&object, "max_pose_error", report.max_pose_error);
+  PutErrorBound(&object, report.error_bound,
+                "the poses do not determine this six-bar's links at the data's precision");
   Json angles = Json::array();
   for (double angle : report.input_angles) angles.push_back(InputDegrees(angle));
   object["input_deg"] = angles;

@@ -2,65 +2,43 @@
 
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <functional>
+
+#include "lib/golden_section.h"
 
 namespace linkfit {
 namespace {
 
 Eigen::Vector2d Perp(const Eigen::Vector2d& v) { return Eigen::Vector2d(-v.y(), v.x()); }
 
-// The body body `body` hangs from and the joint by which it does (its reference place).
-void Parent(const SixBar& six_bar, int body, int* parent, Eigen::Vector2d* joint) {
-  switch (body) {
-    case kSixBarUpperLink:
-      *parent = kSixBarGround;
-      *joint = six_bar.ground_pivot;
-      return;
-    case kSixBarForearm:
-      *parent = kSixBarUpperLink;
-      *joint = six_bar.elbow;
-      return;
-    case kSixBarTaskBody:
-      *parent = kSixBarForearm;
-      *joint = six_bar.wrist;
-      return;
-    default:
-      *parent = six_bar.links[body - kSixBarFirstLink].from_body;
-      *joint = six_bar.links[body - kSixBarFirstLink].from_joint;
-  }
-}
+// The bodies placed at `angles` (lib/six_bar_frames.h), with the joints they read.
+struct Placement {
+  std::array<double, kSixBarJointCount> joints;
+  SixBarFrames<double> frames;
 
-// Where the point of body `body` whose reference place is `point` is at `angles`, and its
-// derivative with respect to the five turns (2 x 5):
-//   T_k(p) = T_parent(x_k) + R(alpha_k) (p - x_k),  d/d alpha_k = perp(R(alpha_k) (p - x_k)).
+  Placement(const SixBar& six_bar, const SixBarAngles& angles)
+      : joints(SixBarJointNumbers(six_bar)),
+        frames({six_bar.links[0].from_body, six_bar.links[1].from_body},
+               {six_bar.links[0].to_body, six_bar.links[1].to_body}, joints.data(), angles.data()) {
+  }
+  Placement(const Placement&) = delete;  // frames reads joints
+  Placement& operator=(const Placement&) = delete;
+};
+
+// Where the point of body `body` whose reference place is `point` is at `angles`.
 Eigen::Vector2d Place(const SixBar& six_bar, const SixBarAngles& angles, int body,
-                      const Eigen::Vector2d& point, Eigen::Matrix<double, 2, 5>* gradient) {
-  if (gradient != nullptr) gradient->setZero();
-  if (body == kSixBarGround) return point;
-  int parent = 0;
-  Eigen::Vector2d joint;
-  Parent(six_bar, body, &parent, &joint);
-  const Eigen::Vector2d arm = Rotation2(angles[body - 1]) * (point - joint);
-  const Eigen::Vector2d at = Place(six_bar, angles, parent, joint, gradient);
-  if (gradient != nullptr) gradient->col(body - 1) += Eigen::Vector2d(-arm.y(), arm.x());
-  return at + arm;
+                      const Eigen::Vector2d& point) {
+  return Placement(six_bar, angles).frames.At(body, point);
 }
 
 // The closures and their Jacobian (4 x 5).
 Eigen::Vector4d Closure(const SixBar& six_bar, const SixBarAngles& angles,
                         Eigen::Matrix<double, 4, 5>* jacobian) {
-  Eigen::Vector4d residual;
-  for (int l = 0; l < 2; ++l) {
-    const SixBarRRLink& link = six_bar.links[l];
-    Eigen::Matrix<double, 2, 5> on_link, on_body;
-    const Eigen::Vector2d a =
-        Place(six_bar, angles, kSixBarFirstLink + l, link.to_joint, jacobian ? &on_link : nullptr);
-    const Eigen::Vector2d b =
-        Place(six_bar, angles, link.to_body, link.to_joint, jacobian ? &on_body : nullptr);
-    residual.segment<2>(2 * l) = a - b;
-    if (jacobian != nullptr) jacobian->block<2, 5>(2 * l, 0) = on_link - on_body;
-  }
-  return residual;
+  const Placement placement(six_bar, angles);
+  if (jacobian != nullptr) *jacobian = placement.frames.ClosureJacobian();
+  return placement.frames.Closure();
 }
 
 // The closure's Jacobian in the four turns other than the input's (`free`, their indices),
@@ -77,22 +55,80 @@ bool FreeTurns(const Eigen::Matrix<double, 4, 5>& jacobian, int input, int free[
   return lu->rank() == 4;
 }
 
-// The turns' rates for a unit rate of the input (J_free rates = -J_input), or false at a dead
-// point of the input.
-bool Rates(const SixBar& six_bar, const SixBarAngles& angles, int input, SixBarAngles* velocity) {
-  Eigen::Matrix<double, 4, 5> jacobian;
-  Closure(six_bar, angles, &jacobian);
-  int free[4];
-  Eigen::FullPivLU<Eigen::Matrix4d> lu;
-  if (!FreeTurns(jacobian, input, free, &lu)) return false;
-  const Eigen::Vector4d rates = lu.solve(-Eigen::Vector4d(jacobian.col(input - 1)));
-  velocity->setZero();
-  (*velocity)[input - 1] = 1.0;
-  for (int c = 0; c < 4; ++c) (*velocity)[free[c]] = rates[c];
-  return true;
+// Newton's method for the four free turns with the input's set (AssembleSixBar); with
+// `velocity`, the turns' rates there for a unit rate of the input (J_free rates = -J_input), and
+// with `determinant` the free turns' Jacobian's, from the Jacobian the last iteration factored.
+bool Assemble(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,
+              double tolerance, int max_iterations, SixBarAngles* velocity,
+              double* determinant = nullptr) {
+  SixBarAngles x = *angles;
+  x[input - 1] = input_angle;
+  for (int iteration = 0; iteration <= max_iterations; ++iteration) {
+    Eigen::Matrix<double, 4, 5> jacobian;
+    const Eigen::Vector4d residual = Closure(six_bar, x, &jacobian);
+    int free[4];
+    Eigen::FullPivLU<Eigen::Matrix4d> lu;
+    if (!FreeTurns(jacobian, input, free, &lu)) return false;  // a dead point
+    if (residual.norm() <= tolerance) {
+      *angles = x;
+      if (determinant != nullptr) *determinant = lu.determinant();
+      if (velocity != nullptr) {
+        const Eigen::Vector4d rates = lu.solve(-Eigen::Vector4d(jacobian.col(input - 1)));
+        velocity->setZero();
+        (*velocity)[input - 1] = 1.0;
+        for (int c = 0; c < 4; ++c) (*velocity)[free[c]] = rates[c];
+      }
+      return true;
+    }
+    const Eigen::Vector4d step = lu.solve(-residual);
+    for (int c = 0; c < 4; ++c) x[free[c]] += step[c];
+    if (!x.allFinite()) return false;
+  }
+  return false;
 }
 
+// Newton steps a continuation step may take (more: the step is halved).
+constexpr int kDriveIterations = 8;
+
+// Continuation steps one drive may take: more is a crawl toward a dead point, taken for one.
+constexpr int kMaxDriveSteps = 20000;
+
+// A sample of a transmission angle more than this above the least so far is not refined (its
+// neighbours four degrees of input apart: the least between them is not that far below).
+constexpr double kRefineWindowDeg = 10.0;
+
+// Golden-section shrinks of a least transmission angle's bracket (two continuation steps):
+// to 2 * 4 * 0.618^18 = 0.0015 degrees of the input.
+constexpr int kTransmissionShrinks = 18;
+
 }  // namespace
+
+std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar) {
+  std::array<double, kSixBarJointCount> joints;
+  const Eigen::Vector2d points[7] = {six_bar.ground_pivot,
+                                     six_bar.elbow,
+                                     six_bar.wrist,
+                                     six_bar.links[0].from_joint,
+                                     six_bar.links[0].to_joint,
+                                     six_bar.links[1].from_joint,
+                                     six_bar.links[1].to_joint};
+  for (int k = 0; k < 7; ++k) {
+    joints[2 * k] = points[k].x();
+    joints[2 * k + 1] = points[k].y();
+  }
+  return joints;
+}
+
+void SetSixBarJoints(const double* joints, SixBar* six_bar) {
+  Eigen::Vector2d* points[7] = {&six_bar->ground_pivot,
+                                &six_bar->elbow,
+                                &six_bar->wrist,
+                                &six_bar->links[0].from_joint,
+                                &six_bar->links[0].to_joint,
+                                &six_bar->links[1].from_joint,
+                                &six_bar->links[1].to_joint};
+  for (int k = 0; k < 7; ++k) *points[k] = Eigen::Vector2d(joints[2 * k], joints[2 * k + 1]);
+}
 
 const char* SixBarTopologyName(SixBarTopology topology) {
   switch (topology) {
@@ -113,7 +149,7 @@ PlanarPose SixBarBodyDisplacement(const SixBar& six_bar, const SixBarAngles& ang
   if (body == kSixBarGround) return pose;
   pose.theta = angles[body - 1];
   // The origin: where the reference place (0, 0) of the body's frame goes.
-  pose.origin_in_fixed = Place(six_bar, angles, body, Eigen::Vector2d::Zero(), nullptr);
+  pose.origin_in_fixed = Place(six_bar, angles, body, Eigen::Vector2d::Zero());
   return pose;
 }
 
@@ -167,21 +203,36 @@ bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
 }
 
 bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
-                 double length, double max_step) {
+                 double length, double max_step,
+                 const std::function<void(const SixBarAngles&)>& visit) {
   const double tolerance = 1e-13 * length;
+  SixBarAngles velocity;
+  double determinant = 0.0;
+  if (!Assemble(six_bar, input, (*angles)[input - 1], angles, tolerance, kDriveIterations,
+                &velocity, &determinant)) {
+    return false;
+  }
   double step = max_step;
-  while (std::abs(to_angle - (*angles)[input - 1]) > 0.0) {
+  for (int steps = 0; std::abs(to_angle - (*angles)[input - 1]) > 0.0; ++steps) {
+    if (steps == kMaxDriveSteps) return false;
     const double remaining = to_angle - (*angles)[input - 1];
     const double delta = std::copysign(std::min(step, std::abs(remaining)), remaining);
-    SixBarAngles velocity;
-    if (!Rates(six_bar, *angles, input, &velocity)) return false;
     const SixBarAngles predicted = *angles + delta * velocity;
-    SixBarAngles next = predicted;
+    SixBarAngles next = predicted, next_velocity;
+    double next_determinant = 0.0;
     const double target =
         std::abs(delta) < std::abs(remaining) ? (*angles)[input - 1] + delta : to_angle;
-    if (AssembleSixBar(six_bar, input, target, &next, tolerance) &&
-        (next - predicted).cwiseAbs().maxCoeff() <= std::max(std::abs(delta), 1e-6)) {
+    // Corrected within a few Newton steps by less than half the step, the free turns'
+    // Jacobian's determinant of the same sign: the same assembly, no dead point (a fold, or a
+    // crossing of two assemblies) stepped over.
+    if (Assemble(six_bar, input, target, &next, tolerance, kDriveIterations, &next_velocity,
+                 &next_determinant) &&
+        (next - predicted).cwiseAbs().maxCoeff() <= 0.5 * std::max(std::abs(delta), 1e-6) &&
+        next_determinant * determinant > 0.0) {
       *angles = next;
+      velocity = next_velocity;
+      determinant = next_determinant;
+      if (visit) visit(*angles);
       step = std::min(max_step, 2.0 * step);
       continue;
     }
@@ -192,17 +243,16 @@ bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles
 }
 
 std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles) {
+  const Placement placement(six_bar, angles);
+  const SixBarFrames<double>& frames = placement.frames;
   std::array<double, 2> degrees = {90.0, 90.0};
   for (int l = 0; l < 2; ++l) {
     const SixBarRRLink& link = six_bar.links[l];
     // The loop's coupler-rocker angle at the joint J the link closes on: between the link and
     // the body's lever from J to the joint K by which that body hangs from its parent.
-    int parent = 0;
-    Eigen::Vector2d hinge;
-    Parent(six_bar, link.to_body, &parent, &hinge);
-    const Eigen::Vector2d j = Place(six_bar, angles, link.to_body, link.to_joint, nullptr);
-    const Eigen::Vector2d k = Place(six_bar, angles, link.to_body, hinge, nullptr);
-    const Eigen::Vector2d from = Place(six_bar, angles, link.from_body, link.from_joint, nullptr);
+    const Eigen::Vector2d j = frames.At(link.to_body, link.to_joint);
+    const Eigen::Vector2d k = frames.HingeAt(link.to_body);
+    const Eigen::Vector2d from = frames.At(link.from_body, link.from_joint);
     const Eigen::Vector2d a = from - j, b = k - j;
     if (!(a.norm() > 0.0) || !(b.norm() > 0.0)) continue;
     const double sine = std::abs(a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
@@ -211,8 +261,14 @@ std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarA
   return degrees;
 }
 
+bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, int input,
+                             double length, double step) {
+  SixBarAngles driven = angles;
+  return DriveSixBar(six_bar, input, angles[input - 1] + 2.0 * M_PI, &driven, length, step);
+}
+
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
-                             int input, double length, double step) {
+                             int input, double length, double step, bool full_turn) {
   SixBarAnalysis analysis;
   if (at_poses.empty()) return analysis;
   const int index = input - 1;
@@ -230,24 +286,72 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
     const double after = analysis.input_angles[k] - analysis.input_angles[k - 1];
     if (before * after <= 0.0) add("order");
   }
-  const auto transmission = [&](const SixBarAngles& angles) {
-    const std::array<double, 2> degrees = SixBarTransmissionDeg(six_bar, angles);
-    for (int l = 0; l < 2; ++l) {
-      analysis.transmission_min_deg[l] = std::min(analysis.transmission_min_deg[l], degrees[l]);
+  // Each loop's transmission angle at every configuration the continuation reaches. Where its
+  // least may lie between samples, it is refined by golden-section search over the input there,
+  // each configuration assembled from a sample's on the sample's assembly (the free turns'
+  // Jacobian's determinant of the same sign: near a dead point, Newton's method can reach the
+  // other assembly close by): about a sample below its two neighbours (the input running one way
+  // through them), and between the first two samples of a run or its last two (a run: from the
+  // first pose, or a pose the continuation restarts from, to a stop) where the end is the lower.
+  const double tolerance = 1e-13 * length;
+  SixBarAngles last[3];
+  std::array<double, 2> degrees[3];
+  int samples = 0;
+  const auto refine = [&](int l, const SixBarAngles& from, double value, double low, double high) {
+    SixBarAngles sample = from;
+    double sign = 0.0;
+    if (!(low != high) || !Assemble(six_bar, input, sample[index], &sample, tolerance,
+                                    kDriveIterations, nullptr, &sign)) {
+      return;
     }
+    const auto at = [&](double input_angle) {
+      SixBarAngles assembled = sample;
+      double determinant = 0.0;
+      if (!Assemble(six_bar, input, input_angle, &assembled, tolerance, kDriveIterations, nullptr,
+                    &determinant) ||
+          !(determinant * sign > 0.0)) {
+        return value;
+      }
+      return SixBarTransmissionDeg(six_bar, assembled)[l];
+    };
+    double& least = analysis.transmission_min_deg[l];
+    least = std::min(least, GoldenSectionSearch(at, low, high, kTransmissionShrinks).least);
+  };
+  const auto transmission = [&](const SixBarAngles& angles) {
+    last[0] = last[1];
+    last[1] = last[2];
+    last[2] = angles;
+    degrees[0] = degrees[1];
+    degrees[1] = degrees[2];
+    degrees[2] = SixBarTransmissionDeg(six_bar, angles);
+    ++samples;
+    const double low = last[0][index], middle = last[1][index], high = last[2][index];
+    for (int l = 0; l < 2; ++l) {
+      analysis.transmission_min_deg[l] = std::min(analysis.transmission_min_deg[l], degrees[2][l]);
+      if (degrees[1][l] > analysis.transmission_min_deg[l] + kRefineWindowDeg) continue;
+      if (samples == 2 && degrees[1][l] <= degrees[2][l]) {
+        refine(l, last[1], degrees[1][l], middle, high);
+      } else if (samples >= 3 && degrees[1][l] <= degrees[0][l] && degrees[1][l] <= degrees[2][l] &&
+                 (degrees[1][l] < degrees[0][l] || degrees[1][l] < degrees[2][l]) &&
+                 (middle - low) * (high - middle) > 0.0) {
+        refine(l, last[1], degrees[1][l], low, high);
+      }
+    }
+  };
+  const auto finish = [&]() {
+    for (int l = 0; l < 2 && samples >= 2; ++l) {
+      if (degrees[2][l] <= degrees[1][l] &&
+          degrees[2][l] <= analysis.transmission_min_deg[l] + kRefineWindowDeg) {
+        refine(l, last[2], degrees[2][l], last[1][index], last[2][index]);
+      }
+    }
+    samples = 0;
   };
   // From each pose to the next along the input (its turns as the poses give them).
   SixBarAngles angles = at_poses[0];
   transmission(angles);
   for (size_t k = 1; k < at_poses.size(); ++k) {
-    const double from = at_poses[k - 1][index], to = at_poses[k][index];
-    const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to - from) / step)));
-    bool driven = true;
-    for (int s = 1; s <= steps && driven; ++s) {
-      driven = DriveSixBar(six_bar, input, from + (to - from) * s / steps, &angles, length, step);
-      if (driven) transmission(angles);
-    }
-    if (!driven) {
+    if (!DriveSixBar(six_bar, input, at_poses[k][index], &angles, length, step, transmission)) {
       add("branch");
       break;
     }
@@ -258,35 +362,24 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
     }
     if (apart > 1e-6) {
       add("circuit");
+      finish();
       angles = at_poses[k];  // on from the pose itself
+      transmission(angles);
     }
   }
-  // A whole turn of the input from the first pose.
-  angles = at_poses[0];
-  analysis.input_rotates_fully =
-      DriveSixBar(six_bar, input, at_poses[0][index] + 2.0 * M_PI, &angles, length, step);
+  finish();
+  // A whole turn of the input from the first pose (none past a dead point between poses).
+  if (full_turn && std::find(analysis.defects.begin(), analysis.defects.end(), "branch") ==
+                       analysis.defects.end()) {
+    analysis.input_rotates_fully =
+        SixBarInputRotatesFully(six_bar, at_poses[0], input, length, step);
+  }
   return analysis;
 }
 
 bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,
                     double tolerance, int max_iterations) {
-  SixBarAngles x = *angles;
-  x[input - 1] = input_angle;
-  for (int iteration = 0; iteration <= max_iterations; ++iteration) {
-    Eigen::Matrix<double, 4, 5> jacobian;
-    const Eigen::Vector4d residual = Closure(six_bar, x, &jacobian);
-    int free[4];
-    Eigen::FullPivLU<Eigen::Matrix4d> lu;
-    if (!FreeTurns(jacobian, input, free, &lu)) return false;  // a dead point
-    if (residual.norm() <= tolerance) {
-      *angles = x;
-      return true;
-    }
-    const Eigen::Vector4d step = lu.solve(-residual);
-    for (int c = 0; c < 4; ++c) x[free[c]] += step[c];
-    if (!x.allFinite()) return false;
-  }
-  return false;
+  return Assemble(six_bar, input, input_angle, angles, tolerance, max_iterations, nullptr);
 }
 
 }  // namespace linkfit

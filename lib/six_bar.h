@@ -16,11 +16,14 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cmath>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "lib/planar_pose.h"
+#include "lib/six_bar_frames.h"
 
 namespace linkfit {
 
@@ -63,6 +66,10 @@ struct SixBar {
   std::array<SixBarRRLink, 2> links;
 };
 
+// The joints as numbers (lib/six_bar_frames.h SixBarJoint order), and back.
+std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar);
+void SetSixBarJoints(const double* joints, SixBar* six_bar);
+
 // The turns alpha_1 .. alpha_5 of bodies 1 to 5 from the reference (radians).
 using SixBarAngles = Eigen::Matrix<double, 5, 1>;
 
@@ -104,11 +111,14 @@ bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
 
 // Drives the six-bar by body `input` from `angles` (an assembly) to the input turn `to_angle`
 // by continuation: steps of at most `max_step` radians, each predicted along the closure's
-// tangent and corrected by AssembleSixBar, halved where the correction is larger than the step
-// (a jump toward another assembly) or Newton fails. Returns false at a dead point (the step
-// falls below 1e-9 radians); `angles` is then the last assembly reached.
+// tangent and corrected by Newton's method (AssembleSixBar), accepted when that converges in a
+// few iterations and moves the turns by less than half the step (else a jump toward another
+// assembly is possible: the step is halved; after a success it doubles again). `visit`, when
+// given, sees each configuration reached. Returns false at a dead point (the step falls below
+// 1e-9 radians); `angles` is then the last assembly reached.
 bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
-                 double length, double max_step);
+                 double length, double max_step,
+                 const std::function<void(const SixBarAngles&)>& visit = nullptr);
 
 // Whether body `body`'s turn can drive the six-bar: a link turning about a ground pivot.
 bool SixBarGroundedLink(const SixBar& six_bar, int body);
@@ -126,17 +136,29 @@ std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarA
 //   order:   the input's turns at the poses do not run one way;
 //   branch:  a dead point (singular closure) lies between two poses: the input cannot drive on;
 //   circuit: the continuation arrives at a pose's input turn in another assembly than the pose's.
+// With `full_turn`, whether a whole turn of the input from the first pose meets no dead point
+// (not tried after a branch defect, which stops it).
 struct SixBarAnalysis {
   std::vector<std::string> defects;
   std::vector<double> input_angles;  // the input's turn from the first pose at each pose
   // The smallest transmission angle of each RR link from the first pose to the last (over the
-  // driven range where a defect stops it), degrees.
+  // driven range where a defect stops it), degrees: the least of the configurations the
+  // continuation reaches, refined by golden-section search over the input where the least may
+  // lie between two (measured against half-degree steps: within 0.1 degrees, tests).
   std::array<double, 2> transmission_min_deg = {90.0, 90.0};
   bool input_rotates_fully = false;  // a whole turn of the input meets no dead point
 };
-inline constexpr double kSixBarDriveStep = 0.008726646259971648;  // half a degree
+// The largest continuation step of AnalyzeSixBar: four degrees (measured: the same defects and
+// whole turns as half-degree steps on the random six-bars of the tests, eight times faster).
+inline constexpr double kSixBarDriveStep = 4.0 * M_PI / 180.0;
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
-                             int input, double length, double step = kSixBarDriveStep);
+                             int input, double length, double step = kSixBarDriveStep,
+                             bool full_turn = true);
+
+// Whether a whole turn of body `input` from the assembly `angles` meets no dead point
+// (DriveSixBar).
+bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, int input,
+                             double length, double step = kSixBarDriveStep);
 
 }  // namespace linkfit
 

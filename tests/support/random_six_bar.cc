@@ -8,6 +8,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kLeastRelativeTurn = 20.0 * kPi / 180.0;
+constexpr double kLeastPoseTurn = 2.0 * kPi / 180.0;
 
 // The side of the line from the ground pivot to the wrist the elbow is on (+1 left).
 double ElbowSide(const SixBar& six_bar, const SixBarAngles& angles) {
@@ -68,7 +69,7 @@ GeneratedSixBarTask RandomSixBarTask(std::mt19937_64& rng, const SixBarLayout& l
     int next = 1;
     for (int s = 1; s <= steps && ok; ++s) {
       ok = DriveSixBar(six_bar, kSixBarUpperLink, total * s / steps, &angles, 1.0,
-                       kSixBarDriveStep) &&
+                       0.5 * kPi / 180.0) &&
            ElbowSide(six_bar, angles) == side;
       // The poses at equal shares of the turn.
       while (ok && next < count &&
@@ -78,19 +79,23 @@ GeneratedSixBarTask RandomSixBarTask(std::mt19937_64& rng, const SixBarLayout& l
       }
     }
     if (!ok || static_cast<int>(task.configurations.size()) != count) continue;
-    // Each RR link's two bodies turn apart by at least kLeastRelativeTurn over the poses: a
-    // relative motion of a few degrees is nearly a rigid one, whose Burmester problem gives its
-    // roots to a few digits only.
+    // Each RR link's two bodies turn apart by at least kLeastRelativeTurn over the poses, and
+    // by kLeastPoseTurn between any two: a relative motion of a few degrees is nearly a rigid
+    // one, and two relative poses a fraction of a degree apart nearly one (measured: 0.16
+    // degrees apart, a root came back to 2e-7), whose Burmester problem gives its roots to a
+    // few digits only.
     bool apart = true;
     for (const SixBarRRLink& link : six_bar.links) {
-      double low = 0.0, high = 0.0;
+      std::vector<double> relative;
       for (const SixBarAngles& configuration : task.configurations) {
         const auto turn = [&](int body) { return body == 0 ? 0.0 : configuration[body - 1]; };
-        const double relative = turn(link.to_body) - turn(link.from_body);
-        low = std::min(low, relative);
-        high = std::max(high, relative);
+        relative.push_back(turn(link.to_body) - turn(link.from_body));
       }
-      apart = apart && high - low >= kLeastRelativeTurn;
+      std::sort(relative.begin(), relative.end());
+      apart = apart && relative.back() - relative.front() >= kLeastRelativeTurn;
+      for (size_t k = 1; k < relative.size(); ++k) {
+        apart = apart && relative[k] - relative[k - 1] >= kLeastPoseTurn;
+      }
     }
     if (!apart) continue;
     for (const SixBarAngles& configuration : task.configurations) {

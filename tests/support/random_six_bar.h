@@ -31,7 +31,8 @@ struct GeneratedSixBarTask {
 // driven by its upper link through `count` poses spread over a turn of 40 to 100 degrees by
 // continuation (DriveSixBar); drawn again where the continuation meets a
 // dead point or the chain's elbow changes side on the way, or where the two bodies an RR link
-// joins turn apart by less than 20 degrees over the poses (a nearly rigid relative motion, whose
+// joins turn apart by less than 20 degrees over the poses, or by less than 2 degrees between two
+// of them (a nearly rigid relative motion, or two nearly equal relative poses, whose
 // five-pose Burmester problem is ill-conditioned: its roots come to a few digits only).
 GeneratedSixBarTask RandomSixBarTask(std::mt19937_64& rng, const SixBarLayout& layout,
                                      int count = 5);

@@ -149,7 +149,7 @@ struct SixBarAnalysis {
   bool input_rotates_fully = false;  // a whole turn of the input meets no dead point
 };
 // The largest continuation step of AnalyzeSixBar: four degrees (measured: the same defects and
-// whole turns as half-degree steps on the random six-bars of the tests, eight times faster).
+// whole turns as half-degree steps on the random six-bars of the tests).
 inline constexpr double kSixBarDriveStep = 4.0 * M_PI / 180.0;
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
                              int input, double length, double step = kSixBarDriveStep,

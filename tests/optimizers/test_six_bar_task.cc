@@ -36,14 +36,19 @@ std::string Point(const Eigen::Vector2d& p) {
   return "[" + Number(p.x()) + ", " + Number(p.y()) + "]";
 }
 
-// The task file of a generated six-bar's poses and chain.
-std::string TaskText(const testing::GeneratedSixBarTask& task) {
+// The task file of a generated six-bar's poses and chain; with `digits`, its poses printed to
+// that many significant digits, as a table gives them (the chain, the designer's choice, as it
+// is).
+std::string TaskText(const testing::GeneratedSixBarTask& task, int digits = 0) {
+  const auto number = [&](double value) {
+    return digits > 0 ? testing::Printed(value, digits) : Number(value);
+  };
   std::string text = "{\"problem\": \"motion\", \"linkage\": \"six-bar\", \"poses\": [";
   for (size_t k = 0; k < task.poses.size(); ++k) {
     const PlanarPose& pose = task.poses[k];
-    text += std::string(k > 0 ? ", " : "") + "{\"x\": " + Number(pose.origin_in_fixed.x()) +
-            ", \"y\": " + Number(pose.origin_in_fixed.y()) +
-            ", \"theta_deg\": " + Number(pose.theta * 180.0 / M_PI) + "}";
+    text += std::string(k > 0 ? ", " : "") + "{\"x\": " + number(pose.origin_in_fixed.x()) +
+            ", \"y\": " + number(pose.origin_in_fixed.y()) +
+            ", \"theta_deg\": " + number(pose.theta * 180.0 / M_PI) + "}";
   }
   text += "], \"chain\": {\"ground_pivot\": " + Point(task.chain.ground_pivot) +
           ", \"wrist\": " + Point(task.chain.wrist_in_moving) + ", \"link_lengths\": [" +
@@ -98,21 +103,6 @@ TEST(SixBarTask, TheGeneratorIsListedWithoutDefect) {
   }
 }
 
-// The task file of a generated six-bar with its poses printed to `digits` significant digits,
-// as a table gives them (the chain, the designer's choice, as it is).
-std::string RoundedTaskText(const testing::GeneratedSixBarTask& task, int digits) {
-  const auto number = [&](double value) { return testing::Printed(value, digits); };
-  std::string text = "{\"problem\": \"motion\", \"linkage\": \"six-bar\", \"poses\": [";
-  for (size_t k = 0; k < task.poses.size(); ++k) {
-    const PlanarPose& pose = task.poses[k];
-    text += std::string(k > 0 ? ", " : "") + "{\"x\": " + number(pose.origin_in_fixed.x()) +
-            ", \"y\": " + number(pose.origin_in_fixed.y()) +
-            ", \"theta_deg\": " + number(pose.theta * 180.0 / M_PI) + "}";
-  }
-  const std::string full = TaskText(task);
-  return text + full.substr(full.find("], \"chain\""));
-}
-
 // Poses printed to 8, 6 and 4 significant digits: the generating six-bar comes back within
 // twice its stated error bound (first order) wherever that bound says the digits determine it
 // (below a quarter of its shorter link's length; measured: 17, 11 and 0 of 18 tasks at 8, 6 and
@@ -128,7 +118,7 @@ TEST(SixBarTask, RoundedPosesGiveTheGeneratorBackWithinItsErrorBound) {
         const testing::GeneratedSixBarTask generated = testing::RandomSixBarTask(rng, layout);
         SCOPED_TRACE(std::string(SixBarTopologyName(layout.topology)) + ", " +
                      std::to_string(digits) + " digits");
-        const Task task = ParseTask(RoundedTaskText(generated, digits), "rounded.json");
+        const Task task = ParseTask(TaskText(generated, digits), "rounded.json");
         const PlanarMotionResult result = SolvePlanarTask(task);
         ++tasks;
         // The nearest listed six-bar of the generator's layout.

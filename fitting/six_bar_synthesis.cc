@@ -41,8 +41,9 @@ struct Root {
 // The real RR roots of the five relative poses, less those within `tolerance` of `trivial`
 // (fixed, moving) joints.
 std::vector<Root> RelativeRoots(const std::vector<PlanarPose>& relative,
-                                const SixBarSynthesisOptions& options, double tolerance,
-                                const std::vector<Root>& trivial, SixBarSynthesisSummary* summary) {
+                                const SixBarSynthesisOptions& options, double length,
+                                double tolerance, const std::vector<Root>& trivial,
+                                SixBarSynthesisSummary* summary) {
   std::vector<PlanarDyad> dyads;
   PlanarBurmesterSummary burmester;
   SolvePlanarBurmester(relative, options.burmester, &dyads, &burmester);
@@ -66,8 +67,7 @@ std::vector<Root> RelativeRoots(const std::vector<PlanarPose>& relative,
       continue;
     }
     roots.push_back(root);
-    roots.back().error_bound =
-        DyadErrorBound(dyad, relative, options.burmester.precision, options.length);
+    roots.back().error_bound = DyadErrorBound(dyad, relative, options.burmester.precision, length);
   }
   return roots;
 }
@@ -126,8 +126,6 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   const double length =
       std::max(CharacteristicLength(poses), std::max(chain.upper_length, chain.forearm_length));
   const double tolerance = options.trivial_tolerance * length;
-  SixBarSynthesisOptions scaled = options;
-  scaled.length = length;
   const Eigen::Vector2d& pivot = chain.ground_pivot;
   const Eigen::Vector2d wrist = poses[0].ToFixed(chain.wrist_in_moving);
   // The chain at the first pose, and each body's displacement from its place there
@@ -148,7 +146,8 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   }
   const Root upper{pivot, elbows[0]}, forearm{elbows[0], wrist};
   const auto roots = [&](int from, int to, const std::vector<Root>& trivial) {
-    return RelativeRoots(Relative(bodies[from], bodies[to]), scaled, tolerance, trivial, summary);
+    return RelativeRoots(Relative(bodies[from], bodies[to]), options, length, tolerance, trivial,
+                         summary);
   };
   const std::vector<Root> ground_forearm = roots(kSixBarGround, kSixBarForearm, {upper});
   const std::vector<Root> ground_task = roots(kSixBarGround, kSixBarTaskBody, {});
@@ -205,7 +204,7 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
       const std::vector<Root> trivial = {to == kSixBarUpperLink ? Root{first.from_joint, pivot}
                                                                 : Root{first.to_joint, wrist}};
       for (const Root& second :
-           RelativeRoots(Relative(c, bodies[to]), scaled, tolerance, trivial, summary)) {
+           RelativeRoots(Relative(c, bodies[to]), options, length, tolerance, trivial, summary)) {
         six_bar(topology, kSixBarGround, kSixBarTaskBody, first, kSixBarFirstLink, to, second);
       }
     }
@@ -213,8 +212,8 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   for (const Root& first : ground_forearm) {
     const std::vector<PlanarPose> c = crank(first, kSixBarForearm);
     // C's pin and the task body are joined by the forearm (the pin to the wrist).
-    for (const Root& second : RelativeRoots(Relative(c, bodies[kSixBarTaskBody]), scaled, tolerance,
-                                            {{first.to_joint, wrist}}, summary)) {
+    for (const Root& second : RelativeRoots(Relative(c, bodies[kSixBarTaskBody]), options, length,
+                                            tolerance, {{first.to_joint, wrist}}, summary)) {
       six_bar(SixBarTopology::kWattI, kSixBarGround, kSixBarForearm, first, kSixBarFirstLink,
               kSixBarTaskBody, second);
     }

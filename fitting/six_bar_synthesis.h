@@ -37,8 +37,6 @@ struct SixBarSynthesisOptions {
   PlanarBurmesterOptions burmester;
   // A root whose joints are within this (times L) of a chain link's joints is that link.
   double trivial_tolerance = 1e-6;
-  // The length the roots' error bounds are scaled by (SynthesizeSixBars sets it).
-  double length = 1.0;
 };
 
 struct SixBarSynthesisSummary {

@@ -119,17 +119,6 @@ std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar) 
   return joints;
 }
 
-void SetSixBarJoints(const double* joints, SixBar* six_bar) {
-  Eigen::Vector2d* points[7] = {&six_bar->ground_pivot,
-                                &six_bar->elbow,
-                                &six_bar->wrist,
-                                &six_bar->links[0].from_joint,
-                                &six_bar->links[0].to_joint,
-                                &six_bar->links[1].from_joint,
-                                &six_bar->links[1].to_joint};
-  for (int k = 0; k < 7; ++k) *points[k] = Eigen::Vector2d(joints[2 * k], joints[2 * k + 1]);
-}
-
 const char* SixBarTopologyName(SixBarTopology topology) {
   switch (topology) {
     case SixBarTopology::kWattI:

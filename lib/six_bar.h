@@ -66,9 +66,8 @@ struct SixBar {
   std::array<SixBarRRLink, 2> links;
 };
 
-// The joints as numbers (lib/six_bar_frames.h SixBarJoint order), and back.
+// The joints as numbers (lib/six_bar_frames.h SixBarJoint order).
 std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar);
-void SetSixBarJoints(const double* joints, SixBar* six_bar);
 
 // The turns alpha_1 .. alpha_5 of bodies 1 to 5 from the reference (radians).
 using SixBarAngles = Eigen::Matrix<double, 5, 1>;

@@ -68,10 +68,7 @@ class SixBarFrames {
   }
 
   Vector Joint(int index) const { return Vector(joints_[index], joints_[index + 1]); }
-  int Parent(int body) const { return parent_[body]; }
-  const Vector& Hinge(int body) const { return hinge_[body]; }       // x_body
   const Vector& HingeAt(int body) const { return hinge_at_[body]; }  // H_body
-  const Eigen::Matrix<T, 2, 2>& Rotation(int body) const { return rotation_[body]; }
 
   // T_body(point): where the point of `body` whose reference place is `point` is now.
   Vector At(int body, const Vector& point) const {

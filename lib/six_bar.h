@@ -111,10 +111,11 @@ bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
 // Drives the six-bar by body `input` from `angles` (an assembly) to the input turn `to_angle`
 // by continuation: steps of at most `max_step` radians, each predicted along the closure's
 // tangent and corrected by Newton's method (AssembleSixBar), accepted when that converges in a
-// few iterations and moves the turns by less than half the step (else a jump toward another
-// assembly is possible: the step is halved; after a success it doubles again). `visit`, when
+// few iterations, moves the turns by a small share of the predicted move and keeps the sign of
+// the free turns' Jacobian's determinant (else a jump toward another assembly, or over a dead
+// point, is possible: the step is halved; after a success it doubles again). `visit`, when
 // given, sees each configuration reached. Returns false at a dead point (the step falls below
-// 1e-9 radians); `angles` is then the last assembly reached.
+// 1e-8 radians); `angles` is then the last assembly reached.
 bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
                  double length, double max_step,
                  const std::function<void(const SixBarAngles&)>& visit = nullptr);

@@ -23,6 +23,7 @@
 #include "lib/four_bar_motion.h"
 #include "lib/mechanism.h"
 #include "lib/path_motion.h"
+#include "lib/six_bar.h"
 
 namespace linkfit {
 namespace {
@@ -391,7 +392,16 @@ Box PanelBox(const Picture& picture, const PictureMechanism* mechanism, double l
     consider(picture.fixed_pivots_box->min, reach);
     consider(picture.fixed_pivots_box->max, reach);
   }
-  if (mechanism != nullptr) {
+  if (mechanism != nullptr && mechanism->joints) {
+    for (const Vec& p : mechanism->joints->at_first) consider(p, reach);
+    if (with_cycle) {
+      for (const std::vector<Vec>& places : mechanism->joints->cycle) {
+        for (const Vec& p : places) consider(p, reach);
+      }
+    }
+    consider(mechanism->first_pose.origin_in_fixed, reach);
+    for (const Vec& p : CouplerCurve(*mechanism)) consider(p, reach);
+  } else if (mechanism != nullptr) {
     std::vector<PlanarPose> poses = {mechanism->first_pose};
     if (with_cycle) poses.insert(poses.end(), mechanism->cycle.begin(), mechanism->cycle.end());
     for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
@@ -652,8 +662,74 @@ void DrawMovingParts(Svg* svg, const View& view, const PictureMechanism& mechani
   }
 }
 
+// A linkage drawn by its joints (PictureMechanism::Joints) with them at `places` and E at `pose`:
+// each binary link a bar, each body of three or more joints a plate (the task body with E's
+// origin, in the coupler's colours), the joints as pins.
+void DrawJointedParts(Svg* svg, const View& view, const PictureMechanism::Joints& joints,
+                      const std::vector<Vec>& places, const PlanarPose& pose) {
+  const std::string link =
+      "stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"3\" stroke-linecap=\"round\"";
+  for (size_t b = 1; b < joints.bodies.size(); ++b) {
+    std::vector<Vec> body;
+    for (const int j : joints.bodies[b]) {
+      if (j >= 0 && static_cast<size_t>(j) < places.size() && Ok(places[j])) {
+        body.push_back(places[j]);
+      }
+    }
+    const bool task = static_cast<int>(b) == joints.task_body;
+    if (task && Ok(pose)) body.push_back(pose.origin_in_fixed);
+    const std::vector<Vec> hull = ConvexHull(body);
+    if (hull.size() >= 3) {
+      std::vector<Vec> clipped = ClipPolygon(hull, view.clip);
+      for (Vec& p : clipped) p = view.Px(p);
+      svg->Polygon(clipped, "fill=\"" + std::string(task ? kCouplerFill : "#9aa7b4") +
+                                "\" fill-opacity=\"0.35\" stroke=\"" +
+                                (task ? kCouplerStroke : kLinkColour) +
+                                "\" stroke-width=\"2\" stroke-linejoin=\"round\"");
+    } else if (hull.size() == 2) {
+      ClippedSegment(
+          svg, view, hull[0], hull[1],
+          task ? "stroke=\"" + std::string(kCouplerStroke) + "\" stroke-width=\"4\"" : link);
+    }
+  }
+  const std::vector<int> ground = joints.bodies.empty() ? std::vector<int>() : joints.bodies[0];
+  for (size_t j = 0; j < places.size(); ++j) {
+    if (!view.Shows(places[j])) continue;
+    const Vec p = view.Px(places[j]);
+    svg->Circle(
+        p, kPivotRadius,
+        "fill=\"#ffffff\" stroke=\"" + std::string(kLinkColour) + "\" stroke-width=\"1.5\"");
+    // The ground's joints are named with their symbols (DrawGround), the moving ones here.
+    if (j < joints.names.size() &&
+        std::find(ground.begin(), ground.end(), static_cast<int>(j)) == ground.end()) {
+      svg->Text(p + Vec(7.0, -6.0), joints.names[j], Halo(kLinkColour, 11.0));
+    }
+  }
+  if (Ok(pose) && view.Shows(pose.origin_in_fixed)) {
+    svg->Circle(view.Px(pose.origin_in_fixed), 3.0,
+                "fill=\"" + std::string(kCouplerCurveColour) + "\"");
+  }
+}
+
+// The moving parts at frame `frame` of the mechanism's cycle, or at its first pose (`frame` past
+// the cycle).
+void DrawMechanismAt(Svg* svg, const View& view, const PictureMechanism& mechanism, size_t frame,
+                     double length) {
+  const bool first = frame >= mechanism.cycle.size();
+  const PlanarPose& pose = first ? mechanism.first_pose : mechanism.cycle[frame];
+  if (mechanism.joints) {
+    const PictureMechanism::Joints& joints = *mechanism.joints;
+    DrawJointedParts(svg, view, joints,
+                     first || frame >= joints.cycle.size() ? joints.at_first : joints.cycle[frame],
+                     first || frame >= joints.cycle.size() ? mechanism.first_pose : pose);
+    return;
+  }
+  DrawMovingParts(svg, view, mechanism, pose, length);
+}
+
 // The parts that stay: slider lines (under everything else of the mechanism).
 void DrawFixedLines(Svg* svg, const View& view, const PictureMechanism& mechanism) {
+  if (mechanism.joints) return;
   for (const PlanarDyad* dyad : {&mechanism.input, &mechanism.output}) {
     if (dyad->type == DyadType::kPR) {
       ClippedLine(svg, view, dyad->line_point, dyad->line_direction,
@@ -664,6 +740,19 @@ void DrawFixedLines(Svg* svg, const View& view, const PictureMechanism& mechanis
 
 // The parts that stay: ground symbols at the fixed pivots (over everything else).
 void DrawGround(Svg* svg, const View& view, const PictureMechanism& mechanism) {
+  if (mechanism.joints) {
+    const PictureMechanism::Joints& joints = *mechanism.joints;
+    for (const int j : joints.bodies.empty() ? std::vector<int>() : joints.bodies[0]) {
+      if (j < 0 || static_cast<size_t>(j) >= joints.at_first.size()) continue;
+      if (!view.Shows(joints.at_first[j])) continue;
+      const Vec p = view.Px(joints.at_first[j]);
+      Ground(svg, p);
+      if (static_cast<size_t>(j) < joints.names.size()) {
+        svg->Text(p + Vec(9.0, 4.0), joints.names[j], Halo(kLinkColour, 11.0));
+      }
+    }
+    return;
+  }
   const PlanarDyad* dyads[2] = {&mechanism.input, &mechanism.output};
   for (int k = 0; k < 2; ++k) {
     if (HasFixedPivot(*dyads[k]) && view.Shows(dyads[k]->fixed_pivot)) {
@@ -726,6 +815,7 @@ struct Shown {
   bool task = false, coupler_curve = false, center_curves = false, circle_curves = false;
   bool path_points = false, mechanism = false, slider = false, off_view = false;
   bool fixed_box = false, moving_box = false;
+  bool jointed = false;  // a linkage drawn by its joints (six-bars)
 };
 
 // The corners of a pivot box, mapped by `pose` (its frame's pose in Sigma).
@@ -838,7 +928,11 @@ void DrawPlot(Svg* svg, const View& view, const Picture& picture, const PictureM
   svg->Raw("<g clip-path=\"url(#" + clip + ")\">\n");
   // The axes of Sigma, unless a ground symbol sits on its origin.
   bool sigma_axes = true;
-  if (mechanism != nullptr) {
+  if (mechanism != nullptr && mechanism->joints) {
+    for (const Vec& p : mechanism->joints->at_first) {
+      if (Ok(p) && p.norm() * view.scale < 30.0) sigma_axes = false;
+    }
+  } else if (mechanism != nullptr) {
     for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
       if (HasFixedPivot(*dyad) && Ok(dyad->fixed_pivot) &&
           dyad->fixed_pivot.norm() * view.scale < 30.0) {
@@ -872,8 +966,9 @@ void DrawPlot(Svg* svg, const View& view, const Picture& picture, const PictureM
   shown->path_points |= !picture.path_points.empty();
   if (mechanism != nullptr) {
     shown->mechanism = true;
+    shown->jointed |= mechanism->joints.has_value();
     for (const PlanarDyad* dyad : {&mechanism->input, &mechanism->output}) {
-      shown->slider |= dyad->type != DyadType::kRR;
+      shown->slider |= !mechanism->joints && dyad->type != DyadType::kRR;
     }
     DrawFixedLines(svg, view, *mechanism);
     moving(svg);
@@ -883,7 +978,14 @@ void DrawPlot(Svg* svg, const View& view, const Picture& picture, const PictureM
   }
   svg->Raw("</g>\n");
   // Elements beyond the view.
-  if (mechanism != nullptr) {
+  if (mechanism != nullptr && mechanism->joints) {
+    OffViewMarkers markers(view);
+    const PictureMechanism::Joints& joints = *mechanism->joints;
+    for (size_t j = 0; j < joints.at_first.size(); ++j) {
+      markers.Mark(svg, joints.at_first[j], j < joints.names.size() ? joints.names[j] : "");
+    }
+    if (Ok(mechanism->first_pose)) markers.Mark(svg, mechanism->first_pose.origin_in_fixed, "E");
+  } else if (mechanism != nullptr) {
     OffViewMarkers markers(view);
     const PlanarDyad* dyads[2] = {&mechanism->input, &mechanism->output};
     for (int k = 0; k < 2; ++k) {
@@ -927,7 +1029,11 @@ double DrawLegend(Svg* svg, const Picture& picture, const Shown& shown, double l
   if (shown.coupler_curve) items.push_back({picture.coupler_curve_label, 2});
   if (shown.center_curves) items.push_back({"center-point curve", 3});
   if (shown.circle_curves) items.push_back({"circle-point curve", 4});
-  if (shown.mechanism) {
+  if (shown.jointed) {
+    items.push_back({"fixed pivot (G the chain's)", 5});
+    items.push_back({"joint", 6});
+    items.push_back({"task body", 7});
+  } else if (shown.mechanism) {
     items.push_back({"fixed pivot A0, B0", 5});
     items.push_back({"moving pivot A, B", 6});
     items.push_back({"coupler", 7});
@@ -1044,6 +1150,88 @@ std::vector<size_t> AnimationFrames(size_t count) {
   return frames;
 }
 
+// A six-bar's panel (lib/six_bar.h): drawn by its joints (the ground pivot G, the elbow, the
+// wrist, each RR link's two) at the first pose and through its input's range from there
+// (SixBarSweep: a whole turn, or the rocker's range there and back).
+PictureMechanism SixBarPanel(const SixBarReport& report, size_t index, double length) {
+  static const char* const kBodies[] = {"ground",    "upper link", "forearm",
+                                        "task body", "first link", "second link"};
+  const SixBar& six_bar = report.six_bar;
+  PictureMechanism mechanism;
+  mechanism.title = std::to_string(index + 1) + ": " + SixBarTopologyName(six_bar.topology) +
+                    ", driven by the " + kBodies[report.input];
+  for (const std::string& defect : report.defects) mechanism.labels.push_back(defect + " defect");
+  if (report.defects.empty()) mechanism.labels.push_back("no defects");
+  for (const std::string& bound : report.violates) mechanism.labels.push_back("violates " + bound);
+  mechanism.labels.push_back(Format("transmission angles >= %.0f, %.0f deg",
+                                    report.transmission_min_deg[0],
+                                    report.transmission_min_deg[1]));
+  if (report.input_rotates_fully) mechanism.labels.push_back("the input turns fully");
+  mechanism.first_pose = six_bar.reference_pose;
+  // The joints: each on the body that hangs from it (its place is that body's point).
+  struct Joint {
+    int body;
+    Vec point;
+    const char* name;
+  };
+  const bool crank = six_bar.links[1].from_body == kSixBarFirstLink;
+  const std::vector<Joint> joints = {
+      {kSixBarUpperLink, six_bar.ground_pivot, "G"},
+      {kSixBarForearm, six_bar.elbow, "elbow"},
+      {kSixBarTaskBody, six_bar.wrist, "wrist"},
+      {kSixBarFirstLink, six_bar.links[0].from_joint, "A0"},
+      {kSixBarFirstLink, six_bar.links[0].to_joint, "A"},
+      {kSixBarSecondLink, six_bar.links[1].from_joint, crank ? "B1" : "B0"},
+      {kSixBarSecondLink, six_bar.links[1].to_joint, "B"}};
+  PictureMechanism::Joints drawn;
+  drawn.task_body = kSixBarTaskBody;
+  drawn.bodies.resize(6);
+  drawn.bodies[kSixBarGround] = {0};
+  drawn.bodies[kSixBarUpperLink] = {0, 1};
+  drawn.bodies[kSixBarForearm] = {1, 2};
+  drawn.bodies[kSixBarTaskBody] = {2};
+  for (int l = 0; l < 2; ++l) {
+    const int from = 3 + 2 * l, to = 4 + 2 * l;
+    drawn.bodies[kSixBarFirstLink + l].push_back(from);
+    drawn.bodies[kSixBarFirstLink + l].push_back(to);
+    drawn.bodies[six_bar.links[l].from_body].push_back(from);
+    drawn.bodies[six_bar.links[l].to_body].push_back(to);
+  }
+  for (const Joint& joint : joints) drawn.names.push_back(joint.name);
+  const auto places = [&](const SixBarAngles& angles) {
+    std::vector<Vec> at;
+    for (const Joint& joint : joints) {
+      at.push_back(SixBarBodyDisplacement(six_bar, angles, joint.body).ToFixed(joint.point));
+    }
+    return at;
+  };
+  drawn.at_first = places(SixBarAngles::Zero());
+  std::vector<SixBarAngles> sweep =
+      SixBarSweep(six_bar, SixBarAngles::Zero(), report.input, length);
+  for (const SixBarAngles& angles : sweep) {
+    mechanism.coupler_curve.push_back(SixBarTaskPose(six_bar, angles).origin_in_fixed);
+  }
+  // A rocker's range there and back, from the first pose (where the sweep has it: its turns
+  // zero) on.
+  if (!report.input_rotates_fully && sweep.size() > 2) {
+    size_t first = 0;
+    for (size_t k = 0; k < sweep.size(); ++k) {
+      if (sweep[k].cwiseAbs().maxCoeff() < sweep[first].cwiseAbs().maxCoeff()) first = k;
+    }
+    std::vector<SixBarAngles> cycle(sweep.begin() + first, sweep.end());
+    cycle.insert(cycle.end(), sweep.rbegin() + 1, sweep.rend());
+    cycle.insert(cycle.end(), sweep.begin() + 1, sweep.begin() + first);
+    sweep = std::move(cycle);
+  }
+  const size_t stride = std::max<size_t>(1, sweep.size() / 120);
+  for (size_t k = 0; k < sweep.size(); k += stride) {
+    mechanism.cycle.push_back(SixBarTaskPose(six_bar, sweep[k]));
+    drawn.cycle.push_back(places(sweep[k]));
+  }
+  mechanism.joints = std::move(drawn);
+  return mechanism;
+}
+
 // The picture of a solved planar motion task: its poses, its mechanisms in ranked order (at
 // most `max_panels`), and for four poses the Burmester curves.
 Picture MakePicture(const std::string& title, const Task& task, const PlanarMotionResult& result,
@@ -1109,6 +1297,9 @@ Picture MakePicture(const std::string& title, const Task& task, const PlanarMoti
     const size_t stride = std::max<size_t>(1, cycle.size() / 120);
     for (size_t k = 0; k < cycle.size(); k += stride) mechanism.cycle.push_back(cycle[k]);
     picture.mechanisms.push_back(std::move(mechanism));
+  }
+  for (size_t m = 0; m < result.six_bars.size() && m < max_panels; ++m) {
+    picture.mechanisms.push_back(SixBarPanel(result.six_bars[m], m, result.scale));
   }
   return picture;
 }
@@ -1399,7 +1590,7 @@ std::string RenderSvg(const Picture& picture) {
                               top + kPad + header, plot_w, plot_h);
     DrawPlot(&body, view, picture, mechanism, length, static_cast<int>(i), &shown, [&](Svg* svg) {
       if (mechanism != nullptr) {
-        DrawMovingParts(svg, view, *mechanism, mechanism->first_pose, length);
+        DrawMechanismAt(svg, view, *mechanism, mechanism->cycle.size(), length);
       }
     });
   }
@@ -1457,7 +1648,7 @@ std::string RenderAnimation(const Picture& picture, size_t index, bool html) {
   DrawPlot(&body, view, picture, mechanism, length, 0, &shown, [&](Svg* svg) {
     if (mechanism == nullptr) return;
     if (frames.empty()) {
-      DrawMovingParts(svg, view, *mechanism, mechanism->first_pose, length);
+      DrawMechanismAt(svg, view, *mechanism, mechanism->cycle.size(), length);
       return;
     }
     const double n = static_cast<double>(frames.size());
@@ -1483,7 +1674,7 @@ std::string RenderAnimation(const Picture& picture, size_t index, bool html) {
                  times + "\" calcMode=\"discrete\" dur=\"" + period +
                  "\" repeatCount=\"indefinite\"/>\n");
       }
-      DrawMovingParts(svg, view, *mechanism, mechanism->cycle[frames[k]], length);
+      DrawMechanismAt(svg, view, *mechanism, frames[k], length);
       svg->Raw("</g>\n");
     }
   });
@@ -1633,8 +1824,18 @@ std::string PictureToJson(const Picture& picture) {
     Json object;
     object["title"] = mechanism.title;
     object["labels"] = mechanism.labels;
-    object["input"] = dyad(mechanism.input);
-    object["output"] = dyad(mechanism.output);
+    if (mechanism.joints) {
+      Json joints;
+      joints["bodies"] = mechanism.joints->bodies;
+      joints["task_body"] = mechanism.joints->task_body;
+      joints["names"] = mechanism.joints->names;
+      joints["at_first_pose"] = Json::array();
+      for (const Vec& p : mechanism.joints->at_first) joints["at_first_pose"].push_back(point(p));
+      object["joints"] = joints;
+    } else {
+      object["input"] = dyad(mechanism.input);
+      object["output"] = dyad(mechanism.output);
+    }
     object["first_pose"] = pose(mechanism.first_pose);
     object["coupler_curve"] = polyline(CouplerCurve(mechanism));
     object["view"] = view(PanelBox(picture, &mechanism, length, false));

@@ -24,6 +24,17 @@ struct PictureMechanism {
   PlanarPose first_pose;                       // coupler pose at which the links are drawn
   std::vector<Eigen::Vector2d> coupler_curve;  // path of E's origin, in Sigma (may be empty)
   std::vector<PlanarPose> cycle;               // coupler poses over one cycle, for the animation
+  // A linkage drawn by its joints (six-bars; the dyads above are then unused): each body's joints
+  // as indices into the joints' places (body 0 the ground, `task_body` the body E is fixed to),
+  // their places in Sigma at `first_pose` and at each pose of `cycle`, and their names.
+  struct Joints {
+    std::vector<std::vector<int>> bodies;
+    int task_body = 0;
+    std::vector<std::string> names;
+    std::vector<Eigen::Vector2d> at_first;
+    std::vector<std::vector<Eigen::Vector2d>> cycle;
+  };
+  std::optional<Joints> joints;
 };
 
 struct Picture {
@@ -60,8 +71,10 @@ std::optional<Picture> TaskPicture(const std::string& title, const Task& task,
 // "view" (the panel's region, [x0, y0, x1, y1], for a panel without mechanism) and "mechanisms":
 // each with "title", "labels", "input" and "output" dyads ("type", "fixed" in Sigma, "moving" and
 // for RP the line in E, for PR the line in Sigma: "line_point", "line_direction"), "first_pose"
-// (the coupler pose the links are drawn at), "coupler_curve" and its panel's "view". Non-finite
-// points are left out (null for a dyad's unused point).
+// (the coupler pose the links are drawn at), "coupler_curve" and its panel's "view"; a linkage
+// drawn by its joints (six-bars) has, instead of the dyads, "joints": {"bodies" (each body's
+// joint indices, ground first), "task_body", "names", "at_first_pose" (places in Sigma)}.
+// Non-finite points are left out (null for a dyad's unused point).
 std::string PictureToJson(const Picture& picture);
 
 // A spherical motion result's picture (model "spherical"): one panel per listed four-bar, its

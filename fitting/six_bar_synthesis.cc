@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "fitting/model_choice.h"
+#include "fitting/planar_motion.h"
 #include "lib/design_constraints.h"
 
 namespace linkfit {
@@ -222,6 +223,58 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   return summary->six_bars;
 }
 
+int RemoveRepeatedSixBars(double tolerance, std::vector<SixBar>* six_bars,
+                          std::vector<std::array<double, 2>>* error_bounds) {
+  const auto same = [tolerance](const SixBar& a, const SixBar& b) {
+    if (a.topology != b.topology) return false;
+    for (int l = 0; l < 2; ++l) {
+      if (a.links[l].from_body != b.links[l].from_body ||
+          a.links[l].to_body != b.links[l].to_body) {
+        return false;
+      }
+    }
+    const std::array<double, kSixBarJointCount> ja = SixBarJointNumbers(a);
+    const std::array<double, kSixBarJointCount> jb = SixBarJointNumbers(b);
+    for (int k = 0; k < kSixBarJointCount; k += 2) {
+      if (std::hypot(ja[k] - jb[k], ja[k + 1] - jb[k + 1]) > tolerance) return false;
+    }
+    return true;
+  };
+  std::vector<SixBar> kept;
+  std::vector<std::array<double, 2>> kept_bounds;
+  for (size_t i = 0; i < six_bars->size(); ++i) {
+    const SixBar& six_bar = (*six_bars)[i];
+    if (std::any_of(kept.begin(), kept.end(),
+                    [&](const SixBar& other) { return same(other, six_bar); })) {
+      continue;
+    }
+    kept.push_back(six_bar);
+    if (error_bounds != nullptr) kept_bounds.push_back((*error_bounds)[i]);
+  }
+  const int removed = static_cast<int>(six_bars->size() - kept.size());
+  *six_bars = std::move(kept);
+  if (error_bounds != nullptr) *error_bounds = std::move(kept_bounds);
+  return removed;
+}
+
+RankKey SixBarRankKey(const SixBarReport& report, double precision_fit,
+                      const DesignConstraints& constraints) {
+  RankKey key;
+  key.within_precision = report.max_pose_error <= precision_fit;
+  key.fit_floor = 1e-3 * precision_fit;
+  key.parameters = FourBarParameters(FourBarType::k4R);  // two RR links, as a 4R's
+  key.fit = report.rms_pose_error;
+  std::vector<Eigen::Vector2d> joints;
+  for (const std::vector<Eigen::Vector2d>& body : SixBarBodyJoints(report.six_bar)) {
+    joints.insert(joints.end(), body.begin(), body.end());
+  }
+  key.size = JointSpread(joints);
+  JudgeWithDefaults(constraints, report.violates, report.defects, true, &key);
+  key.transmission_min_deg = TransmissionTieBreak(
+      constraints, std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]));
+  return key;
+}
+
 PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   PlanarMotionResult result;
@@ -244,6 +297,8 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   SixBarSynthesisSummary summary;
   std::vector<std::array<double, 2>> error_bounds;
   SynthesizeSixBars(poses, *task.chain, synthesis, &six_bars, &summary, &error_bounds);
+  const int repeated =
+      RemoveRepeatedSixBars(options.trivial_tolerance * length, &six_bars, &error_bounds);
   result.burmester_problems = summary.burmester_problems;
   result.roots_total = summary.roots_total;
   result.roots_real = summary.roots_real - summary.roots_trivial;
@@ -251,12 +306,29 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   int unreachable = -1;
   ChainElbows(poses, *task.chain, &elbows, &unreachable);
   const double least_transmission = MinTransmissionAngleDeg(task.constraints);
+  const double precision_fit = PoseFitTolerance(task.precision, length);
   for (size_t i = 0; i < six_bars.size(); ++i) {
     const SixBar& six_bar = six_bars[i];
     const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, poses, elbows);
-    // Each grounded input judged through the poses; whether it turns fully is asked only of
-    // those with the fewest defects (it ranks after them).
+    // A whole turn of the input from the first pose (none after a dead point between poses).
+    const auto rotates = [&](SixBarReport* report) {
+      report->input_rotates_fully =
+          std::find(report->defects.begin(), report->defects.end(), "branch") ==
+              report->defects.end() &&
+          SixBarInputRotatesFully(six_bar, at_poses[0], report->input, length);
+    };
+    // The pose errors: the chain's, whichever link drives it.
+    double largest = 0.0, squares = 0.0;
+    for (size_t k = 0; k < poses.size(); ++k) {
+      const double error = PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length);
+      largest = std::max(largest, error);
+      squares += error * error;
+    }
+    // Each grounded input judged through the poses, and the best by the shared rule drives it.
+    // Whether an input turns fully is asked of every input where the task requires it, else of
+    // the chosen one only (it does not rank).
     std::vector<SixBarReport> reports;
+    std::vector<RankKey> keys;
     for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
       if (!SixBarGroundedLink(six_bar, input)) continue;
       const SixBarAnalysis analysis =
@@ -267,49 +339,28 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
       report.defects = analysis.defects;
       report.input_angles = analysis.input_angles;
       report.transmission_min_deg = analysis.transmission_min_deg;
+      report.max_pose_error = largest;
+      report.rms_pose_error = std::sqrt(squares / static_cast<double>(poses.size()));
+      report.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
       if (std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]) <
           least_transmission) {
         report.defects.push_back("transmission");
       }
+      if (task.constraints.input_rotates_fully) rotates(&report);
+      report.violates =
+          SixBarViolations(task.constraints, six_bar, report.input_rotates_fully, length);
+      keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
       reports.push_back(report);
     }
-    size_t fewest = reports.front().defects.size();
-    for (const SixBarReport& report : reports) fewest = std::min(fewest, report.defects.size());
-    for (SixBarReport& report : reports) {
-      const bool stopped =
-          std::find(report.defects.begin(), report.defects.end(), "branch") != report.defects.end();
-      if (report.defects.size() == fewest && !stopped) {
-        report.input_rotates_fully =
-            SixBarInputRotatesFully(six_bar, at_poses[0], report.input, length);
-      }
-    }
-    const auto key = [](const SixBarReport& report) {
-      return std::make_tuple(
-          report.defects.size(), !report.input_rotates_fully,
-          -std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]));
-    };
-    SixBarReport best = *std::min_element(
-        reports.begin(), reports.end(),
-        [&](const SixBarReport& a, const SixBarReport& b) { return key(a) < key(b); });
-    for (size_t k = 0; k < poses.size(); ++k) {
-      best.max_pose_error = std::max(
-          best.max_pose_error, PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length));
-    }
-    best.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
+    SixBarReport best = reports[RankOrder(keys).front()];
+    if (!task.constraints.input_rotates_fully) rotates(&best);
     result.six_bars.push_back(best);
   }
-  std::stable_sort(
-      result.six_bars.begin(), result.six_bars.end(),
-      [](const SixBarReport& a, const SixBarReport& b) {
-        const auto kinematic = [](const SixBarReport& report) {
-          return std::count_if(report.defects.begin(), report.defects.end(),
-                               [](const std::string& defect) { return defect != "transmission"; });
-        };
-        const double ta = std::min(a.transmission_min_deg[0], a.transmission_min_deg[1]);
-        const double tb = std::min(b.transmission_min_deg[0], b.transmission_min_deg[1]);
-        return std::make_tuple(kinematic(a), a.defects.size(), -ta) <
-               std::make_tuple(kinematic(b), b.defects.size(), -tb);
-      });
+  RankReports(
+      [&](const SixBarReport& report) {
+        return SixBarRankKey(report, precision_fit, task.constraints);
+      },
+      -1, &result.six_bars);
   result.notes.push_back(
       "six-bars on the given 3R chain: Watt I, Stephenson I, II and III (a chain grounded at one "
       "end admits no Watt II); each RR link is the five-pose Burmester problem of the relative "
@@ -322,6 +373,23 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
         std::to_string(summary.roots_sliders) +
         " real roots of the relative motions are sliders (PR or RP) at the data's precision; "
         "six-bars with a slider link are not synthesized yet, so those are not listed");
+  }
+  if (repeated > 0) {
+    result.notes.push_back(std::to_string(repeated) +
+                           " six-bar(s) came twice (a double root of a relative motion) and are "
+                           "listed once");
+  }
+  if (!result.six_bars.empty()) {
+    std::vector<RankKey> keys;
+    for (const SixBarReport& report : result.six_bars) {
+      keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
+    }
+    const std::string defaults = DefaultsNote(keys, "an RMS pose error of", "six-bar");
+    if (!defaults.empty()) result.notes.push_back(defaults);
+    const SixBarReport& first = result.six_bars.front();
+    const std::string given =
+        GivenConstraintsNote(task.constraints, first.violates, first.defects, "six-bar");
+    if (!given.empty()) result.notes.push_back(given);
   }
   if (result.six_bars.empty()) {
     result.notes.push_back(

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "fitting/planar_burmester.h"
+#include "lib/design_constraints.h"
 #include "lib/planar_pose.h"
 #include "lib/result.h"
 #include "lib/six_bar.h"
@@ -67,12 +68,27 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
                       SixBarSynthesisSummary* summary = nullptr,
                       std::vector<std::array<double, 2>>* error_bounds = nullptr);
 
+// Removes six-bars listed twice: the same topology, the same bodies joined, every joint within
+// `tolerance` (a double root of a relative motion's Burmester problem gives its link twice).
+// Keeps the first of each, and the entries of `error_bounds` (when given) alongside. Returns how
+// many were removed.
+int RemoveRepeatedSixBars(double tolerance, std::vector<SixBar>* six_bars,
+                          std::vector<std::array<double, 2>>* error_bounds = nullptr);
+
+// A six-bar's key in the shared ranking rule (lib/design_constraints.h RankKey): its violations
+// and defects, its RMS pose error as its fit (within the data's precision at `precision_fit`,
+// fitting/planar_motion.h PoseFitTolerance), its least transmission angle, its size (JointSpread
+// of its joints).
+RankKey SixBarRankKey(const SixBarReport& report, double precision_fit,
+                      const DesignConstraints& constraints);
+
 // A validated "linkage": "six-bar" task (five planar poses and its chain): every six-bar of the
-// chain, each driven by the grounded link that drives it best (fewest defects, then a whole turn,
-// then the larger least transmission angle), judged (AnalyzeSixBar; a least transmission angle
-// below the task's minimum, by default 30 degrees, is the defect "transmission") and ranked:
-// the defect-free first, then by fewer defects, then by the larger least transmission angle.
-// Notes say what the chain admits and when no six-bar is real.
+// chain, none listed twice (RemoveRepeatedSixBars), each judged under every grounded input
+// (AnalyzeSixBar; a least transmission angle below the task's minimum, by default 30 degrees, is
+// the defect "transmission"; the task's constraints, SixBarViolations) and driven by the one the
+// shared rule ranks first (SixBarRankKey: keeping the constraints, fewer defects, then the larger
+// least transmission angle), and the six-bars ranked by that rule. Notes say what the chain admits, when no six-bar is real, and
+// what the first breaks.
 PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options = {});
 
 }  // namespace linkfit

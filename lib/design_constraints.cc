@@ -35,13 +35,11 @@ namespace {
 // A link within this fraction of the default link limit is at it (CommonViolations).
 constexpr double kAtDefaultLimit = 1e-4;
 
-// The violations both problem kinds share: link lengths, the fixed pivots' box, the input's
-// turn and the Grashof class, appended in that order.
-void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& links,
-                      const std::vector<Eigen::Vector2d>& fixed_pivots, const FourBarClass& kind,
-                      double length, std::vector<std::string>* violates) {
+// The violations of link lengths (`all`) and the fixed pivots' box, appended in that order.
+void LinkViolations(const DesignConstraints& constraints, const std::vector<double>& all,
+                    const std::vector<Eigen::Vector2d>& fixed_pivots, double length,
+                    std::vector<std::string>* violates) {
   const double slack = kConstraintSlack * length;
-  const std::vector<double> all = links.All();
   const double longest = all.empty() ? 0.0 : *std::max_element(all.begin(), all.end());
   const double shortest = all.empty() ? std::numeric_limits<double>::infinity()
                                       : *std::min_element(all.begin(), all.end());
@@ -64,6 +62,14 @@ void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& 
       }
     }
   }
+}
+
+// The violations every four-bar problem shares: link lengths, the fixed pivots' box, the input's
+// turn and the Grashof class, appended in that order.
+void CommonViolations(const DesignConstraints& constraints, const FourBarLinks& links,
+                      const std::vector<Eigen::Vector2d>& fixed_pivots, const FourBarClass& kind,
+                      double length, std::vector<std::string>* violates) {
+  LinkViolations(constraints, links.All(), fixed_pivots, length, violates);
   ClassViolations(constraints, kind, violates);
 }
 
@@ -85,6 +91,35 @@ std::vector<std::string> FunctionViolations(const DesignConstraints& constraints
                                             double length) {
   std::vector<std::string> violates;
   CommonViolations(constraints, links, {}, kind, length, &violates);
+  return violates;
+}
+
+std::vector<std::string> SixBarViolations(const DesignConstraints& constraints,
+                                          const SixBar& six_bar, bool input_rotates_fully,
+                                          double length) {
+  std::vector<std::string> violates;
+  const std::array<std::vector<Eigen::Vector2d>, 6> joints = SixBarBodyJoints(six_bar);
+  std::vector<double> lengths;
+  for (const std::vector<Eigen::Vector2d>& body : joints) {
+    for (size_t i = 0; i < body.size(); ++i) {
+      for (size_t j = i + 1; j < body.size(); ++j) lengths.push_back((body[i] - body[j]).norm());
+    }
+  }
+  LinkViolations(constraints, lengths, joints[kSixBarGround], length, &violates);
+  if (constraints.moving_pivots_box) {
+    const double slack = kConstraintSlack * length;
+    for (const Eigen::Vector2d& joint : joints[kSixBarTaskBody]) {
+      if (!InBox(*constraints.moving_pivots_box, six_bar.reference_pose.ToMoving(joint), slack)) {
+        violates.push_back("moving_pivots_box");
+        break;
+      }
+    }
+  }
+  if (constraints.input_rotates_fully && !input_rotates_fully) {
+    violates.push_back("input_rotates_fully");
+  }
+  // A Grashof class is a four-bar's (a 4R's); a six-bar has none.
+  if (!constraints.grashof.empty()) violates.push_back("grashof");
   return violates;
 }
 
@@ -416,10 +451,11 @@ std::optional<double> TransmissionTieBreak(const DesignConstraints& constraints,
   return angle;
 }
 
-std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit) {
+std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit,
+                         const std::string& mechanism) {
   if (ranked.empty() || ranked.front().breaks_default.empty()) return "";
   const RankKey& first = ranked.front();
-  std::string note = "the first four-bar breaks " + first.breaks_default +
+  std::string note = "the first " + mechanism + " breaks " + first.breaks_default +
                      ", which the task did not give; it fits best";
   for (size_t i = 1; i < ranked.size(); ++i) {
     const RankKey& key = ranked[i];
@@ -437,14 +473,14 @@ std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& 
     }
     return note + text + "; give \"constraints\" to require them";
   }
-  return note +
-         "; no listed four-bar of its kind keeps them; give \"constraints\" to require "
-         "them";
+  return note + "; no listed " + mechanism +
+         " of its kind keeps them; give \"constraints\" to require them";
 }
 
 std::string GivenConstraintsNote(const DesignConstraints& constraints,
                                  const std::vector<std::string>& violates,
-                                 const std::vector<std::string>& defects) {
+                                 const std::vector<std::string>& defects,
+                                 const std::string& mechanism) {
   std::string broken;
   const auto add = [&](const std::string& name) { broken += (broken.empty() ? "" : ", ") + name; };
   for (const std::string& violation : violates) {
@@ -455,7 +491,8 @@ std::string GivenConstraintsNote(const DesignConstraints& constraints,
     add("min_transmission_angle_deg");
   }
   if (broken.empty()) return "";
-  return "no listed four-bar keeps every constraint the task gave: the first breaks " + broken +
+  return "no listed " + mechanism + " keeps every constraint the task gave: the first breaks " +
+         broken +
          " (a bound in its \"violates\"; the transmission angle as the defect \"transmission\" in "
          "its \"defects\")";
 }

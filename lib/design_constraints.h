@@ -16,6 +16,7 @@
 
 #include "lib/dyad.h"
 #include "lib/mechanism.h"
+#include "lib/six_bar.h"
 
 namespace linkfit {
 
@@ -104,6 +105,15 @@ std::vector<std::string> MotionViolations(const DesignConstraints& constraints,
 // Whether one dyad keeps the constraints that bound a dyad alone (its crank's length, its fixed
 // pivot's box, its moving pivot's box): a seed that breaks them makes no four-bar that keeps
 // them.
+// The constraints a six-bar (lib/six_bar.h) breaks: its links are every two joints of one body
+// (the binary links' lengths, each ternary link's three sides, the chain's links and the ground's
+// pivots' distances: SixBarBodyJoints), its fixed pivots the ground's joints, its moving pivots
+// the task body's (in E); `input_rotates_fully` of the input it is driven by. A Grashof class is a
+// four-bar's: a task that requires one is broken by every six-bar.
+std::vector<std::string> SixBarViolations(const DesignConstraints& constraints,
+                                          const SixBar& six_bar, bool input_rotates_fully,
+                                          double length);
+
 bool DyadKeeps(const DesignConstraints& constraints, const PlanarDyad& dyad, double length);
 
 // The same for a path four-bar (in the first point's configuration).
@@ -221,14 +231,16 @@ std::optional<double> TransmissionTieBreak(const DesignConstraints& constraints,
 // give: which, and what the best-fitting listed mechanism that keeps the defaults (and is in the
 // first one's group otherwise) costs in fit; empty when the first keeps them. `unit` names the
 // fit ("RMS point error" and the like).
-std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit);
+std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& unit,
+                         const std::string& mechanism = "four-bar");
 
 // The note a result gives when its first mechanism breaks a constraint the task gave (its
 // `violates`, or "transmission" under the task's own min_transmission_angle_deg): the ranking
 // lists keepers first, so none keeps them all; which the first breaks. Empty when it keeps them.
 std::string GivenConstraintsNote(const DesignConstraints& constraints,
                                  const std::vector<std::string>& violates,
-                                 const std::vector<std::string>& defects);
+                                 const std::vector<std::string>& defects,
+                                 const std::string& mechanism = "four-bar");
 
 // The sum of the distances between every two of `joints` (a mechanism's pivots, pins and
 // coupler point in one configuration): its size, which no move or turn of the data changes and

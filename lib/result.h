@@ -110,6 +110,7 @@ struct SixBarReport {
   std::array<double, 2> transmission_min_deg = {90.0, 90.0};  // each RR link's least
   bool input_rotates_fully = false;
   double max_pose_error = 0.0;  // length units, with L for the angle (PoseError)
+  double rms_pose_error = 0.0;  // over the poses, the same units
   // How far the data's precision can move its RR links' joints (the larger link's bound, first
   // order; fitting/six_bar_synthesis.h), length units.
   double error_bound = 0.0;

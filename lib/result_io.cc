@@ -574,6 +574,7 @@ Json SixBarToJson(const SixBarReport& report) {
       Json::array({report.transmission_min_deg[0], report.transmission_min_deg[1]});
   object["input_rotates_fully"] = report.input_rotates_fully;
   PutNumber(&object, "max_pose_error", report.max_pose_error);
+  PutNumber(&object, "rms_pose_error", report.rms_pose_error);
   PutErrorBound(&object, report.error_bound,
                 "the poses do not determine this six-bar's links at the data's precision");
   Json angles = Json::array();

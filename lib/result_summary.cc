@@ -84,6 +84,62 @@ void Row(const std::vector<std::string>& cells, const std::vector<size_t>& width
   *out += "\n";
 }
 
+// The six-bars of a "linkage": "six-bar" result (lib/result_io.cc SixBarToJson), one row each.
+void SixBarTable(const Json& six_bars, std::string* out) {
+  const auto short_name = [](const Json& body) {
+    std::string name = body.is_string() ? body.get<std::string>() : "-";
+    return name == "task body" ? std::string("task") : name;
+  };
+  std::vector<std::vector<std::string>> rows;
+  for (size_t i = 0; i < six_bars.size(); ++i) {
+    const Json& six_bar = six_bars[i];
+    const Json lengths = six_bar.value("link_lengths", Json::object());
+    const Json joints = six_bar.value("joints_at_first_pose", Json::object());
+    const Json links = joints.value("links", Json::array());
+    const auto link = [&](size_t l, const char* name) {
+      std::string cell = lengths.contains(name) ? Number(lengths[name]) : "-";
+      if (links.is_array() && l < links.size()) {
+        cell += " " + short_name(links[l].value("from", Json())) + "-" +
+                short_name(links[l].value("to", Json()));
+      }
+      return cell;
+    };
+    std::string transmission = "-";
+    if (six_bar.contains("transmission_angle_min_deg") &&
+        six_bar["transmission_angle_min_deg"].is_array() &&
+        six_bar["transmission_angle_min_deg"].size() == 2) {
+      transmission = Number(six_bar["transmission_angle_min_deg"][0]) + ", " +
+                     Number(six_bar["transmission_angle_min_deg"][1]);
+    }
+    rows.push_back(
+        {std::to_string(i + 1), six_bar.value("topology", "-"), six_bar.value("input", "-"),
+         lengths.contains("upper_link") ? Number(lengths["upper_link"]) : "-",
+         lengths.contains("forearm") ? Number(lengths["forearm"]) : "-", link(0, "first_link"),
+         link(1, "second_link"),
+         six_bar.contains("rms_pose_error") ? Number(six_bar["rms_pose_error"])
+                                            : Number(six_bar.value("max_pose_error", Json())),
+         transmission, six_bar.value("input_rotates_fully", false) ? "yes" : "no",
+         six_bar.contains("error_bound") ? Number(six_bar["error_bound"]) : "-",
+         Joined(six_bar.value("defects", Json())), Joined(six_bar.value("violates", Json()))});
+  }
+  const std::vector<std::string> header = {
+      "#",           "topology",       "input",
+      "upper link",  "forearm",        "first link",
+      "second link", "RMS pose error", "least transmission (loops), deg",
+      "full turn",   "error bound",    "defects",
+      "violates"};
+  std::vector<size_t> widths(header.size(), 0);
+  for (size_t k = 0; k < header.size(); ++k) widths[k] = header[k].size();
+  for (const std::vector<std::string>& row : rows) {
+    for (size_t k = 0; k < row.size(); ++k) widths[k] = std::max(widths[k], row[k].size());
+  }
+  Row(header, widths, out);
+  for (const std::vector<std::string>& row : rows) Row(row, widths, out);
+  *out +=
+      "links: lengths; an RR link also names the two bodies it joins (first = the first link, "
+      "a new crank)\n";
+}
+
 }  // namespace
 
 std::string ResultSummary(const std::string& result_json, const std::string& title) {
@@ -97,6 +153,33 @@ std::string ResultSummary(const std::string& result_json, const std::string& tit
     throw std::invalid_argument("not a linkfit result: no \"mechanisms\" list");
   }
   const std::string problem = result.value("problem", "motion");
+  if (result.contains("six_bars") && result["six_bars"].is_array()) {
+    const Json& six_bars = result["six_bars"];
+    int sound = 0;
+    for (const Json& six_bar : six_bars) {
+      bool kinematic = false;
+      for (const Json& defect : six_bar.value("defects", Json::array())) {
+        kinematic =
+            kinematic || (defect.is_string() && defect.get<std::string>() != "transmission");
+      }
+      sound += kinematic ? 0 : 1;
+    }
+    std::string out = title.empty() ? "" : title + ": ";
+    out += problem + " (planar), six-bars, " + result.value("method", std::string("exact")) + ": " +
+           std::to_string(six_bars.size()) + " listed, " + std::to_string(sound) +
+           " without a kinematic defect";
+    if (result.contains("scale")) out += "; L = " + Number(result["scale"]);
+    out += "\n";
+    if (six_bars.empty()) {
+      out += "(no six-bar listed)\n";
+    } else {
+      SixBarTable(six_bars, &out);
+    }
+    for (const Json& note : result.value("notes", Json::array())) {
+      if (note.is_string()) out += "note: " + note.get<std::string>() + "\n";
+    }
+    return out;
+  }
   const Json& mechanisms = result["mechanisms"];
   int sound = 0;
   for (const Json& mechanism : mechanisms) {

@@ -131,6 +131,22 @@ std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar) 
   return joints;
 }
 
+std::array<std::vector<Eigen::Vector2d>, 6> SixBarBodyJoints(const SixBar& six_bar) {
+  std::array<std::vector<Eigen::Vector2d>, 6> joints;
+  joints[kSixBarGround] = {six_bar.ground_pivot};
+  joints[kSixBarUpperLink] = {six_bar.ground_pivot, six_bar.elbow};
+  joints[kSixBarForearm] = {six_bar.elbow, six_bar.wrist};
+  joints[kSixBarTaskBody] = {six_bar.wrist};
+  for (int l = 0; l < 2; ++l) {
+    const SixBarRRLink& link = six_bar.links[l];
+    joints[kSixBarFirstLink + l].push_back(link.from_joint);
+    joints[kSixBarFirstLink + l].push_back(link.to_joint);
+    joints[link.from_body].push_back(link.from_joint);
+    joints[link.to_body].push_back(link.to_joint);
+  }
+  return joints;
+}
+
 const char* SixBarTopologyName(SixBarTopology topology) {
   switch (topology) {
     case SixBarTopology::kWattI:
@@ -377,6 +393,24 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
         SixBarInputRotatesFully(six_bar, at_poses[0], input, length, step);
   }
   return analysis;
+}
+
+std::vector<SixBarAngles> SixBarSweep(const SixBar& six_bar, const SixBarAngles& at_first,
+                                      int input, double length, double step) {
+  std::vector<SixBarAngles> ahead = {at_first}, behind;
+  SixBarAngles angles = at_first;
+  const double start = at_first[input - 1];
+  if (DriveSixBar(six_bar, input, start + 2.0 * M_PI, &angles, length, step,
+                  [&](const SixBarAngles& reached) { ahead.push_back(reached); })) {
+    ahead.pop_back();  // the whole turn's end is its start
+    return ahead;
+  }
+  angles = at_first;
+  DriveSixBar(six_bar, input, start - 2.0 * M_PI, &angles, length, step,
+              [&](const SixBarAngles& reached) { behind.push_back(reached); });
+  std::vector<SixBarAngles> sweep(behind.rbegin(), behind.rend());
+  sweep.insert(sweep.end(), ahead.begin(), ahead.end());
+  return sweep;
 }
 
 bool AssembleSixBar(const SixBar& six_bar, int input, double input_angle, SixBarAngles* angles,

@@ -69,6 +69,12 @@ struct SixBar {
 // The joints as numbers (lib/six_bar_frames.h SixBarJoint order).
 std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar);
 
+// The joints of each body (SixBarBody order) at the reference configuration, in Sigma: ground's
+// pivots (the ground pivot, then each RR link's joint on ground), the upper link's (ground pivot,
+// elbow, then RR joints on it), the forearm's (elbow, wrist, ...), the task body's (wrist, ...),
+// and each RR link's own two (and, on a new crank, the second link's joint on it).
+std::array<std::vector<Eigen::Vector2d>, 6> SixBarBodyJoints(const SixBar& six_bar);
+
 // The turns alpha_1 .. alpha_5 of bodies 1 to 5 from the reference (radians).
 using SixBarAngles = Eigen::Matrix<double, 5, 1>;
 
@@ -159,6 +165,13 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
 // (DriveSixBar).
 bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, int input,
                              double length, double step = kSixBarDriveStep);
+
+// The configurations over the input's range from the assembly `at_first` (DriveSixBar, steps of at
+// most `step`): a whole turn when it meets no dead point (from `at_first` on, the input rising);
+// else the rocker's range from the dead point behind to the dead point ahead, the input rising
+// through `at_first`. Each drive stops after a whole turn.
+std::vector<SixBarAngles> SixBarSweep(const SixBar& six_bar, const SixBarAngles& at_first,
+                                      int input, double length, double step = kSixBarDriveStep);
 
 }  // namespace linkfit
 

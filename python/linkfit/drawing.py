@@ -2,7 +2,8 @@
 
 The drawing is the content of ``linkfit solve --svg``: the task (poses as small frames, path
 points as crosses, for four poses the Burmester curves) and each listed mechanism in its own panel,
-at the first pose, with its coupler curve, pivots, links, sliders and its defects. A spherical
+at the first pose, with its coupler curve, pivots, links, sliders and its defects (a six-bar by
+its joints: its links as bars, its ternary links as plates). A spherical
 result's four-bars are drawn each on an orthographic view of the unit sphere about the centre, as
 the SVG draws them. The geometry comes from the solver (apps/picture.h PictureToJson and
 SphericalPictureToJson), attached to the results of :func:`linkfit.solve` and
@@ -98,7 +99,47 @@ def _line_through(ax, point, direction, view, **style):
             [point[1] - span * direction[1], point[1] + span * direction[1]], **style)
 
 
+def _draw_jointed(ax, mechanism):
+    """A linkage drawn by its joints (six-bars): each binary link a bar, each body of three or
+    more joints a plate (the task body with E's origin, in the coupler's colours), the ground's
+    joints as pivots."""
+    joints = mechanism["joints"]
+    places = joints["at_first_pose"]
+    pose = mechanism["first_pose"]
+    origin = (pose[0], pose[1])
+    for index, body in enumerate(joints["bodies"]):
+        if index == 0:
+            continue
+        points = [tuple(places[j]) for j in body if places[j] is not None]
+        task = index == joints["task_body"]
+        if task:
+            points.append(origin)
+        hull = _hull(points)
+        if len(hull) >= 3:
+            ax.fill([p[0] for p in hull], [p[1] for p in hull],
+                    color=COUPLER_FILL if task else "#9aa7b4", alpha=0.35, zorder=2)
+            ax.plot([p[0] for p in hull + hull[:1]], [p[1] for p in hull + hull[:1]],
+                    color=COUPLER_STROKE if task else LINK, lw=1.5, zorder=2)
+        elif len(hull) == 2:
+            ax.plot([hull[0][0], hull[1][0]], [hull[0][1], hull[1][1]],
+                    color=COUPLER_STROKE if task else LINK, lw=3 if task else 2.5,
+                    solid_capstyle="round", zorder=3)
+    ground = set(joints["bodies"][0]) if joints["bodies"] else set()
+    for j, place in enumerate(places):
+        if place is None:
+            continue
+        if j in ground:
+            ax.plot([place[0]], [place[1]], "^", color=GROUND, markersize=9, zorder=5)
+        ax.plot([place[0]], [place[1]], "o", color="white", mec=LINK, markersize=6, zorder=6)
+        ax.annotate(joints["names"][j], place, textcoords="offset points", xytext=(6, 5),
+                    fontsize=8, color=LINK)
+    ax.plot([origin[0]], [origin[1]], "o", color=COUPLER_CURVE, markersize=3, zorder=6)
+
+
 def _draw_mechanism(ax, mechanism, length):
+    if "joints" in mechanism:
+        _draw_jointed(ax, mechanism)
+        return
     pose = mechanism["first_pose"]
     view = mechanism["view"]
     dyads = (mechanism["input"], mechanism["output"])

@@ -235,6 +235,47 @@ TEST_F(CliTest, SummaryAndShowPrintTheTable) {
   EXPECT_EQ(Run("solve --summary -o - '" + task + "'").status, 2);
 }
 
+// A six-bar result's table (issue 36): one row per six-bar listed, in the result's order, with its
+// topology, its input, its links' lengths (each RR link with the bodies it joins) as the JSON
+// gives them; the bundled example's first is its defect-free Stephenson I.
+TEST_F(CliTest, SummaryPrintsTheSixBars) {
+  const std::string task = std::string(LINKFIT_SOURCE_DIR) + "/data/six_bar_5_poses.json";
+  const std::string output_path = Path("six_bar.json");
+  const RunResult run = Run("solve --summary '" + task + "' -o '" + output_path + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json written = nlohmann::json::parse(ReadFile(output_path));
+  const nlohmann::json& six_bars = written["six_bars"];
+  ASSERT_GT(six_bars.size(), 1u);
+  EXPECT_EQ(run.out.rfind("six_bar_5_poses.json: motion (planar), six-bars, exact: " +
+                              std::to_string(six_bars.size()) + " listed",
+                          0),
+            0u)
+      << run.out;
+  for (const char* column : {"topology", "input", "upper link", "forearm", "first link",
+                             "second link", "RMS pose error", "full turn", "defects"}) {
+    EXPECT_NE(run.out.find(column), std::string::npos) << column;
+  }
+  for (size_t i = 0; i < six_bars.size(); ++i) {
+    const size_t at = run.out.find("\n" + std::to_string(i + 1) + "  ");
+    ASSERT_NE(at, std::string::npos) << "row " << i + 1;
+    const std::string row = run.out.substr(at + 1, run.out.find('\n', at + 1) - at - 1);
+    const std::string topology = six_bars[i]["topology"];
+    EXPECT_NE(row.find(topology), std::string::npos) << row;
+    char first[32];
+    std::snprintf(first, sizeof(first), "%.4g",
+                  six_bars[i]["link_lengths"]["first_link"].get<double>());
+    EXPECT_NE(row.find(std::string(first) + " " +
+                       six_bars[i]["joints_at_first_pose"]["links"][0]["from"].get<std::string>()),
+              std::string::npos)
+        << row;
+  }
+  EXPECT_EQ(six_bars[0]["topology"], "Stephenson I");
+  EXPECT_TRUE(six_bars[0]["defects"].empty());
+  const RunResult shown = Run("show '" + output_path + "'");
+  ASSERT_EQ(shown.status, 0) << shown.err;
+  EXPECT_EQ(shown.out.substr(shown.out.find(':')), run.out.substr(run.out.find(':')));
+}
+
 // Four poses' Burmester curves are written at a drawing's resolution (issue 35: a four-pose
 // result was 569 KB): the file under 50 KB, each polyline a subset of the dense one with its
 // ends; --curve-points asks for more.

@@ -25,6 +25,7 @@
 
 #include "apps/picture.h"
 #include "lib/mechanism.h"
+#include "lib/six_bar.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 
@@ -806,6 +807,85 @@ TEST_F(PictureTest, SphericalPictureDrawsTheListedFourBarsOnTheirViews) {
 }
 
 // A spherical result without four-bars is a bare sphere; another result has no spherical picture.
+// A six-bar result's picture (issue 36): a panel per six-bar drawn by its joints, where the result
+// puts them at the first pose; its animation moves the six-bar as one: every body rigid (the
+// distances between its joints kept), the ground's joints still, the task body's wrist and E
+// where the frame's pose puts them; the SVGs are sound and have ink.
+TEST_F(PictureTest, SixBarsAreDrawnByTheirJointsAndMoveAsOne) {
+  const Task task =
+      ReadTaskFile(std::string(LINKFIT_SOURCE_DIR) + "/data/six_bar_5_poses.json").front();
+  const TaskResult result = SolveTask(task);
+  const PlanarMotionResult& motion = std::get<PlanarMotionResult>(result);
+  ASSERT_GE(motion.six_bars.size(), 2u);
+  const std::optional<Picture> picture = TaskPicture("six-bars", task, result, 12);
+  ASSERT_TRUE(picture.has_value());
+  ASSERT_EQ(picture->mechanisms.size(), std::min<size_t>(12, motion.six_bars.size()));
+  Image image;
+  ASSERT_NO_FATAL_FAILURE(CheckAndRender("six_bars", RenderSvg(*picture), &image));
+  EXPECT_GT(CountInk(image, 0, image.width), kMinInkPixels);
+  EXPECT_GT(CountColour(image, "#333333", 0, image.width), kMinColourPixels);  // links
+  EXPECT_GT(CountColour(image, "#1f77b4", 0, image.width), kMinColourPixels);  // curves
+  const nlohmann::json drawn = nlohmann::json::parse(PictureToJson(*picture));
+  for (size_t m = 0; m < picture->mechanisms.size(); ++m) {
+    SCOPED_TRACE("six-bar " + std::to_string(m + 1));
+    const SixBar& six_bar = motion.six_bars[m].six_bar;
+    const PictureMechanism& mechanism = picture->mechanisms[m];
+    ASSERT_TRUE(mechanism.joints.has_value());
+    const PictureMechanism::Joints& joints = *mechanism.joints;
+    // Where the result says: G, the elbow, the wrist, then each RR link's two joints.
+    const std::vector<Vec> expected = {six_bar.ground_pivot,
+                                       six_bar.elbow,
+                                       six_bar.wrist,
+                                       six_bar.links[0].from_joint,
+                                       six_bar.links[0].to_joint,
+                                       six_bar.links[1].from_joint,
+                                       six_bar.links[1].to_joint};
+    ASSERT_EQ(joints.at_first.size(), expected.size());
+    for (size_t j = 0; j < expected.size(); ++j) {
+      EXPECT_LT((joints.at_first[j] - expected[j]).norm(), 1e-12) << joints.names[j];
+      const nlohmann::json& place = drawn["mechanisms"][m]["joints"]["at_first_pose"][j];
+      EXPECT_NEAR(place[0].get<double>(), expected[j].x(), 1e-12);
+      EXPECT_NEAR(place[1].get<double>(), expected[j].y(), 1e-12);
+    }
+    EXPECT_EQ(drawn["mechanisms"][m].contains("input"), false);
+    // The ground: G and every RR link's joint on it.
+    std::vector<int> ground = {0};
+    for (int l = 0; l < 2; ++l) {
+      if (six_bar.links[l].from_body == kSixBarGround) ground.push_back(3 + 2 * l);
+    }
+    EXPECT_EQ(joints.bodies[kSixBarGround], ground);
+    ASSERT_GE(mechanism.cycle.size(), 10u);
+    ASSERT_EQ(joints.cycle.size(), mechanism.cycle.size());
+    const Vec wrist_in_e = six_bar.reference_pose.ToMoving(six_bar.wrist);
+    double moved = 0.0;
+    for (size_t k = 0; k < joints.cycle.size(); ++k) {
+      const std::vector<Vec>& places = joints.cycle[k];
+      for (size_t b = 0; b < joints.bodies.size(); ++b) {
+        for (const int i : joints.bodies[b]) {
+          for (const int j : joints.bodies[b]) {
+            EXPECT_NEAR((places[i] - places[j]).norm(),
+                        (joints.at_first[i] - joints.at_first[j]).norm(), 1e-9)
+                << "body " << b << " frame " << k;
+          }
+          if (b == kSixBarGround) {
+            EXPECT_LT((places[i] - joints.at_first[i]).norm(), 1e-12);
+          }
+        }
+      }
+      EXPECT_LT((mechanism.cycle[k].ToFixed(wrist_in_e) - places[2]).norm(), 1e-9) << k;
+      moved = std::max(moved, (places[2] - joints.at_first[2]).norm());
+    }
+    EXPECT_GT(moved, 0.05 * picture->length);
+  }
+  const std::string animation = RenderAnimation(*picture, 0, false);
+  ASSERT_NO_FATAL_FAILURE(CheckAndRender("six_bar_animation", animation, &image));
+  EXPECT_GE(Frames(animation).size(), 10u);
+  EXPECT_NE(animation.find(">G</text>"), std::string::npos);
+  EXPECT_NE(animation.find(">wrist</text>"), std::string::npos);
+  // The animation starts at the first pose.
+  EXPECT_LT(PoseError(picture->mechanisms[0].cycle.front(), task.planar_poses.front(), 1.0), 1e-9);
+}
+
 TEST_F(PictureTest, SphericalPictureWithoutFourBarsIsTheBareSphere) {
   SphericalPicture picture;
   picture.center = Eigen::Vector3d(1.0, 2.0, 3.0);

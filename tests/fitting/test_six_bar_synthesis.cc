@@ -135,6 +135,35 @@ TEST(SixBarAnalysis, PosesOutOfOrderAndAnotherAssemblyAreDefects) {
   EXPECT_GE(circuits, 5);
 }
 
+// A six-bar that comes twice (within the tolerance: a double root) is listed once, its error
+// bounds kept alongside; one a little further apart is another six-bar.
+TEST(SixBarSynthesis, ASixBarThatComesTwiceIsListedOnce) {
+  std::mt19937_64 rng(3606);
+  const testing::GeneratedSixBarTask task =
+      testing::RandomSixBarTask(rng, testing::SixBarLayouts()[0]);
+  std::vector<SixBar> six_bars;
+  std::vector<std::array<double, 2>> bounds;
+  SynthesizeSixBars(task.poses, task.chain, {}, &six_bars, nullptr, &bounds);
+  ASSERT_GE(six_bars.size(), 2u);
+  const size_t count = six_bars.size();
+  const double tolerance = 1e-6;
+  SixBar again = six_bars[0], apart = six_bars[1];
+  again.links[1].to_joint += Eigen::Vector2d(0.5 * tolerance, 0.0);
+  apart.links[0].from_joint += Eigen::Vector2d(0.0, 2.0 * tolerance);
+  six_bars.push_back(again);
+  bounds.push_back({-1.0, -1.0});
+  six_bars.push_back(apart);
+  bounds.push_back({-2.0, -2.0});
+  EXPECT_EQ(RemoveRepeatedSixBars(tolerance, &six_bars, &bounds), 1);
+  ASSERT_EQ(six_bars.size(), count + 1);
+  ASSERT_EQ(bounds.size(), count + 1);
+  EXPECT_EQ(bounds.back()[0], -2.0);
+  EXPECT_EQ((six_bars.back().links[0].from_joint - apart.links[0].from_joint).norm(), 0.0);
+  // The synthesis itself lists none twice.
+  std::vector<SixBar> synthesized(six_bars.begin(), six_bars.begin() + count);
+  EXPECT_EQ(RemoveRepeatedSixBars(tolerance, &synthesized), 0);
+}
+
 // The analysis's four-degree continuation steps (kSixBarDriveStep) against half-degree ones, on
 // every six-bar of random tasks of each layout and each of its grounded inputs: the same defects
 // and whole turns, and without defects the least transmission angles within 0.1 degrees (measured:

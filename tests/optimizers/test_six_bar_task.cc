@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +18,7 @@
 #include <sstream>
 #include <string>
 
+#include "lib/design_constraints.h"
 #include "lib/result_io.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
@@ -101,6 +103,117 @@ TEST(SixBarTask, TheGeneratorIsListedWithoutDefect) {
       EXPECT_EQ(first["joints_at_first_pose"]["links"].size(), 2u);
     }
   }
+}
+
+// The constraints a six-bar breaks, worked out here from its joints as a designer reads them off
+// the drawing: a link is every two joints on one body, the fixed pivots those on ground.
+std::vector<std::string> ExpectedViolations(const SixBar& six_bar, double max_link,
+                                            const PlanarBox& box, bool rotates) {
+  std::vector<std::vector<Eigen::Vector2d>> bodies(6);
+  bodies[0] = {six_bar.ground_pivot};
+  bodies[1] = {six_bar.ground_pivot, six_bar.elbow};
+  bodies[2] = {six_bar.elbow, six_bar.wrist};
+  bodies[3] = {six_bar.wrist};
+  for (int l = 0; l < 2; ++l) {
+    const SixBarRRLink& link = six_bar.links[l];
+    bodies[4 + l].push_back(link.from_joint);
+    bodies[4 + l].push_back(link.to_joint);
+    bodies[link.from_body].push_back(link.from_joint);
+    bodies[link.to_body].push_back(link.to_joint);
+  }
+  double longest = 0.0;
+  for (const std::vector<Eigen::Vector2d>& body : bodies) {
+    for (const Eigen::Vector2d& a : body) {
+      for (const Eigen::Vector2d& b : body) longest = std::max(longest, (a - b).norm());
+    }
+  }
+  std::vector<std::string> violates;
+  if (longest > max_link) violates.push_back("max_link_length");
+  for (const Eigen::Vector2d& pivot : bodies[0]) {
+    if ((pivot.array() < box.min.array()).any() || (pivot.array() > box.max.array()).any()) {
+      violates.push_back("fixed_pivots_box");
+      break;
+    }
+  }
+  if (!rotates) violates.push_back("input_rotates_fully");
+  return violates;
+}
+
+// A task's constraints (a longest link, a box for the fixed pivots, a fully turning input), each
+// chosen to cut the six-bars of an unconstrained solve about in half: every listed six-bar breaks
+// exactly the constraints its joints break, the keepers come first (then those with a kinematic
+// defect: the shared rule's groups), a note names what the first breaks when it breaks any, and no
+// six-bar is listed twice.
+TEST(SixBarTask, ConstraintsAreJudgedAndRankedByTheSharedRule) {
+  std::mt19937_64 rng(3605);
+  int keepers = 0, breakers = 0;
+  for (const testing::SixBarLayout& layout : testing::SixBarLayouts()) {
+    const testing::GeneratedSixBarTask generated = testing::RandomSixBarTask(rng, layout);
+    SCOPED_TRACE(SixBarTopologyName(layout.topology));
+    const Task free_task = ParseTask(TaskText(generated), "six_bar.json");
+    const PlanarMotionResult free_result = std::get<PlanarMotionResult>(SolveTask(free_task));
+    ASSERT_GE(free_result.six_bars.size(), 2u);
+    // The median longest link and the median box about the ground pivots.
+    std::vector<double> longest, reach;
+    for (const SixBarReport& report : free_result.six_bars) {
+      double most = 0.0;
+      for (const SixBarRRLink& link : report.six_bar.links) {
+        most = std::max(most, link.Length());
+        if (link.from_body == kSixBarGround) {
+          reach.push_back((link.from_joint - generated.chain.ground_pivot).cwiseAbs().maxCoeff());
+        }
+      }
+      longest.push_back(most);
+    }
+    std::sort(longest.begin(), longest.end());
+    std::sort(reach.begin(), reach.end());
+    const double max_link =
+        std::max(longest[longest.size() / 2],
+                 std::max(generated.chain.upper_length, generated.chain.forearm_length) * 1.5);
+    const double half = reach[reach.size() / 2] + 1e-6;
+    PlanarBox box;
+    box.min = generated.chain.ground_pivot - Eigen::Vector2d(half, half);
+    box.max = generated.chain.ground_pivot + Eigen::Vector2d(half, half);
+    std::string text = TaskText(generated);
+    text.pop_back();
+    text += ", \"constraints\": {\"max_link_length\": " + Number(max_link) +
+            ", \"fixed_pivots_box\": [" + Point(box.min) + ", " + Point(box.max) +
+            "], \"input_rotates_fully\": true}}";
+    const Task task = ParseTask(text, "six_bar.json");
+    const PlanarMotionResult result = std::get<PlanarMotionResult>(SolveTask(task));
+    ASSERT_EQ(result.six_bars.size(), free_result.six_bars.size());
+    std::pair<bool, int> group = {false, 0};
+    for (size_t i = 0; i < result.six_bars.size(); ++i) {
+      const SixBarReport& report = result.six_bars[i];
+      EXPECT_EQ(report.violates,
+                ExpectedViolations(report.six_bar, max_link, box, report.input_rotates_fully))
+          << "six-bar " << i;
+      // Keepers first, then breakers; within each, by defect level.
+      const std::pair<bool, int> next = {!report.violates.empty(), DefectLevel(report.defects)};
+      EXPECT_LE(group, next) << "six-bar " << i;
+      group = next;
+      (report.violates.empty() ? keepers : breakers) += 1;
+      for (size_t j = 0; j < i; ++j) {
+        const SixBar& a = result.six_bars[j].six_bar;
+        const SixBar& b = report.six_bar;
+        EXPECT_FALSE(a.topology == b.topology && a.links[1].from_body == b.links[1].from_body &&
+                     (a.links[0].from_joint - b.links[0].from_joint).norm() < 1e-9 &&
+                     (a.links[0].to_joint - b.links[0].to_joint).norm() < 1e-9 &&
+                     (a.links[1].from_joint - b.links[1].from_joint).norm() < 1e-9 &&
+                     (a.links[1].to_joint - b.links[1].to_joint).norm() < 1e-9)
+            << "six-bars " << j << " and " << i << " are one";
+      }
+    }
+    const bool noted =
+        std::any_of(result.notes.begin(), result.notes.end(), [](const std::string& note) {
+          return note.find("keeps every constraint the task gave") != std::string::npos;
+        });
+    EXPECT_EQ(noted, !result.six_bars.front().violates.empty());
+  }
+  // Both kinds are among them.
+  EXPECT_GT(keepers, 0);
+  EXPECT_GT(breakers, 0);
+  std::cout << keepers << " six-bars keep the constraints, " << breakers << " break them\n";
 }
 
 // Poses printed to 8, 6 and 4 significant digits: the generating six-bar comes back within

@@ -79,6 +79,30 @@ def test_plot_draws_the_svgs_panels(tmp_path, name):
     matplotlib.pyplot.close(figure)
 
 
+def test_plot_draws_six_bars_by_their_joints(tmp_path):
+    """A six-bar result (issue 36): the SVG's panels, each six-bar's joints where the result says
+    they are at the first pose."""
+    name = "six_bar_5_poses.json"
+    task = json.loads((DATA / name).read_text())
+    result = linkfit.solve(task)
+    assert result["six_bars"]
+    figure = linkfit.plot(result)
+    axes = [axis for axis in figure.axes if axis.get_visible()]
+    assert [axis.get_title(loc="left") for axis in axes] == svg_panel_titles(name, tmp_path)
+    tolerance = 1e-9 * result["scale"]
+    for axis, six_bar in zip(axes, result["six_bars"]):
+        drawn = plotted_points(axis)
+        joints = six_bar["joints_at_first_pose"]
+        places = [joints["ground_pivot"], joints["elbow"], joints["wrist"]]
+        for link in joints["links"]:
+            places += [link["from_joint"], link["to_joint"]]
+        for place in places:
+            assert near(place, drawn, tolerance), place
+        assert "Stephenson" in axis.get_title(loc="left") or "Watt" in axis.get_title(loc="left")
+    figure.savefig(tmp_path / "six_bars.png")
+    matplotlib.pyplot.close(figure)
+
+
 def test_plot_on_given_axes_and_refined_results():
     import matplotlib.pyplot as pyplot
     task = json.loads((DATA / "path_12_points.json").read_text())

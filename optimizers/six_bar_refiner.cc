@@ -1,0 +1,264 @@
+#include "optimizers/six_bar_refiner.h"
+
+#include <ceres/ceres.h>
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+#include "lib/six_bar_frames.h"
+
+namespace linkfit {
+namespace {
+
+// The turn of the upper link (body 1) parameterizes each configuration; the other four are the
+// closures' solution.
+constexpr int kTurn = kSixBarUpperLink - 1;
+
+// Newton iterations of an assembly, and its tolerance (times L).
+constexpr int kAssemblyIterations = 30;
+constexpr double kAssemblyTolerance = 1e-13;
+
+// Gauss-Newton iterations on a pose's turn (FitSixBarToPoses), and the step of its derivative.
+constexpr int kTurnIterations = 20;
+constexpr double kTurnDelta = 1e-7;
+
+double Value(double x) { return x; }
+template <typename T, int N>
+double Value(const ceres::Jet<T, N>& x) {
+  return x.a;
+}
+
+std::array<int, 2> FromBodies(const SixBar& six_bar) {
+  return {six_bar.links[0].from_body, six_bar.links[1].from_body};
+}
+std::array<int, 2> ToBodies(const SixBar& six_bar) {
+  return {six_bar.links[0].to_body, six_bar.links[1].to_body};
+}
+
+// Newton's method for the four free turns of `angles` (the upper link's held), on the joints
+// `joints`; false where it does not converge or meets a dead point.
+bool AssembleFree(const std::array<int, 2>& from, const std::array<int, 2>& to,
+                  const double* joints, double tolerance, SixBarAngles* angles) {
+  for (int iteration = 0; iteration <= kAssemblyIterations; ++iteration) {
+    const SixBarFrames<double> frames(from, to, joints, angles->data());
+    const Eigen::Vector4d residual = frames.Closure();
+    if (residual.norm() <= tolerance) return true;
+    const Eigen::Matrix4d free = frames.ClosureJacobian().rightCols<4>();
+    const Eigen::PartialPivLU<Eigen::Matrix4d> lu(free);
+    const Eigen::Vector4d pivots = lu.matrixLU().diagonal().cwiseAbs();
+    if (!(pivots.minCoeff() > 1e-12 * pivots.maxCoeff())) return false;
+    angles->tail<4>() -= lu.solve(residual);
+    if (!angles->allFinite()) return false;
+  }
+  return false;
+}
+
+// The task body's pose error components at `angles`: (dx, dy, L dtheta), the angle wrapped.
+Eigen::Vector3d PoseResidual(const SixBar& six_bar, const SixBarAngles& angles,
+                             const PlanarPose& target, double length) {
+  const PlanarPose pose = SixBarTaskPose(six_bar, angles);
+  const Eigen::Vector2d d = pose.origin_in_fixed - target.origin_in_fixed;
+  return Eigen::Vector3d(d.x(), d.y(),
+                         length * std::remainder(pose.theta - target.theta, 2.0 * M_PI));
+}
+
+// One pose's residual for Ceres: parameters the joints (14), E's pose at the reference
+// configuration (x, y, theta) and the upper link's turn; the other turns solved inside, from the
+// last solution (`warm`, updated).
+class SixBarPoseCost {
+ public:
+  SixBarPoseCost(const std::array<int, 2>& from, const std::array<int, 2>& to,
+                 const PlanarPose& target, double length, double weight, SixBarAngles* warm)
+      : from_(from),
+        to_(to),
+        target_(target),
+        length_(length),
+        scale_(std::sqrt(weight)),
+        warm_(warm) {}
+
+  template <typename T>
+  bool operator()(const T* joints, const T* reference, const T* turn, T* residual) const {
+    // The configuration in doubles.
+    std::array<double, kSixBarJointCount> values;
+    for (int k = 0; k < kSixBarJointCount; ++k) values[k] = Value(joints[k]);
+    SixBarAngles x = *warm_;
+    x[kTurn] = Value(turn[0]);
+    if (!AssembleFree(from_, to_, values.data(), kAssemblyTolerance * length_, &x)) return false;
+    *warm_ = x;
+    // One Newton step in T from it: the free turns' derivatives (implicit function theorem).
+    std::array<T, 5> angles;
+    angles[kTurn] = turn[0];
+    for (int k = 1; k < 5; ++k) angles[k] = T(x[k]);
+    const SixBarFrames<T> frames(from_, to_, joints, angles.data());
+    const Eigen::Matrix<T, 4, 1> closure = frames.Closure();
+    const Eigen::Matrix<T, 4, 4> free = frames.ClosureJacobian().template rightCols<4>();
+    const Eigen::Matrix<T, 4, 1> step = free.partialPivLu().solve(closure);
+    for (int k = 1; k < 5; ++k) angles[k] -= step[k - 1];
+    const SixBarFrames<T> moved(from_, to_, joints, angles.data());
+    const Eigen::Matrix<T, 2, 1> origin =
+        moved.At(kSixBarTaskBody, Eigen::Matrix<T, 2, 1>(reference[0], reference[1]));
+    const T theta = reference[2] + angles[kSixBarTaskBody - 1];
+    const double wrap = 2.0 * M_PI * std::round((Value(theta) - target_.theta) / (2.0 * M_PI));
+    residual[0] = scale_ * (origin.x() - target_.origin_in_fixed.x());
+    residual[1] = scale_ * (origin.y() - target_.origin_in_fixed.y());
+    residual[2] = scale_ * length_ * (theta - target_.theta - wrap);
+    return true;
+  }
+
+ private:
+  std::array<int, 2> from_, to_;
+  PlanarPose target_;
+  double length_, scale_;
+  SixBarAngles* warm_;
+};
+
+double Weight(const std::vector<double>& weights, size_t k) {
+  return k < weights.size() ? weights[k] : 1.0;
+}
+
+// The fit's errors from its configurations.
+void Score(const std::vector<PlanarPose>& poses, const std::vector<double>& weights, double length,
+           SixBarFit* fit) {
+  fit->pose_errors.clear();
+  double squares = 0.0, total = 0.0;
+  fit->max_pose_error = 0.0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const double error = PoseResidual(fit->six_bar, fit->at_poses[k], poses[k], length).norm();
+    fit->pose_errors.push_back(error);
+    fit->max_pose_error = std::max(fit->max_pose_error, error);
+    squares += Weight(weights, k) * error * error;
+    total += Weight(weights, k);
+  }
+  fit->rms_pose_error = total > 0.0 ? std::sqrt(squares / total) : 0.0;
+}
+
+}  // namespace
+
+bool FitSixBarToPoses(const SixBar& six_bar, const std::vector<PlanarPose>& poses,
+                      const std::vector<double>& weights, double length,
+                      const std::vector<SixBarAngles>& start, SixBarFit* fit) {
+  fit->six_bar = six_bar;
+  fit->at_poses.clear();
+  const std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(six_bar);
+  const std::array<int, 2> from = FromBodies(six_bar), to = ToBodies(six_bar);
+  const double tolerance = kAssemblyTolerance * length;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    SixBarAngles angles = k < start.size() ? start[k] : fit->at_poses.back();
+    if (!AssembleFree(from, to, joints.data(), tolerance, &angles)) return false;
+    // Gauss-Newton on the upper link's turn: the pose error's derivative by a difference.
+    for (int iteration = 0; iteration < kTurnIterations; ++iteration) {
+      const Eigen::Vector3d residual = PoseResidual(six_bar, angles, poses[k], length);
+      SixBarAngles ahead = angles;
+      ahead[kTurn] += kTurnDelta;
+      if (!AssembleFree(from, to, joints.data(), tolerance, &ahead)) break;
+      const Eigen::Vector3d slope =
+          (PoseResidual(six_bar, ahead, poses[k], length) - residual) / kTurnDelta;
+      if (!(slope.squaredNorm() > 0.0)) break;
+      const double step = -slope.dot(residual) / slope.squaredNorm();
+      SixBarAngles next = angles;
+      next[kTurn] += step;
+      if (!AssembleFree(from, to, joints.data(), tolerance, &next) ||
+          !(PoseResidual(six_bar, next, poses[k], length).norm() <= residual.norm())) {
+        break;
+      }
+      angles = next;
+      if (std::abs(step) < 1e-12) break;
+    }
+    fit->at_poses.push_back(angles);
+  }
+  Score(poses, weights, length, fit);
+  return true;
+}
+
+SixBar ReReferenceSixBar(const SixBar& six_bar, const SixBarAngles& angles) {
+  SixBar moved = six_bar;
+  const auto place = [&](int body, const Eigen::Vector2d& point) {
+    return SixBarBodyDisplacement(six_bar, angles, body).ToFixed(point);
+  };
+  moved.ground_pivot = six_bar.ground_pivot;
+  moved.elbow = place(kSixBarForearm, six_bar.elbow);
+  moved.wrist = place(kSixBarTaskBody, six_bar.wrist);
+  for (int l = 0; l < 2; ++l) {
+    moved.links[l].from_joint = place(kSixBarFirstLink + l, six_bar.links[l].from_joint);
+    moved.links[l].to_joint = place(kSixBarFirstLink + l, six_bar.links[l].to_joint);
+  }
+  moved.reference_pose = SixBarTaskPose(six_bar, angles);
+  return moved;
+}
+
+RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
+                            const std::vector<double>& weights, double length, SixBarFit* fit,
+                            const SixBarRefinerOptions& options) {
+  const auto begin = std::chrono::steady_clock::now();
+  RefinerSummary summary;
+  Score(poses, weights, length, fit);
+  summary.initial_rms = fit->rms_pose_error;
+  summary.initial_max = fit->max_pose_error;
+  const SixBar& seed = fit->six_bar;
+  std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(seed);
+  std::array<double, 3> reference = {seed.reference_pose.origin_in_fixed.x(),
+                                     seed.reference_pose.origin_in_fixed.y(),
+                                     seed.reference_pose.theta};
+  std::vector<SixBarAngles> warm = fit->at_poses;
+  std::vector<double> turns;
+  for (const SixBarAngles& angles : warm) turns.push_back(angles[kTurn]);
+  ceres::Problem problem;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<SixBarPoseCost, 3, kSixBarJointCount, 3, 1>(
+            new SixBarPoseCost(FromBodies(seed), ToBodies(seed), poses[k], length,
+                               Weight(weights, k), &warm[k])),
+        nullptr, joints.data(), reference.data(), &turns[k]);
+  }
+  problem.SetParameterBlockConstant(&turns[0]);
+  ceres::Solver::Options solver_options;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.parameter_tolerance = options.parameter_tolerance;
+  solver_options.gradient_tolerance = options.gradient_tolerance;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary ceres_summary;
+  ceres::Solve(solver_options, &problem, &ceres_summary);
+  summary.iterations = static_cast<int>(ceres_summary.iterations.size());
+  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  summary.message = ceres_summary.BriefReport();
+  // The refined six-bar, placed again from its last configurations (the cost's last evaluation
+  // may have been a rejected step's) and referenced at the first pose.
+  SixBar refined = seed;
+  refined.ground_pivot = {joints[kJointGroundPivot], joints[kJointGroundPivot + 1]};
+  refined.elbow = {joints[kJointElbow], joints[kJointElbow + 1]};
+  refined.wrist = {joints[kJointWrist], joints[kJointWrist + 1]};
+  for (int l = 0; l < 2; ++l) {
+    const int from = l == 0 ? kJointFirstFrom : kJointSecondFrom;
+    const int to = l == 0 ? kJointFirstTo : kJointSecondTo;
+    refined.links[l].from_joint = {joints[from], joints[from + 1]};
+    refined.links[l].to_joint = {joints[to], joints[to + 1]};
+  }
+  refined.reference_pose = PlanarPose(reference[0], reference[1], reference[2]);
+  for (size_t k = 0; k < poses.size(); ++k) warm[k][kTurn] = turns[k];
+  SixBarFit candidate;
+  bool placed = FitSixBarToPoses(refined, poses, weights, length, warm, &candidate);
+  if (placed) {
+    const SixBarAngles first = candidate.at_poses[0];
+    candidate.six_bar = ReReferenceSixBar(candidate.six_bar, first);
+    for (SixBarAngles& angles : candidate.at_poses) angles -= first;
+    Score(poses, weights, length, &candidate);
+  }
+  if (placed && candidate.rms_pose_error <= fit->rms_pose_error) *fit = candidate;
+  summary.final_rms = fit->rms_pose_error;
+  summary.final_max = fit->max_pose_error;
+  double total = 0.0;
+  for (size_t k = 0; k < poses.size(); ++k) total += Weight(weights, k);
+  summary.initial_cost = 0.5 * total * summary.initial_rms * summary.initial_rms;
+  summary.final_cost = 0.5 * total * summary.final_rms * summary.final_rms;
+  summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
+  return summary;
+}
+
+}  // namespace linkfit

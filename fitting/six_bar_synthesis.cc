@@ -32,15 +32,10 @@ void ChainTurns(const SixBar& six_bar, const Eigen::Vector2d& elbow, const Eigen
   (*angles)[2] = task_turn;
 }
 
-// An RR root of the relative motion of body `to` seen from body `from`: its joints (Sigma at the
-// first pose) and whether it is one of the chain's own links.
-struct Root {
-  Eigen::Vector2d from_joint, to_joint;
-  double error_bound = 0.0;  // how far the data's precision can move it (DyadErrorBound)
-};
+using Root = SixBarRoot;
 
-// The real RR roots of the five relative poses, less those within `tolerance` of `trivial`
-// (fixed, moving) joints.
+// The real RR roots of the five relative poses, less the chain's own links (`trivial`, within
+// `tolerance`).
 std::vector<Root> RelativeRoots(const std::vector<PlanarPose>& relative,
                                 const SixBarSynthesisOptions& options, double length,
                                 double tolerance, const std::vector<Root>& trivial,
@@ -58,12 +53,7 @@ std::vector<Root> RelativeRoots(const std::vector<PlanarPose>& relative,
     }
     ++summary->roots_real;
     const Root root{dyad.fixed_pivot, dyad.moving_pivot};
-    bool own = (root.to_joint - root.from_joint).norm() <= tolerance;
-    for (const Root& link : trivial) {
-      own = own || ((root.from_joint - link.from_joint).norm() <= tolerance &&
-                    (root.to_joint - link.to_joint).norm() <= tolerance);
-    }
-    if (own) {
+    if (IsTrivialSixBarRoot(root, trivial, tolerance)) {
       ++summary->roots_trivial;
       continue;
     }
@@ -110,6 +100,20 @@ std::vector<SixBarAngles> SixBarAnglesAtPoses(const SixBar& six_bar,
   return at_poses;
 }
 
+bool IsTrivialSixBarRoot(const SixBarRoot& root, const std::vector<SixBarRoot>& trivial,
+                         double tolerance) {
+  bool own = (root.to_joint - root.from_joint).norm() <= tolerance;
+  for (const SixBarRoot& link : trivial) {
+    own = own || ((root.from_joint - link.from_joint).norm() <= tolerance &&
+                  (root.to_joint - link.to_joint).norm() <= tolerance);
+  }
+  return own;
+}
+
+double SixBarTaskLength(const std::vector<PlanarPose>& poses, const SixBarChain& chain) {
+  return std::max(CharacteristicLength(poses), std::max(chain.upper_length, chain.forearm_length));
+}
+
 int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                       const SixBarSynthesisOptions& options, std::vector<SixBar>* six_bars,
                       SixBarSynthesisSummary* summary,
@@ -117,16 +121,29 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   SixBarSynthesisSummary local;
   if (summary == nullptr) summary = &local;
   *summary = SixBarSynthesisSummary();
-  six_bars->clear();
-  if (error_bounds != nullptr) error_bounds->clear();
   if (poses.size() != 5) {
     throw std::invalid_argument("six-bar synthesis needs exactly five poses");
   }
-  std::vector<Eigen::Vector2d> elbows;
-  if (!ChainElbows(poses, chain, &elbows, &summary->unreachable_pose)) return 0;
-  const double length =
-      std::max(CharacteristicLength(poses), std::max(chain.upper_length, chain.forearm_length));
+  const double length = SixBarTaskLength(poses, chain);
   const double tolerance = options.trivial_tolerance * length;
+  CombineSixBars(
+      poses, chain,
+      [&](const std::vector<PlanarPose>& relative, const std::vector<SixBarRoot>& trivial) {
+        return RelativeRoots(relative, options, length, tolerance, trivial, summary);
+      },
+      six_bars, error_bounds, &summary->unreachable_pose);
+  summary->six_bars = static_cast<int>(six_bars->size());
+  return summary->six_bars;
+}
+
+bool CombineSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
+                    const SixBarRootFinder& find_roots, std::vector<SixBar>* six_bars,
+                    std::vector<std::array<double, 2>>* error_bounds, int* unreachable_pose) {
+  six_bars->clear();
+  if (error_bounds != nullptr) error_bounds->clear();
+  std::vector<Eigen::Vector2d> elbows;
+  if (!ChainElbows(poses, chain, &elbows, unreachable_pose)) return false;
+  const size_t count = poses.size();
   const Eigen::Vector2d& pivot = chain.ground_pivot;
   const Eigen::Vector2d wrist = poses[0].ToFixed(chain.wrist_in_moving);
   // The chain at the first pose, and each body's displacement from its place there
@@ -136,8 +153,8 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   chain_only.elbow = elbows[0];
   chain_only.wrist = wrist;
   chain_only.reference_pose = poses[0];
-  std::vector<std::vector<PlanarPose>> bodies(4, std::vector<PlanarPose>(5));
-  for (int k = 0; k < 5; ++k) {
+  std::vector<std::vector<PlanarPose>> bodies(4, std::vector<PlanarPose>(count));
+  for (size_t k = 0; k < count; ++k) {
     SixBarAngles angles = SixBarAngles::Zero();
     ChainTurns(chain_only, elbows[k], poses[k].ToFixed(chain.wrist_in_moving),
                poses[k].theta - poses[0].theta, &angles);
@@ -147,8 +164,7 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   }
   const Root upper{pivot, elbows[0]}, forearm{elbows[0], wrist};
   const auto roots = [&](int from, int to, const std::vector<Root>& trivial) {
-    return RelativeRoots(Relative(bodies[from], bodies[to]), options, length, tolerance, trivial,
-                         summary);
+    return find_roots(Relative(bodies[from], bodies[to]), trivial);
   };
   const std::vector<Root> ground_forearm = roots(kSixBarGround, kSixBarForearm, {upper});
   const std::vector<Root> ground_task = roots(kSixBarGround, kSixBarTaskBody, {});
@@ -186,9 +202,9 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   // New cranks: an RR link C from ground, turning about its pivot as its pin on body `on` moves,
   // and a second RR link from C to another chain body.
   const auto crank = [&](const Root& root, int on) {
-    std::vector<PlanarPose> turns(5);
+    std::vector<PlanarPose> turns(count);
     const double start = Angle(root.to_joint - root.from_joint);
-    for (int k = 0; k < 5; ++k) {
+    for (size_t k = 0; k < count; ++k) {
       const Eigen::Vector2d pin = bodies[on][k].ToFixed(root.to_joint);
       turns[k] =
           Displacement(root.from_joint, root.from_joint, Angle(pin - root.from_joint) - start);
@@ -204,8 +220,7 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
       // pin and the forearm are joined by the task body (the pin to the wrist).
       const std::vector<Root> trivial = {to == kSixBarUpperLink ? Root{first.from_joint, pivot}
                                                                 : Root{first.to_joint, wrist}};
-      for (const Root& second :
-           RelativeRoots(Relative(c, bodies[to]), options, length, tolerance, trivial, summary)) {
+      for (const Root& second : find_roots(Relative(c, bodies[to]), trivial)) {
         six_bar(topology, kSixBarGround, kSixBarTaskBody, first, kSixBarFirstLink, to, second);
       }
     }
@@ -213,14 +228,13 @@ int SynthesizeSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& c
   for (const Root& first : ground_forearm) {
     const std::vector<PlanarPose> c = crank(first, kSixBarForearm);
     // C's pin and the task body are joined by the forearm (the pin to the wrist).
-    for (const Root& second : RelativeRoots(Relative(c, bodies[kSixBarTaskBody]), options, length,
-                                            tolerance, {{first.to_joint, wrist}}, summary)) {
+    for (const Root& second :
+         find_roots(Relative(c, bodies[kSixBarTaskBody]), {{first.to_joint, wrist}})) {
       six_bar(SixBarTopology::kWattI, kSixBarGround, kSixBarForearm, first, kSixBarFirstLink,
               kSixBarTaskBody, second);
     }
   }
-  summary->six_bars = static_cast<int>(six_bars->size());
-  return summary->six_bars;
+  return true;
 }
 
 int RemoveRepeatedSixBars(double tolerance, std::vector<SixBar>* six_bars,
@@ -275,6 +289,78 @@ RankKey SixBarRankKey(const SixBarReport& report, double precision_fit,
   return key;
 }
 
+SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
+                         const std::vector<SixBarAngles>& at_poses, double length,
+                         double precision_fit) {
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  // A whole turn of the input from the first pose (none after a dead point between poses).
+  const auto rotates = [&](SixBarReport* report) {
+    report->input_rotates_fully =
+        std::find(report->defects.begin(), report->defects.end(), "branch") ==
+            report->defects.end() &&
+        SixBarInputRotatesFully(six_bar, at_poses[0], report->input, length);
+  };
+  // The pose errors: the mechanism's, whichever link drives it.
+  double largest = 0.0, squares = 0.0, total = 0.0;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    const double error = PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length);
+    const double weight = k < task.pose_weights.size() ? task.pose_weights[k] : 1.0;
+    largest = std::max(largest, error);
+    squares += weight * error * error;
+    total += weight;
+  }
+  // Each grounded input judged through the poses, and the best by the shared rule drives it.
+  // Whether an input turns fully is asked of every input where the task requires it, else of
+  // the chosen one only (it does not rank).
+  std::vector<SixBarReport> reports;
+  std::vector<RankKey> keys;
+  for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
+    if (!SixBarGroundedLink(six_bar, input)) continue;
+    const SixBarAnalysis analysis =
+        AnalyzeSixBar(six_bar, at_poses, input, length, kSixBarDriveStep, false);
+    SixBarReport report;
+    report.six_bar = six_bar;
+    report.input = input;
+    report.defects = analysis.defects;
+    report.input_angles = analysis.input_angles;
+    report.at_poses = at_poses;
+    report.transmission_min_deg = analysis.transmission_min_deg;
+    report.max_pose_error = largest;
+    report.rms_pose_error = total > 0.0 ? std::sqrt(squares / total) : 0.0;
+    if (std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]) <
+        MinTransmissionAngleDeg(task.constraints)) {
+      report.defects.push_back("transmission");
+    }
+    if (task.constraints.input_rotates_fully) rotates(&report);
+    report.violates =
+        SixBarViolations(task.constraints, six_bar, report.input_rotates_fully, length);
+    keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
+    reports.push_back(report);
+  }
+  SixBarReport best = reports[RankOrder(keys).front()];
+  if (!task.constraints.input_rotates_fully) rotates(&best);
+  return best;
+}
+
+void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* result) {
+  RankReports(
+      [&](const SixBarReport& report) {
+        return SixBarRankKey(report, precision_fit, task.constraints);
+      },
+      -1, &result->six_bars);
+  if (result->six_bars.empty()) return;
+  std::vector<RankKey> keys;
+  for (const SixBarReport& report : result->six_bars) {
+    keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
+  }
+  const std::string defaults = DefaultsNote(keys, "an RMS pose error of", "six-bar");
+  if (!defaults.empty()) result->notes.push_back(defaults);
+  const SixBarReport& first = result->six_bars.front();
+  const std::string given =
+      GivenConstraintsNote(task.constraints, first.violates, first.defects, "six-bar");
+  if (!given.empty()) result->notes.push_back(given);
+}
+
 PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   PlanarMotionResult result;
@@ -305,62 +391,14 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   std::vector<Eigen::Vector2d> elbows;
   int unreachable = -1;
   ChainElbows(poses, *task.chain, &elbows, &unreachable);
-  const double least_transmission = MinTransmissionAngleDeg(task.constraints);
   const double precision_fit = PoseFitTolerance(task.precision, length);
   for (size_t i = 0; i < six_bars.size(); ++i) {
-    const SixBar& six_bar = six_bars[i];
-    const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, poses, elbows);
-    // A whole turn of the input from the first pose (none after a dead point between poses).
-    const auto rotates = [&](SixBarReport* report) {
-      report->input_rotates_fully =
-          std::find(report->defects.begin(), report->defects.end(), "branch") ==
-              report->defects.end() &&
-          SixBarInputRotatesFully(six_bar, at_poses[0], report->input, length);
-    };
-    // The pose errors: the chain's, whichever link drives it.
-    double largest = 0.0, squares = 0.0;
-    for (size_t k = 0; k < poses.size(); ++k) {
-      const double error = PoseError(SixBarTaskPose(six_bar, at_poses[k]), poses[k], length);
-      largest = std::max(largest, error);
-      squares += error * error;
-    }
-    // Each grounded input judged through the poses, and the best by the shared rule drives it.
-    // Whether an input turns fully is asked of every input where the task requires it, else of
-    // the chosen one only (it does not rank).
-    std::vector<SixBarReport> reports;
-    std::vector<RankKey> keys;
-    for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
-      if (!SixBarGroundedLink(six_bar, input)) continue;
-      const SixBarAnalysis analysis =
-          AnalyzeSixBar(six_bar, at_poses, input, length, kSixBarDriveStep, false);
-      SixBarReport report;
-      report.six_bar = six_bar;
-      report.input = input;
-      report.defects = analysis.defects;
-      report.input_angles = analysis.input_angles;
-      report.transmission_min_deg = analysis.transmission_min_deg;
-      report.max_pose_error = largest;
-      report.rms_pose_error = std::sqrt(squares / static_cast<double>(poses.size()));
-      report.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
-      if (std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]) <
-          least_transmission) {
-        report.defects.push_back("transmission");
-      }
-      if (task.constraints.input_rotates_fully) rotates(&report);
-      report.violates =
-          SixBarViolations(task.constraints, six_bar, report.input_rotates_fully, length);
-      keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
-      reports.push_back(report);
-    }
-    SixBarReport best = reports[RankOrder(keys).front()];
-    if (!task.constraints.input_rotates_fully) rotates(&best);
-    result.six_bars.push_back(best);
+    SixBarReport report = JudgeSixBar(
+        task, six_bars[i], SixBarAnglesAtPoses(six_bars[i], poses, elbows), length, precision_fit);
+    report.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
+    result.six_bars.push_back(report);
   }
-  RankReports(
-      [&](const SixBarReport& report) {
-        return SixBarRankKey(report, precision_fit, task.constraints);
-      },
-      -1, &result.six_bars);
+  RankSixBars(task, precision_fit, &result);
   result.notes.push_back(
       "six-bars on the given 3R chain: Watt I, Stephenson I, II and III (a chain grounded at one "
       "end admits no Watt II); each RR link is the five-pose Burmester problem of the relative "
@@ -378,18 +416,6 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
     result.notes.push_back(std::to_string(repeated) +
                            " six-bar(s) came twice (a double root of a relative motion) and are "
                            "listed once");
-  }
-  if (!result.six_bars.empty()) {
-    std::vector<RankKey> keys;
-    for (const SixBarReport& report : result.six_bars) {
-      keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
-    }
-    const std::string defaults = DefaultsNote(keys, "an RMS pose error of", "six-bar");
-    if (!defaults.empty()) result.notes.push_back(defaults);
-    const SixBarReport& first = result.six_bars.front();
-    const std::string given =
-        GivenConstraintsNote(task.constraints, first.violates, first.defects, "six-bar");
-    if (!given.empty()) result.notes.push_back(given);
   }
   if (result.six_bars.empty()) {
     result.notes.push_back(

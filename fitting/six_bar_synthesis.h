@@ -21,6 +21,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -33,6 +34,27 @@
 #include "lib/task.h"
 
 namespace linkfit {
+
+// An RR root of a relative motion: its joints (Sigma at the first pose) and how far the data's
+// precision can move them (DyadErrorBound; 0 where not known).
+struct SixBarRoot {
+  Eigen::Vector2d from_joint = Eigen::Vector2d::Zero(), to_joint = Eigen::Vector2d::Zero();
+  double error_bound = 0.0;
+};
+
+// The RR roots of one relative motion (the poses of one body seen from another, each body's frame
+// Sigma at the first pose, so that a root's joints are where they are at the first pose), less the
+// chain's own links among them (`trivial`: IsTrivialSixBarRoot).
+using SixBarRootFinder = std::function<std::vector<SixBarRoot>(
+    const std::vector<PlanarPose>& relative, const std::vector<SixBarRoot>& trivial)>;
+
+// Whether `root` is one of `trivial` (both joints within `tolerance`) or has no length.
+bool IsTrivialSixBarRoot(const SixBarRoot& root, const std::vector<SixBarRoot>& trivial,
+                         double tolerance);
+
+// The length a six-bar task's roots are judged at: the poses' characteristic length, or the
+// chain's longer link where that is longer.
+double SixBarTaskLength(const std::vector<PlanarPose>& poses, const SixBarChain& chain);
 
 struct SixBarSynthesisOptions {
   PlanarBurmesterOptions burmester;
@@ -82,13 +104,33 @@ int RemoveRepeatedSixBars(double tolerance, std::vector<SixBar>* six_bars,
 RankKey SixBarRankKey(const SixBarReport& report, double precision_fit,
                       const DesignConstraints& constraints);
 
+// The six-bars of the chain's topologies (the body pairs above) made of the roots `find_roots`
+// gives for each relative motion of the chain through `poses` (five or more; a new crank's turns
+// from its root's pin), and with `error_bounds` each one's two links' bounds (the roots'; a new
+// crank's second link adds the first's). False (and *unreachable_pose) where the chain cannot
+// reach a pose.
+bool CombineSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
+                    const SixBarRootFinder& find_roots, std::vector<SixBar>* six_bars,
+                    std::vector<std::array<double, 2>>* error_bounds, int* unreachable_pose);
+
+// A six-bar judged at its configurations at the task's poses (AnalyzeSixBar under each grounded
+// input; a least transmission angle below the task's minimum is the defect "transmission"; the
+// task's constraints, SixBarViolations; its weighted RMS and largest pose errors) and driven by
+// the input the shared rule ranks first (SixBarRankKey at `precision_fit`). No error bound.
+SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
+                         const std::vector<SixBarAngles>& at_poses, double length,
+                         double precision_fit);
+
+// Ranks result->six_bars by the shared rule and adds the notes on what the first breaks.
+void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* result);
+
 // A validated "linkage": "six-bar" task (five planar poses and its chain): every six-bar of the
 // chain, none listed twice (RemoveRepeatedSixBars), each judged under every grounded input
 // (AnalyzeSixBar; a least transmission angle below the task's minimum, by default 30 degrees, is
 // the defect "transmission"; the task's constraints, SixBarViolations) and driven by the one the
 // shared rule ranks first (SixBarRankKey: keeping the constraints, fewer defects, then the larger
-// least transmission angle), and the six-bars ranked by that rule. Notes say what the chain admits, when no six-bar is real, and
-// what the first breaks.
+// least transmission angle), and the six-bars ranked by that rule. Notes say what the chain admits,
+// when no six-bar is real, and what the first breaks.
 PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options = {});
 
 }  // namespace linkfit

@@ -107,13 +107,16 @@ struct SixBarReport {
   std::vector<std::string> defects;  // "order", "branch", "circuit"; "transmission"
   std::vector<std::string> violates;
   std::vector<double> input_angles;  // the input's turn at each pose, radians
+  // Its configuration at each pose: the turns of bodies 1 to 5 from the reference configuration
+  // (the first pose's), radians (lib/six_bar.h SixBarAngles).
+  std::vector<SixBarAngles> at_poses;
   std::array<double, 2> transmission_min_deg = {90.0, 90.0};  // each RR link's least
   bool input_rotates_fully = false;
   double max_pose_error = 0.0;  // length units, with L for the angle (PoseError)
   double rms_pose_error = 0.0;  // over the poses, the same units
   // How far the data's precision can move its RR links' joints (the larger link's bound, first
-  // order; fitting/six_bar_synthesis.h), length units.
-  double error_bound = 0.0;
+  // order; fitting/six_bar_synthesis.h), length units: five poses only.
+  std::optional<double> error_bound;
 };
 
 struct PlanarMotionResult {

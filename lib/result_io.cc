@@ -580,6 +580,15 @@ Json SixBarToJson(const SixBarReport& report) {
   Json angles = Json::array();
   for (double angle : report.input_angles) angles.push_back(InputDegrees(angle));
   object["input_deg"] = angles;
+  // Each pose's configuration, for `linkfit refine` (a circuit defect puts poses on another
+  // assembly than the input's continuation reaches).
+  Json turns = Json::array();
+  for (const SixBarAngles& at : report.at_poses) {
+    Json pose = Json::array();
+    for (int k = 0; k < 5; ++k) pose.push_back(at[k] * 180.0 / M_PI);
+    turns.push_back(pose);
+  }
+  if (!report.at_poses.empty()) object["turns_at_poses_deg"] = turns;
   return object;
 }
 

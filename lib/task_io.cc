@@ -668,11 +668,9 @@ class TaskParser {
     if (task->problem != ProblemKind::kMotion || task->space != Space::kPlanar) {
       Fail("linkage", "six-bars are synthesized for planar motion only");
     }
-    if (task->planar_poses.size() != 5) {
-      Fail("poses",
-           "a six-bar task takes exactly five poses (more, by least squares, is not "
-           "implemented yet); got " +
-               std::to_string(task->planar_poses.size()));
+    if (task->planar_poses.size() < 5) {
+      Fail("poses", "a six-bar task takes five poses (exactly) or more (least squares); got " +
+                        std::to_string(task->planar_poses.size()));
     }
     if (!root.contains("chain")) {
       Fail("chain",

@@ -7,7 +7,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <memory>
+#include <string>
 
 #include "lib/six_bar_frames.h"
 
@@ -21,6 +23,9 @@ constexpr int kTurn = kSixBarUpperLink - 1;
 // Newton iterations of an assembly, and its tolerance (times L).
 constexpr int kAssemblyIterations = 30;
 constexpr double kAssemblyTolerance = 1e-13;
+
+// Rounds of refinement at most (each while the last gained: AnotherRound).
+constexpr int kMaxRounds = 6;
 
 // Gauss-Newton iterations on a pose's turn (FitSixBarToPoses), and the step of its derivative.
 constexpr int kTurnIterations = 20;
@@ -136,6 +141,65 @@ void Score(const std::vector<PlanarPose>& poses, const std::vector<double>& weig
   fit->rms_pose_error = total > 0.0 ? std::sqrt(squares / total) : 0.0;
 }
 
+// One Levenberg-Marquardt solve from *fit, kept where it fits better.
+void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
+                double length, const SixBarRefinerOptions& options, SixBarFit* fit, int* iterations,
+                bool* converged, std::string* message) {
+  const SixBar seed = fit->six_bar;
+  std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(seed);
+  std::array<double, 3> reference = {seed.reference_pose.origin_in_fixed.x(),
+                                     seed.reference_pose.origin_in_fixed.y(),
+                                     seed.reference_pose.theta};
+  std::vector<SixBarAngles> warm = fit->at_poses;
+  std::vector<double> turns;
+  for (const SixBarAngles& angles : warm) turns.push_back(angles[kTurn]);
+  ceres::Problem problem;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<SixBarPoseCost, 3, kSixBarJointCount, 3, 1>(
+            new SixBarPoseCost(FromBodies(seed), ToBodies(seed), poses[k], length,
+                               Weight(weights, k), &warm[k])),
+        nullptr, joints.data(), reference.data(), &turns[k]);
+  }
+  problem.SetParameterBlockConstant(&turns[0]);
+  ceres::Solver::Options solver_options;
+  solver_options.max_num_iterations = options.max_iterations;
+  solver_options.function_tolerance = options.function_tolerance;
+  solver_options.parameter_tolerance = options.parameter_tolerance;
+  solver_options.gradient_tolerance = options.gradient_tolerance;
+  solver_options.linear_solver_type = ceres::DENSE_QR;
+  solver_options.num_threads = 1;
+  solver_options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary ceres_summary;
+  ceres::Solve(solver_options, &problem, &ceres_summary);
+  *iterations += static_cast<int>(ceres_summary.iterations.size());
+  *converged = ceres_summary.termination_type == ceres::CONVERGENCE;
+  *message = ceres_summary.BriefReport();
+  // The refined six-bar, placed again from its last configurations (the cost's last evaluation
+  // may have been a rejected step's) and referenced at the first pose.
+  SixBar refined = seed;
+  refined.ground_pivot = {joints[kJointGroundPivot], joints[kJointGroundPivot + 1]};
+  refined.elbow = {joints[kJointElbow], joints[kJointElbow + 1]};
+  refined.wrist = {joints[kJointWrist], joints[kJointWrist + 1]};
+  for (int l = 0; l < 2; ++l) {
+    const int from = l == 0 ? kJointFirstFrom : kJointSecondFrom;
+    const int to = l == 0 ? kJointFirstTo : kJointSecondTo;
+    refined.links[l].from_joint = {joints[from], joints[from + 1]};
+    refined.links[l].to_joint = {joints[to], joints[to + 1]};
+  }
+  refined.reference_pose = PlanarPose(reference[0], reference[1], reference[2]);
+  for (size_t k = 0; k < poses.size(); ++k) warm[k][kTurn] = turns[k];
+  SixBarFit candidate;
+  bool placed = FitSixBarToPoses(refined, poses, weights, length, warm, &candidate);
+  if (placed) {
+    const SixBarAngles first = candidate.at_poses[0];
+    candidate.six_bar = ReReferenceSixBar(candidate.six_bar, first);
+    for (SixBarAngles& angles : candidate.at_poses) angles -= first;
+    Score(poses, weights, length, &candidate);
+  }
+  if (placed && candidate.rms_pose_error <= fit->rms_pose_error) *fit = candidate;
+}
+
 }  // namespace
 
 bool FitSixBarToPoses(const SixBar& six_bar, const std::vector<PlanarPose>& poses,
@@ -146,8 +210,26 @@ bool FitSixBarToPoses(const SixBar& six_bar, const std::vector<PlanarPose>& pose
   const std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(six_bar);
   const std::array<int, 2> from = FromBodies(six_bar), to = ToBodies(six_bar);
   const double tolerance = kAssemblyTolerance * length;
+  // Without starts: the configurations over the upper link's range from the reference one, the
+  // nearest to each pose.
+  std::vector<SixBarAngles> sweep;
+  if (start.size() < poses.size()) {
+    sweep = SixBarSweep(six_bar, SixBarAngles::Zero(), kSixBarUpperLink, length);
+  }
   for (size_t k = 0; k < poses.size(); ++k) {
-    SixBarAngles angles = k < start.size() ? start[k] : fit->at_poses.back();
+    SixBarAngles angles = SixBarAngles::Zero();
+    if (k < start.size()) {
+      angles = start[k];
+    } else {
+      double nearest = std::numeric_limits<double>::infinity();
+      for (const SixBarAngles& sample : sweep) {
+        const double error = PoseResidual(six_bar, sample, poses[k], length).norm();
+        if (error < nearest) {
+          nearest = error;
+          angles = sample;
+        }
+      }
+    }
     if (!AssembleFree(from, to, joints.data(), tolerance, &angles)) return false;
     // Gauss-Newton on the upper link's turn: the pose error's derivative by a difference.
     for (int iteration = 0; iteration < kTurnIterations; ++iteration) {
@@ -198,59 +280,16 @@ RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
   Score(poses, weights, length, fit);
   summary.initial_rms = fit->rms_pose_error;
   summary.initial_max = fit->max_pose_error;
-  const SixBar& seed = fit->six_bar;
-  std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(seed);
-  std::array<double, 3> reference = {seed.reference_pose.origin_in_fixed.x(),
-                                     seed.reference_pose.origin_in_fixed.y(),
-                                     seed.reference_pose.theta};
-  std::vector<SixBarAngles> warm = fit->at_poses;
-  std::vector<double> turns;
-  for (const SixBarAngles& angles : warm) turns.push_back(angles[kTurn]);
-  ceres::Problem problem;
-  for (size_t k = 0; k < poses.size(); ++k) {
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<SixBarPoseCost, 3, kSixBarJointCount, 3, 1>(
-            new SixBarPoseCost(FromBodies(seed), ToBodies(seed), poses[k], length,
-                               Weight(weights, k), &warm[k])),
-        nullptr, joints.data(), reference.data(), &turns[k]);
+  // In rounds while they gain (optimizers/refiner_summary.h AnotherRound): Levenberg-Marquardt
+  // descends the six-bar's flat valleys slowly.
+  for (int round = 0; round < kMaxRounds; ++round) {
+    const double before = fit->rms_pose_error;
+    bool converged = true;
+    RefineOnce(poses, weights, length, options, fit, &summary.iterations, &converged,
+               &summary.message);
+    summary.converged = converged;
+    if (!AnotherRound(before, fit->rms_pose_error, converged)) break;
   }
-  problem.SetParameterBlockConstant(&turns[0]);
-  ceres::Solver::Options solver_options;
-  solver_options.max_num_iterations = options.max_iterations;
-  solver_options.function_tolerance = options.function_tolerance;
-  solver_options.parameter_tolerance = options.parameter_tolerance;
-  solver_options.gradient_tolerance = options.gradient_tolerance;
-  solver_options.linear_solver_type = ceres::DENSE_QR;
-  solver_options.num_threads = 1;
-  solver_options.logging_type = ceres::SILENT;
-  ceres::Solver::Summary ceres_summary;
-  ceres::Solve(solver_options, &problem, &ceres_summary);
-  summary.iterations = static_cast<int>(ceres_summary.iterations.size());
-  summary.converged = ceres_summary.termination_type == ceres::CONVERGENCE;
-  summary.message = ceres_summary.BriefReport();
-  // The refined six-bar, placed again from its last configurations (the cost's last evaluation
-  // may have been a rejected step's) and referenced at the first pose.
-  SixBar refined = seed;
-  refined.ground_pivot = {joints[kJointGroundPivot], joints[kJointGroundPivot + 1]};
-  refined.elbow = {joints[kJointElbow], joints[kJointElbow + 1]};
-  refined.wrist = {joints[kJointWrist], joints[kJointWrist + 1]};
-  for (int l = 0; l < 2; ++l) {
-    const int from = l == 0 ? kJointFirstFrom : kJointSecondFrom;
-    const int to = l == 0 ? kJointFirstTo : kJointSecondTo;
-    refined.links[l].from_joint = {joints[from], joints[from + 1]};
-    refined.links[l].to_joint = {joints[to], joints[to + 1]};
-  }
-  refined.reference_pose = PlanarPose(reference[0], reference[1], reference[2]);
-  for (size_t k = 0; k < poses.size(); ++k) warm[k][kTurn] = turns[k];
-  SixBarFit candidate;
-  bool placed = FitSixBarToPoses(refined, poses, weights, length, warm, &candidate);
-  if (placed) {
-    const SixBarAngles first = candidate.at_poses[0];
-    candidate.six_bar = ReReferenceSixBar(candidate.six_bar, first);
-    for (SixBarAngles& angles : candidate.at_poses) angles -= first;
-    Score(poses, weights, length, &candidate);
-  }
-  if (placed && candidate.rms_pose_error <= fit->rms_pose_error) *fit = candidate;
   summary.final_rms = fit->rms_pose_error;
   summary.final_max = fit->max_pose_error;
   double total = 0.0;

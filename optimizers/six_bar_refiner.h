@@ -40,9 +40,11 @@ struct SixBarFit {
 };
 
 // Places `six_bar` at each pose: from `start[k]` (turns near the pose's configuration, e.g. its
-// chain's inverse kinematics there), the upper link turned to where the task body comes nearest
-// the pose (Gauss-Newton on its turn, the other turns by assembly). Returns false (and leaves
-// *fit incomplete) where a pose cannot be assembled near its start. `weights` may be empty.
+// chain's inverse kinematics there; without it, the nearest of the configurations over the upper
+// link's range from the reference one, lib/six_bar.h SixBarSweep), the upper link turned to where
+// the task body comes nearest the pose (Gauss-Newton on its turn, the other turns by assembly).
+// Returns false (and leaves *fit incomplete) where a pose cannot be assembled near its start.
+// `weights` may be empty.
 bool FitSixBarToPoses(const SixBar& six_bar, const std::vector<PlanarPose>& poses,
                       const std::vector<double>& weights, double length,
                       const std::vector<SixBarAngles>& start, SixBarFit* fit);

@@ -747,7 +747,10 @@ std::string TypingNote(const Task& task, const TaskSolverOptions& options,
 }  // namespace
 
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options) {
-  if (task.six_bar) return SolveSixBarMotion(task);  // issue 36: five poses, a given chain
+  if (task.six_bar) {  // issue 36: a given chain
+    return task.planar_poses.size() == 5 ? SolveSixBarMotion(task)
+                                         : SolveSixBarLeastSquares(task, options);
+  }
   const std::vector<PlanarPose>& poses = task.planar_poses;
   if (poses.size() <= 5) {
     PlanarMotionResult result = SolvePlanarMotion(task, options.planar);

@@ -41,6 +41,7 @@
 #include "optimizers/path_search.h"
 #include "optimizers/pivot_choice.h"
 #include "optimizers/planar_dyad_refiner.h"
+#include "optimizers/six_bar_refiner.h"
 #include "optimizers/spatial_dyad_refiner.h"
 #include "optimizers/spherical_dyad_refiner.h"
 #include "optimizers/spherical_search.h"
@@ -76,6 +77,12 @@ struct TaskSolverOptions {
   // paths and a free-timing stage's refinements, each independent (the result does not depend
   // on them). The batch modes run a task a thread, each with one.
   int threads = 0;
+  // Six-bars through six or more poses (SolveSixBarLeastSquares), at balanced effort (fast: a
+  // half of the roots and a third of the refinements; thorough: twice and three times): the
+  // best-fitting least-squares dyads kept per relative motion, and the six-bars refined.
+  int six_bar_roots = 6;
+  int six_bars_refined = 8;
+  SixBarRefinerOptions six_bar_refiner;
 };
 
 // Never throws for numerical trouble: what could not be done is said in the result's notes.
@@ -83,6 +90,13 @@ TaskResult SolveTask(const Task& task, const TaskSolverOptions& options = {});
 
 // Planar motion only: exact for five poses or fewer, approximate beyond (see above).
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options = {});
+
+// A validated "linkage": "six-bar" task of six or more poses (issue 36;
+// optimizers/six_bar_task_solver.cc): every relative motion's best least-squares RR dyads combined
+// into the chain's six-bars (fitting/six_bar_synthesis.h CombineSixBars), the best fits refined on
+// the pose errors with every joint free (RefineSixBar), listed once each, judged and ranked as
+// five-pose six-bars are (JudgeSixBar, RankSixBars).
+PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOptions& options = {});
 
 // Path problems only: exact for five timed points, least squares beyond, free timing when the
 // points have no input angles.

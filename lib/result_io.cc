@@ -562,6 +562,10 @@ Json SixBarToJson(const SixBarReport& report) {
   }
   joints["links"] = links;
   object["joints_at_first_pose"] = joints;
+  const PlanarPose& task_body = six_bar.reference_pose;
+  object["task_body_at_first_pose"] =
+      Json::array({task_body.origin_in_fixed.x(), task_body.origin_in_fixed.y(),
+                   task_body.theta * 180.0 / M_PI});
   Json lengths;
   PutNumber(&lengths, "upper_link", (six_bar.elbow - six_bar.ground_pivot).norm());
   PutNumber(&lengths, "forearm", (six_bar.wrist - six_bar.elbow).norm());

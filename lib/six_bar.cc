@@ -395,22 +395,6 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   return analysis;
 }
 
-bool SixBarConfigurations(const SixBar& six_bar, int input, const std::vector<double>& input_angles,
-                          double length, std::vector<SixBarAngles>* configurations) {
-  configurations->clear();
-  SixBarAngles angles = SixBarAngles::Zero();
-  for (const double angle : input_angles) {
-    SixBarAngles driven = angles;
-    if (!DriveSixBar(six_bar, input, angle, &driven, length, kSixBarDriveStep)) {
-      driven = angles;
-      if (!Assemble(six_bar, input, angle, &driven, 1e-13 * length, 30, nullptr)) return false;
-    }
-    angles = driven;
-    configurations->push_back(angles);
-  }
-  return true;
-}
-
 std::vector<SixBarAngles> SixBarSweep(const SixBar& six_bar, const SixBarAngles& at_first,
                                       int input, double length, double step) {
   std::vector<SixBarAngles> ahead = {at_first}, behind;

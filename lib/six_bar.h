@@ -166,14 +166,6 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
 bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, int input,
                              double length, double step = kSixBarDriveStep);
 
-// The six-bar's configurations with its input (a grounded link) at `input_angles` (turns from the
-// reference configuration, radians): driven there one after another from the reference
-// configuration (DriveSixBar), as AnalyzeSixBar drives it through the task's poses; where a drive
-// meets a dead point, assembled at the angle from the last configuration reached. False where
-// neither reaches an angle.
-bool SixBarConfigurations(const SixBar& six_bar, int input, const std::vector<double>& input_angles,
-                          double length, std::vector<SixBarAngles>* configurations);
-
 // The configurations over the input's range from the assembly `at_first` (DriveSixBar, steps of at
 // most `step`): a whole turn when it meets no dead point (from `at_first` on, the input rising);
 // else the rocker's range from the dead point behind to the dead point ahead, the input rising

@@ -107,6 +107,14 @@ struct SpatialDesign {
   std::vector<std::vector<int>> platforms;  // five dyad indices each
 };
 
+// A six-bar design (issue 36): six-bars as a six-bar result lists them ("six_bars": topology,
+// joints at the first pose, the task body's pose there, the driving input, each pose's turns).
+struct SixBarDesign {
+  std::vector<SixBar> six_bars;
+  std::vector<int> inputs;                          // the driving body of each
+  std::vector<std::vector<SixBarAngles>> at_poses;  // each's turns at the poses (may be empty)
+};
+
 // Motion tasks of the given poses, each of weight 1 and not exact (what a task file without
 // "weight" and "exact" gives).
 Task PlanarMotionTask(const std::vector<PlanarPose>& poses, Effort effort = Effort::kBalanced);

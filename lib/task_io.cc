@@ -547,6 +547,98 @@ class TaskParser {
     return design;
   }
 
+  SixBarDesign ParseSixBarDesignText(const std::string& text,
+                                     const std::vector<PlanarPose>& poses) const {
+    const Json root = DesignRoot(text, "six_bars", "six-bars");
+    static const char* const kBodies[] = {"ground",    "upper link", "forearm",
+                                          "task body", "first link", "second link"};
+    const auto body = [&](const Json& value, const std::string& item) {
+      for (int k = 0; k < 6; ++k) {
+        if (value.is_string() && value.get<std::string>() == kBodies[k]) return k;
+      }
+      Fail(item,
+           "expected \"ground\", \"upper link\", \"forearm\", \"task body\", \"first link\" "
+           "or \"second link\", got " +
+               Describe(value));
+    };
+    SixBarDesign design;
+    const Json& list = root.at("six_bars");
+    for (size_t i = 0; i < list.size(); ++i) {
+      const std::string item = IndexItem("six_bars", i);
+      const Json& entry = Object(list[i], item);
+      SixBar six_bar;
+      six_bar.topology =
+          ParseEnum<SixBarTopology>(entry, item, "topology", SixBarTopology::kWattI,
+                                    {{"Watt I", SixBarTopology::kWattI},
+                                     {"Stephenson I", SixBarTopology::kStephensonI},
+                                     {"Stephenson II", SixBarTopology::kStephensonII},
+                                     {"Stephenson III", SixBarTopology::kStephensonIII}});
+      const std::string joints_item = KeyItem(item, "joints_at_first_pose");
+      const Json& joints = Object(Field(entry, item, "joints_at_first_pose"), joints_item);
+      const auto point = [&](const Json& object, const std::string& at, const char* key) {
+        return Vector<2>(Field(object, at, key), KeyItem(at, key));
+      };
+      six_bar.ground_pivot = point(joints, joints_item, "ground_pivot");
+      six_bar.elbow = point(joints, joints_item, "elbow");
+      six_bar.wrist = point(joints, joints_item, "wrist");
+      const std::string links_item = KeyItem(joints_item, "links");
+      const Json& links = Field(joints, joints_item, "links");
+      if (!links.is_array() || links.size() != 2) {
+        Fail(links_item, "expected the two RR links, got " + Describe(links));
+      }
+      for (int l = 0; l < 2; ++l) {
+        const std::string link_item = IndexItem(links_item, l);
+        const Json& link = Object(links[l], link_item);
+        SixBarRRLink& rr = six_bar.links[l];
+        rr.from_body = body(Field(link, link_item, "from"), KeyItem(link_item, "from"));
+        rr.to_body = body(Field(link, link_item, "to"), KeyItem(link_item, "to"));
+        rr.from_joint = point(link, link_item, "from_joint");
+        rr.to_joint = point(link, link_item, "to_joint");
+      }
+      // The bodies a six-bar on a 3R chain may join (fitting/six_bar_synthesis.h).
+      const SixBarRRLink& first = six_bar.links[0];
+      const SixBarRRLink& second = six_bar.links[1];
+      const bool first_ok = first.from_body == kSixBarGround &&
+                            (first.to_body == kSixBarForearm || first.to_body == kSixBarTaskBody);
+      const bool second_ok =
+          (second.from_body == kSixBarGround || second.from_body == kSixBarUpperLink ||
+           second.from_body == kSixBarFirstLink) &&
+          second.to_body >= kSixBarUpperLink && second.to_body <= kSixBarTaskBody &&
+          second.to_body != second.from_body;
+      if (!first_ok || !second_ok) {
+        Fail(links_item,
+             "not a six-bar on the chain: the first link joins ground and the forearm or the "
+             "task body, the second ground, the upper link or the first link and a chain body");
+      }
+      six_bar.reference_pose = poses.front();
+      if (entry.contains("task_body_at_first_pose")) {
+        const std::string at = KeyItem(item, "task_body_at_first_pose");
+        const Eigen::Vector3d pose = Vector<3>(entry.at("task_body_at_first_pose"), at);
+        six_bar.reference_pose = PlanarPose(pose.x(), pose.y(), pose.z() * M_PI / 180.0);
+      }
+      int input = kSixBarUpperLink;
+      if (entry.contains("input")) input = body(entry.at("input"), KeyItem(item, "input"));
+      if (!SixBarGroundedLink(six_bar, input)) {
+        Fail(KeyItem(item, "input"), "not a link turning about ground");
+      }
+      // Each pose's turns, where the design was made for as many poses as the task has (a
+      // design of other poses is placed at the task's by its upper link's range).
+      std::vector<SixBarAngles> turns;
+      if (entry.contains("turns_at_poses_deg")) {
+        const std::string at = KeyItem(item, "turns_at_poses_deg");
+        const Json& value = entry.at("turns_at_poses_deg");
+        if (!value.is_array()) Fail(at, "expected lists of five turns, got " + Describe(value));
+        for (size_t k = 0; k < value.size() && value.size() == poses.size(); ++k) {
+          turns.push_back(Vector<5>(value[k], IndexItem(at, k)) * (M_PI / 180.0));
+        }
+      }
+      design.six_bars.push_back(six_bar);
+      design.inputs.push_back(input);
+      design.at_poses.push_back(turns);
+    }
+    return design;
+  }
+
   Task Parse(const std::string& text) const {
     DigitTallies tallies;
     const Json root = ParseJson(text, &tallies);
@@ -1907,8 +1999,14 @@ SpatialDesign ParseSpatialDesign(const std::string& json_text, const std::string
   return TaskParser(source, TaskReadOptions()).ParseSpatialDesignText(json_text);
 }
 
+SixBarDesign ParseSixBarDesign(const std::string& json_text, const std::string& source,
+                               const std::vector<PlanarPose>& poses) {
+  return TaskParser(source, TaskReadOptions()).ParseSixBarDesignText(json_text, poses);
+}
+
 TaskDesign ParseTaskDesign(const std::string& json_text, const std::string& source,
                            const Task& task) {
+  if (task.six_bar) return ParseSixBarDesign(json_text, source, task.planar_poses);
   if (task.problem == ProblemKind::kFunction) {
     throw InputError(source +
                      ": a function task's four-bars are refined by `linkfit solve` "

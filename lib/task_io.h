@@ -58,8 +58,16 @@ PathDesign ParsePathDesign(const std::string& json_text, const std::string& sour
 // [five indices]}, ...]). Other fields are ignored. Errors as for tasks.
 SpatialDesign ParseSpatialDesign(const std::string& json_text, const std::string& source);
 
-// A design for `task` (`linkfit refine`): planar, path or spatial by the task's kind.
-using TaskDesign = std::variant<PlanarDesign, PathDesign, SpatialDesign>;
+// Parses a six-bar design (lib/task.h SixBarDesign): {"six_bars": [...]} as a six-bar result
+// writes them ("topology", "input", "joints_at_first_pose" with "ground_pivot", "elbow", "wrist"
+// and two "links" of "from", "to", "from_joint", "to_joint"; optionally "task_body_at_first_pose"
+// [x, y, theta_deg], else the task's first pose, and "turns_at_poses_deg", used where there are
+// as many as `poses`, the task's); other fields are ignored. Errors as for tasks.
+SixBarDesign ParseSixBarDesign(const std::string& json_text, const std::string& source,
+                               const std::vector<PlanarPose>& poses);
+
+// A design for `task` (`linkfit refine`): planar, path, spatial or six-bar by the task's kind.
+using TaskDesign = std::variant<PlanarDesign, PathDesign, SpatialDesign, SixBarDesign>;
 TaskDesign ParseTaskDesign(const std::string& json_text, const std::string& source,
                            const Task& task);
 TaskDesign ReadTaskDesignFile(const std::string& path, const Task& task);

@@ -9,9 +9,11 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "lib/six_bar_frames.h"
+#include "optimizers/design_bounds.h"
 
 namespace linkfit {
 namespace {
@@ -25,7 +27,7 @@ constexpr int kAssemblyIterations = 30;
 constexpr double kAssemblyTolerance = 1e-13;
 
 // Rounds of refinement at most (each while the last gained: AnotherRound).
-constexpr int kMaxRounds = 6;
+constexpr int kMaxRounds = 10;
 
 // Gauss-Newton iterations on a pose's turn (FitSixBarToPoses), and the step of its derivative.
 constexpr int kTurnIterations = 20;
@@ -121,6 +123,119 @@ class SixBarPoseCost {
   SixBarAngles* warm_;
 };
 
+// A bound on two joints of one body (a link: `lower` <= distance <= `upper`) or on one joint (a
+// box, in Sigma or, with `in_task_body`, in E), each side a penalty sqrt(weight) max(0, excess)
+// (the bounds held `inset` further in: design_bounds.h's shift).
+struct SixBarBound {
+  int first = 0, second = -1;  // joint indices (SixBarJoint / 2); second -1: a box
+  double lower = 0.0, upper = std::numeric_limits<double>::infinity();
+  bool in_task_body = false;
+  Eigen::Vector2d box_min = Eigen::Vector2d::Zero(), box_max = Eigen::Vector2d::Zero();
+};
+
+class SixBarBoundCost {
+ public:
+  SixBarBoundCost(const SixBarBound& bound, const double* weight, const double* inset)
+      : bound_(bound), weight_(weight), inset_(inset) {}
+
+  template <typename T>
+  bool operator()(const T* joints, const T* reference, T* residual) const {
+    const T scale = T(std::sqrt(*weight_));
+    const T inset = T(*inset_);
+    const Eigen::Matrix<T, 2, 1> a(joints[2 * bound_.first], joints[2 * bound_.first + 1]);
+    const auto excess = [](const T& value) { return value > T(0.0) ? value : T(0.0); };
+    if (bound_.second >= 0) {
+      const Eigen::Matrix<T, 2, 1> b(joints[2 * bound_.second], joints[2 * bound_.second + 1]);
+      using std::sqrt;
+      const T distance = sqrt((a - b).squaredNorm() + T(1e-300));
+      residual[0] = scale * excess(distance - (T(bound_.upper) - inset));
+      residual[1] = scale * excess((T(bound_.lower) + inset) - distance);
+      residual[2] = T(0.0);
+      residual[3] = T(0.0);
+      return true;
+    }
+    Eigen::Matrix<T, 2, 1> p = a;
+    if (bound_.in_task_body) {  // E's coordinates of the joint: R(-theta) (a - origin)
+      using std::cos;
+      using std::sin;
+      const T c = cos(reference[2]), s = sin(reference[2]);
+      const T dx = a.x() - reference[0], dy = a.y() - reference[1];
+      p = Eigen::Matrix<T, 2, 1>(c * dx + s * dy, -s * dx + c * dy);
+    }
+    for (int k = 0; k < 2; ++k) {
+      residual[2 * k] = scale * excess((T(bound_.box_min[k]) + inset) - p[k]);
+      residual[2 * k + 1] = scale * excess(p[k] - (T(bound_.box_max[k]) - inset));
+    }
+    return true;
+  }
+
+ private:
+  SixBarBound bound_;
+  const double* weight_;
+  const double* inset_;
+};
+
+// The task's bounds on the six-bar's joints (SixBarViolations' links and boxes).
+std::vector<SixBarBound> Bounds(const SixBar& six_bar, const DesignConstraints& constraints,
+                                double length) {
+  // Each body's joints as indices of the joint numbers (lib/six_bar_frames.h order / 2).
+  std::array<std::vector<int>, 6> bodies;
+  bodies[kSixBarGround] = {0};
+  bodies[kSixBarUpperLink] = {0, 1};
+  bodies[kSixBarForearm] = {1, 2};
+  bodies[kSixBarTaskBody] = {2};
+  for (int l = 0; l < 2; ++l) {
+    const int from = 3 + 2 * l, to = 4 + 2 * l;
+    bodies[kSixBarFirstLink + l].push_back(from);
+    bodies[kSixBarFirstLink + l].push_back(to);
+    bodies[six_bar.links[l].from_body].push_back(from);
+    bodies[six_bar.links[l].to_body].push_back(to);
+  }
+  std::vector<SixBarBound> bounds;
+  for (const std::vector<int>& body : bodies) {
+    for (size_t i = 0; i < body.size(); ++i) {
+      for (size_t j = i + 1; j < body.size(); ++j) {
+        SixBarBound bound;
+        bound.first = body[i];
+        bound.second = body[j];
+        bound.upper = MaxLinkLength(constraints, length);
+        bound.lower = constraints.min_link_length.value_or(0.0);
+        bounds.push_back(bound);
+      }
+    }
+  }
+  const auto boxes = [&](const std::optional<PlanarBox>& box, int body, bool in_task_body) {
+    if (!box) return;
+    for (const int joint : bodies[body]) {
+      SixBarBound bound;
+      bound.first = joint;
+      bound.in_task_body = in_task_body;
+      bound.box_min = box->min;
+      bound.box_max = box->max;
+      bounds.push_back(bound);
+    }
+  };
+  boxes(constraints.fixed_pivots_box, kSixBarGround, false);
+  boxes(constraints.moving_pivots_box, kSixBarTaskBody, true);
+  return bounds;
+}
+
+// The largest amount by which the six-bar breaks `bounds` (length units).
+double BoundViolation(const SixBar& six_bar, const std::vector<SixBarBound>& bounds) {
+  const std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(six_bar);
+  const double reference[3] = {six_bar.reference_pose.origin_in_fixed.x(),
+                               six_bar.reference_pose.origin_in_fixed.y(),
+                               six_bar.reference_pose.theta};
+  double worst = 0.0;
+  const double weight = 1.0, inset = 0.0;
+  for (const SixBarBound& bound : bounds) {
+    double residual[4];
+    SixBarBoundCost(bound, &weight, &inset)(joints.data(), reference, residual);
+    for (const double r : residual) worst = std::max(worst, r);
+  }
+  return worst;
+}
+
 double Weight(const std::vector<double>& weights, size_t k) {
   return k < weights.size() ? weights[k] : 1.0;
 }
@@ -143,8 +258,11 @@ void Score(const std::vector<PlanarPose>& poses, const std::vector<double>& weig
 
 // One Levenberg-Marquardt solve from *fit, kept where it fits better.
 void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
-                double length, const SixBarRefinerOptions& options, SixBarFit* fit, int* iterations,
-                bool* converged, std::string* message) {
+                double length, const SixBarRefinerOptions& options,
+                const std::vector<SixBarBound>& bounds, const double* bound_weight,
+                const double* inset, SixBarFit* fit, int* iterations, bool* converged,
+                std::string* message, double* violation) {
+  *violation = 0.0;
   const SixBar seed = fit->six_bar;
   std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(seed);
   std::array<double, 3> reference = {seed.reference_pose.origin_in_fixed.x(),
@@ -161,6 +279,12 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
                                Weight(weights, k), &warm[k])),
         nullptr, joints.data(), reference.data(), &turns[k]);
   }
+  for (const SixBarBound& bound : bounds) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<SixBarBoundCost, 4, kSixBarJointCount, 3>(
+            new SixBarBoundCost(bound, bound_weight, inset)),
+        nullptr, joints.data(), reference.data());
+  }
   problem.SetParameterBlockConstant(&turns[0]);
   ceres::Solver::Options solver_options;
   solver_options.max_num_iterations = options.max_iterations;
@@ -170,6 +294,14 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
   solver_options.linear_solver_type = ceres::DENSE_QR;
   solver_options.num_threads = 1;
   solver_options.logging_type = ceres::SILENT;
+  // A start the closures cannot be solved at (a configuration at a dead point) is not refined.
+  double start_cost = 0.0;
+  if (!problem.Evaluate(ceres::Problem::EvaluateOptions(), &start_cost, nullptr, nullptr,
+                        nullptr)) {
+    *converged = true;
+    *message = "not refined: the six-bar's closures cannot be solved at its configurations";
+    return;
+  }
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver_options, &problem, &ceres_summary);
   *iterations += static_cast<int>(ceres_summary.iterations.size());
@@ -188,16 +320,28 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     refined.links[l].to_joint = {joints[to], joints[to + 1]};
   }
   refined.reference_pose = PlanarPose(reference[0], reference[1], reference[2]);
+  // The costs' configurations follow every evaluation, a rejected trial step's too: evaluated
+  // at the solution, they are its (else the seed's configurations are the start).
+  problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, nullptr);
   for (size_t k = 0; k < poses.size(); ++k) warm[k][kTurn] = turns[k];
   SixBarFit candidate;
-  bool placed = FitSixBarToPoses(refined, poses, weights, length, warm, &candidate);
+  bool placed = FitSixBarToPoses(refined, poses, weights, length, warm, &candidate) ||
+                FitSixBarToPoses(refined, poses, weights, length, fit->at_poses, &candidate);
   if (placed) {
     const SixBarAngles first = candidate.at_poses[0];
     candidate.six_bar = ReReferenceSixBar(candidate.six_bar, first);
     for (SixBarAngles& angles : candidate.at_poses) angles -= first;
     Score(poses, weights, length, &candidate);
   }
-  if (placed && candidate.rms_pose_error <= fit->rms_pose_error) *fit = candidate;
+  // Better: keeping the bounds (to within the slack), then the fit.
+  const double slack = kConstraintSlack * length;
+  if (placed) *violation = BoundViolation(candidate.six_bar, bounds);
+  const bool keeps = placed && *violation <= slack;
+  const bool kept = BoundViolation(fit->six_bar, bounds) <= slack;
+  if (placed &&
+      ((keeps && !kept) || (keeps == kept && candidate.rms_pose_error <= fit->rms_pose_error))) {
+    *fit = candidate;
+  }
 }
 
 }  // namespace
@@ -282,13 +426,30 @@ RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
   summary.initial_max = fit->max_pose_error;
   // In rounds while they gain (optimizers/refiner_summary.h AnotherRound): Levenberg-Marquardt
   // descends the six-bar's flat valleys slowly.
-  for (int round = 0; round < kMaxRounds; ++round) {
+  // The bounds' penalty raised, or held further in, while the six-bar breaks them
+  // (optimizers/design_bounds.h's rounds).
+  const std::vector<SixBarBound> bounds = Bounds(fit->six_bar, options.constraints, length);
+  double bound_weight = kBoundFirstWeight, inset = 0.0;
+  for (int round = 0; round < kMaxRounds + kBoundRounds; ++round) {
     const double before = fit->rms_pose_error;
+    const double violation_before = BoundViolation(fit->six_bar, bounds);
     bool converged = true;
-    RefineOnce(poses, weights, length, options, fit, &summary.iterations, &converged,
-               &summary.message);
+    double violation = 0.0;  // the round's solution's (kept or not)
+    RefineOnce(poses, weights, length, options, bounds, &bound_weight, &inset, fit,
+               &summary.iterations, &converged, &summary.message, &violation);
     summary.converged = converged;
-    if (!AnotherRound(before, fit->rms_pose_error, converged)) break;
+    if (violation > kBoundSlack * length) {
+      if (violation > kBoundShiftFrom * length) {
+        bound_weight *= kBoundGrowth;
+      } else {
+        inset += violation;
+      }
+      continue;
+    }
+    if (violation_before <= kBoundSlack * length &&
+        !AnotherRound(before, fit->rms_pose_error, converged)) {
+      break;
+    }
   }
   summary.final_rms = fit->rms_pose_error;
   summary.final_max = fit->max_pose_error;

@@ -16,6 +16,7 @@
 
 #include <vector>
 
+#include "lib/design_constraints.h"
 #include "lib/planar_pose.h"
 #include "lib/six_bar.h"
 #include "optimizers/refiner_summary.h"
@@ -23,10 +24,16 @@
 namespace linkfit {
 
 struct SixBarRefinerOptions {
-  int max_iterations = 200;            // Levenberg-Marquardt iterations
+  int max_iterations = 500;            // Levenberg-Marquardt iterations per round
   double function_tolerance = 1e-15;   // Ceres relative cost change to stop
   double parameter_tolerance = 1e-14;  // Ceres relative step to stop
   double gradient_tolerance = 1e-16;
+  // The task's bounds on the six-bar (lib/design_constraints.h SixBarViolations: the longest and
+  // shortest link, the fixed pivots' box, the task body's joints' box in E) as penalties raised
+  // until kept (optimizers/design_bounds.h's rounds); the link bound applies by default (100 L):
+  // the pose errors fix a six-bar weakly, and without it a fit drifts toward links of hundreds
+  // of L (a slider's limit) for a sliver of error.
+  DesignConstraints constraints;
 };
 
 // A six-bar placed at the task poses: its configuration at each (the turns AnalyzeSixBar drives

@@ -7,10 +7,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "fitting/six_bar_synthesis.h"
+#include "lib/task_io.h"
 #include "optimizers/six_bar_refiner.h"
 #include "optimizers/task_solver.h"
 
@@ -24,6 +26,10 @@ constexpr double kSameRoot = 1e-4;
 // pose errors fix a six-bar's joints weakly (optimizers/six_bar_refiner.h: singular values down to
 // 1e-7 of the largest), and two seeds refined to one optimum stop a little apart along its valley.
 constexpr double kSameSixBar = 1e-3;
+
+// Fresh refinements of a six-bar at most, each while the last gained more than kPassGain.
+constexpr int kRefinePasses = 4;
+constexpr double kPassGain = 0.005;
 
 // The RMS of a dyad's residuals over `poses`.
 double RmsResidual(const PlanarDyad& dyad, const std::vector<PlanarPose>& poses) {
@@ -122,8 +128,17 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
     return a.rms_pose_error < b.rms_pose_error;
   });
   fits.resize(std::min<size_t>(fits.size(), SixBarsRefined(options, task.effort)));
+  SixBarRefinerOptions refiner = options.six_bar_refiner;
+  refiner.constraints = task.constraints;
+  // Refined afresh while that gains (a fresh solve leaves a stiffened bound's penalty and a
+  // collapsed trust region behind: the six-bar's valleys are flat), so that `linkfit refine`
+  // finds each listed one refined.
   for (SixBarFit& fit : fits) {
-    RefineSixBar(poses, task.pose_weights, length, &fit, options.six_bar_refiner);
+    for (int pass = 0; pass < kRefinePasses; ++pass) {
+      const double before = fit.rms_pose_error;
+      RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
+      if (!Gains(before, fit.rms_pose_error, kPassGain)) break;
+    }
   }
   std::stable_sort(fits.begin(), fits.end(), [](const SixBarFit& a, const SixBarFit& b) {
     return a.rms_pose_error < b.rms_pose_error;
@@ -172,6 +187,41 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
         "own link; try another chain (its wrist or ground pivot elsewhere, other link lengths, "
         "the other elbow)");
   }
+  result.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
+                                      const std::vector<SixBarAngles>& at_poses,
+                                      const TaskSolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  PlanarMotionResult result;
+  result.method = "refined";
+  result.precision = task.precision;
+  result.constraints = task.constraints;
+  result.chain = task.chain;
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  result.scale = task.scale ? *task.scale : CharacteristicLength(poses);
+  const double length = result.scale > 0.0 ? result.scale : 1.0;
+  SixBarFit fit;
+  if (!FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &fit)) {
+    throw InputError(
+        "the six-bar does not assemble near the task's poses from its turns there "
+        "(turns_at_poses_deg) or its upper link's range: is it this task's?");
+  }
+  SixBarRefinerOptions refiner = options.six_bar_refiner;
+  refiner.constraints = task.constraints;
+  const RefinerSummary summary = RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
+  result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length,
+                                        PoseFitTolerance(task.precision, length)));
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "refined on the pose errors, every joint free: RMS pose error %.6g -> %.6g, "
+                "largest %.6g -> %.6g (%d iterations)",
+                summary.initial_rms, summary.final_rms, summary.initial_max, summary.final_max,
+                summary.iterations);
+  result.notes.push_back(text);
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

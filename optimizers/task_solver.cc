@@ -1483,6 +1483,10 @@ TaskResult RefineTask(const Task& task, const TaskDesign& design, const RefineCh
     }
     return static_cast<size_t>(choice.mechanism);
   };
+  if (const SixBarDesign* six_bars = std::get_if<SixBarDesign>(&design)) {
+    const size_t m = listed(six_bars->six_bars.size(), "six-bars");
+    return RefineSixBarDesign(task, six_bars->six_bars[m], six_bars->at_poses[m], options);
+  }
   if (task.problem == ProblemKind::kPath) {
     const PathDesign& path = std::get<PathDesign>(design);
     const size_t m = listed(path.four_bars.size(), "mechanisms");

@@ -98,6 +98,14 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
 // five-pose six-bars are (JudgeSixBar, RankSixBars).
 PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOptions& options = {});
 
+// `linkfit refine` of a six-bar (a "linkage": "six-bar" task, any number of poses): placed at the
+// poses from `at_poses` (the design's turns; empty: from its upper link's range,
+// FitSixBarToPoses), refined on the pose errors with every joint free (RefineSixBar) and judged as
+// the solver judges it; never worse than the design.
+PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
+                                      const std::vector<SixBarAngles>& at_poses,
+                                      const TaskSolverOptions& options = {});
+
 // Path problems only: exact for five timed points, least squares beyond, free timing when the
 // points have no input angles.
 PathResult SolvePathTask(const Task& task, const TaskSolverOptions& options = {});

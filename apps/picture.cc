@@ -1220,7 +1220,7 @@ PictureMechanism SixBarPanel(const SixBarReport& report, size_t index, double le
     }
     std::vector<SixBarAngles> cycle(sweep.begin() + first, sweep.end());
     cycle.insert(cycle.end(), sweep.rbegin() + 1, sweep.rend());
-    cycle.insert(cycle.end(), sweep.begin() + 1, sweep.begin() + first);
+    if (first > 1) cycle.insert(cycle.end(), sweep.begin() + 1, sweep.begin() + first);
     sweep = std::move(cycle);
   }
   const size_t stride = std::max<size_t>(1, sweep.size() / 120);

@@ -903,6 +903,61 @@ void RunSixBar(int tasks, uint64_t seed) {
   }
 }
 
+// Six-bars through nine noisy poses by least squares (SolveSixBarLeastSquares, issue 36): per
+// layout, the time, the best listed fit and the first listed fit against the generating six-bar's
+// own RMS pose error on the noisy poses, and the share whose first listed keeps the defaults.
+void RunSixBarLeastSquares(int tasks, uint64_t seed) {
+  std::printf(
+      "\nsix-bars on a given chain, nine poses with noise 0.002 L and 0.002 rad, least squares at "
+      "balanced effort (SolvePlanarTask, one core): time in s (median, max), best listed and "
+      "first listed RMS pose error over the generator's (median, max), share whose first keeps "
+      "the defaults\n");
+  std::printf("%-26s %6s %8s %8s %10s %10s %10s %10s %10s\n", "layout", "tasks", "med_s", "max_s",
+              "best_med", "best_max", "first_med", "first_max", "first_ok");
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  for (const linkfit::testing::SixBarLayout& layout : linkfit::testing::SixBarLayouts()) {
+    std::vector<double> seconds, best, first;
+    int keeps = 0;
+    for (int t = 0; t < tasks; ++t) {
+      linkfit::testing::GeneratedSixBarTask generated =
+          linkfit::testing::RandomSixBarTask(rng, layout, 9);
+      for (linkfit::PlanarPose& pose : generated.poses) {
+        pose.origin_in_fixed += Eigen::Vector2d(noise(rng), noise(rng));
+        pose.theta += noise(rng);
+      }
+      linkfit::Task task = linkfit::PlanarMotionTask(generated.poses);
+      task.six_bar = true;
+      task.chain = generated.chain;
+      const auto begin = std::chrono::steady_clock::now();
+      const linkfit::PlanarMotionResult result = linkfit::SolvePlanarTask(task);
+      seconds.push_back(1e-6 * MicrosecondsSince(begin));
+      linkfit::SixBarFit generator;
+      if (result.six_bars.empty() ||
+          !linkfit::FitSixBarToPoses(generated.six_bar, generated.poses, {}, result.scale,
+                                     generated.configurations, &generator)) {
+        continue;
+      }
+      double least = std::numeric_limits<double>::infinity();
+      for (const linkfit::SixBarReport& report : result.six_bars) {
+        least = std::min(least, report.rms_pose_error);
+      }
+      best.push_back(least / generator.rms_pose_error);
+      first.push_back(result.six_bars.front().rms_pose_error / generator.rms_pose_error);
+      keeps += result.six_bars.front().violates.empty();
+    }
+    char name[64];
+    std::snprintf(name, sizeof(name), "%s, link 2 from %d",
+                  linkfit::SixBarTopologyName(layout.topology), layout.from1);
+    std::printf("%-26s %6d %8.2f %8.2f %10.3f %10.3f %10.3f %10.3f %9.1f%%\n", name, tasks,
+                linkfit::Percentile(seconds, 0.5), linkfit::Percentile(seconds, 1.0),
+                linkfit::Percentile(best, 0.5), linkfit::Percentile(best, 1.0),
+                linkfit::Percentile(first, 0.5), linkfit::Percentile(first, 1.0),
+                100.0 * keeps / std::max(1, tasks));
+    std::fflush(stdout);
+  }
+}
+
 // One run of the `linkfit` program beside this one on `task_path` (result to `result_path`):
 // its exit status, wall time and peak resident memory (wait4's ru_maxrss, kB).
 struct ProgramRun {
@@ -1255,6 +1310,7 @@ int main(int argc, char** argv) {
   }
   if (only == "six-bar") {
     RunSixBar(six_bar_tasks, seed);
+    RunSixBarLeastSquares(std::max(1, six_bar_tasks / 10), seed + 1);
     return 0;
   }
   std::printf("five-pose Burmester solver, %d random exact tasks per family, seed %llu\n", tasks,
@@ -1284,6 +1340,7 @@ int main(int argc, char** argv) {
     RunStages(stage_tasks, seed);
     RunSpherical(spherical_tasks, seed);
     RunSixBar(six_bar_tasks, seed);
+    RunSixBarLeastSquares(std::max(1, six_bar_tasks / 10), seed + 1);
   }
   return 0;
 }

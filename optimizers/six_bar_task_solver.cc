@@ -22,10 +22,11 @@ namespace {
 // A root whose joints are within this (times L) of a better one's is that one.
 constexpr double kSameRoot = 1e-4;
 
-// Refined six-bars whose joints are within this (times L) of a better one's are listed once: the
-// pose errors fix a six-bar's joints weakly (optimizers/six_bar_refiner.h: singular values down to
-// 1e-7 of the largest), and two seeds refined to one optimum stop a little apart along its valley.
-constexpr double kSameSixBar = 1e-3;
+// Refined six-bars whose joints are within this (times L: a drawing's tolerance) of a better
+// one's are listed once: the pose errors fix a six-bar's joints weakly
+// (optimizers/six_bar_refiner.h: singular values down to 1e-7 of the largest), and two seeds
+// refined to one optimum stop a little apart along its valley.
+constexpr double kSameSixBar = 2e-2;
 
 // Fresh refinements of a six-bar at most, each while the last gained more than kPassGain.
 constexpr int kRefinePasses = 4;
@@ -178,7 +179,7 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
   }
   if (repeated > 0) {
     result.notes.push_back(std::to_string(repeated) +
-                           " refined six-bar(s) came to one another (joints within 0.001 L) and "
+                           " refined six-bar(s) came to one another (joints within 0.02 L) and "
                            "are listed once");
   }
   if (result.six_bars.empty()) {
@@ -213,8 +214,25 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
   SixBarRefinerOptions refiner = options.six_bar_refiner;
   refiner.constraints = task.constraints;
   const RefinerSummary summary = RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
-  result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length,
-                                        PoseFitTolerance(task.precision, length)));
+  const double precision_fit = PoseFitTolerance(task.precision, length);
+  SixBarFit design;
+  FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &design);
+  const SixBarReport before = JudgeSixBar(task, six_bar, design.at_poses, length, precision_fit);
+  result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit));
+  // The refinement is the fit's: a transmission angle it gave up is said.
+  const auto least = [](const SixBarReport& report) {
+    return std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]);
+  };
+  const double minimum = MinTransmissionAngleDeg(task.constraints);
+  if (least(result.six_bars.front()) < minimum && least(before) >= minimum) {
+    char angles[320];
+    std::snprintf(angles, sizeof(angles),
+                  "the refined six-bar's least transmission angle is %.3g deg, below %.3g (the "
+                  "design's was %.3g): the six-bar refinement does not hold a transmission angle "
+                  "yet, only the fit; keep the design, or bound its links (\"constraints\")",
+                  least(result.six_bars.front()), minimum, least(before));
+    result.notes.push_back(angles);
+  }
   char text[200];
   std::snprintf(text, sizeof(text),
                 "refined on the pose errors, every joint free: RMS pose error %.6g -> %.6g, "

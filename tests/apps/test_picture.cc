@@ -886,6 +886,35 @@ TEST_F(PictureTest, SixBarsAreDrawnByTheirJointsAndMoveAsOne) {
   EXPECT_LT(PoseError(picture->mechanisms[0].cycle.front(), task.planar_poses.front(), 1.0), 1e-9);
 }
 
+// A newcomer's task (issue 36): a tray through five poses in mm on a chain of its own; every
+// six-bar animates (a rocker whose first pose is at the start of its range crashed the cycle's
+// there-and-back), each animation a sound document with the six-bar's frames.
+TEST_F(PictureTest, EverySixBarOfATaskAnimates) {
+  const Task task = ParseTask(
+      R"({"problem": "motion", "linkage": "six-bar",
+          "poses": [{"x": 0, "y": 0, "theta_deg": 0}, {"x": 40, "y": 12, "theta_deg": 10},
+                    {"x": 78, "y": 30, "theta_deg": 22}, {"x": 110, "y": 55, "theta_deg": 35},
+                    {"x": 135, "y": 85, "theta_deg": 50}],
+          "chain": {"ground_pivot": [60, -60], "wrist": [0, 0], "link_lengths": [90, 80],
+                    "elbow": "left"}})",
+      "tray.json");
+  const TaskResult result = SolveTask(task);
+  const size_t listed = std::get<PlanarMotionResult>(result).six_bars.size();
+  ASSERT_GT(listed, 0u);
+  const std::optional<Picture> picture = TaskPicture("tray", task, result, listed);
+  ASSERT_TRUE(picture.has_value());
+  ASSERT_EQ(picture->mechanisms.size(), listed);
+  for (size_t m = 0; m < listed; ++m) {
+    SCOPED_TRACE("six-bar " + std::to_string(m + 1));
+    const std::string animation = RenderAnimation(*picture, m, true);
+    EXPECT_NE(animation.find("frame0"), std::string::npos);
+    EXPECT_EQ(Lower(animation).find("nan"), std::string::npos);
+  }
+  Image image;
+  ASSERT_NO_FATAL_FAILURE(
+      CheckAndRender("tray_animation", RenderAnimation(*picture, 0, false), &image));
+}
+
 TEST_F(PictureTest, SphericalPictureWithoutFourBarsIsTheBareSphere) {
   SphericalPicture picture;
   picture.center = Eigen::Vector3d(1.0, 2.0, 3.0);

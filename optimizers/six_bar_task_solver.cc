@@ -219,17 +219,18 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
   FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &design);
   const SixBarReport before = JudgeSixBar(task, six_bar, design.at_poses, length, precision_fit);
   result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit));
-  // The refinement is the fit's: a transmission angle it gave up is said.
+  // The refinement is the fit's: a transmission angle it gave up (below the minimum and by more
+  // than a degree below the design's) is said.
   const auto least = [](const SixBarReport& report) {
     return std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]);
   };
   const double minimum = MinTransmissionAngleDeg(task.constraints);
-  if (least(result.six_bars.front()) < minimum && least(before) >= minimum) {
+  if (least(result.six_bars.front()) < std::min(minimum, least(before) - 1.0)) {
     char angles[320];
     std::snprintf(angles, sizeof(angles),
                   "the refined six-bar's least transmission angle is %.3g deg, below %.3g (the "
                   "design's was %.3g): the six-bar refinement does not hold a transmission angle "
-                  "yet, only the fit; keep the design, or bound its links (\"constraints\")",
+                  "yet, only the fit; weigh the fit against the design's angle",
                   least(result.six_bars.front()), minimum, least(before));
     result.notes.push_back(angles);
   }

@@ -342,6 +342,16 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
   return best;
 }
 
+PlanarMotionResult SixBarResult(const Task& task, const std::string& method) {
+  PlanarMotionResult result;
+  result.method = method;
+  result.precision = task.precision;
+  result.constraints = task.constraints;
+  result.chain = task.chain;
+  result.scale = task.scale ? *task.scale : CharacteristicLength(task.planar_poses);
+  return result;
+}
+
 void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* result) {
   RankReports(
       [&](const SixBarReport& report) {
@@ -363,13 +373,8 @@ void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* res
 
 PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  PlanarMotionResult result;
-  result.method = "exact";
-  result.precision = task.precision;
-  result.constraints = task.constraints;
-  result.chain = task.chain;
+  PlanarMotionResult result = SixBarResult(task, "exact");
   const std::vector<PlanarPose>& poses = task.planar_poses;
-  result.scale = task.scale ? *task.scale : CharacteristicLength(poses);
   const double length = result.scale > 0.0 ? result.scale : 1.0;
   SixBarSynthesisOptions synthesis = options;
   // The data's precision types the roots (a circle whose slider reading fits within it is a

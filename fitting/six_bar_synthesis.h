@@ -121,6 +121,10 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
                          const std::vector<SixBarAngles>& at_poses, double length,
                          double precision_fit);
 
+// A six-bar task's result before its six-bars: `method`, the task's precision, constraints and
+// chain, and its scale (the task's, else the poses' characteristic length).
+PlanarMotionResult SixBarResult(const Task& task, const std::string& method);
+
 // Ranks result->six_bars by the shared rule and adds the notes on what the first breaks.
 void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* result);
 

@@ -58,14 +58,9 @@ int SixBarsRefined(const TaskSolverOptions& options, Effort effort) {
 
 PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  PlanarMotionResult result;
-  result.method = "least-squares";
+  PlanarMotionResult result = SixBarResult(task, "least-squares");
   result.effort = EffortName(task.effort);
-  result.precision = task.precision;
-  result.constraints = task.constraints;
-  result.chain = task.chain;
   const std::vector<PlanarPose>& poses = task.planar_poses;
-  result.scale = task.scale ? *task.scale : CharacteristicLength(poses);
   const double length = result.scale > 0.0 ? result.scale : 1.0;
   const SixBarChain& chain = *task.chain;
   const double root_length = SixBarTaskLength(poses, chain);
@@ -197,13 +192,8 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
                                       const std::vector<SixBarAngles>& at_poses,
                                       const TaskSolverOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  PlanarMotionResult result;
-  result.method = "refined";
-  result.precision = task.precision;
-  result.constraints = task.constraints;
-  result.chain = task.chain;
+  PlanarMotionResult result = SixBarResult(task, "refined");
   const std::vector<PlanarPose>& poses = task.planar_poses;
-  result.scale = task.scale ? *task.scale : CharacteristicLength(poses);
   const double length = result.scale > 0.0 ? result.scale : 1.0;
   SixBarFit fit;
   if (!FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &fit)) {

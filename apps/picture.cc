@@ -1185,18 +1185,7 @@ PictureMechanism SixBarPanel(const SixBarReport& report, size_t index, double le
       {kSixBarSecondLink, six_bar.links[1].to_joint, "B"}};
   PictureMechanism::Joints drawn;
   drawn.task_body = kSixBarTaskBody;
-  drawn.bodies.resize(6);
-  drawn.bodies[kSixBarGround] = {0};
-  drawn.bodies[kSixBarUpperLink] = {0, 1};
-  drawn.bodies[kSixBarForearm] = {1, 2};
-  drawn.bodies[kSixBarTaskBody] = {2};
-  for (int l = 0; l < 2; ++l) {
-    const int from = 3 + 2 * l, to = 4 + 2 * l;
-    drawn.bodies[kSixBarFirstLink + l].push_back(from);
-    drawn.bodies[kSixBarFirstLink + l].push_back(to);
-    drawn.bodies[six_bar.links[l].from_body].push_back(from);
-    drawn.bodies[six_bar.links[l].to_body].push_back(to);
-  }
+  for (const std::vector<int>& body : SixBarBodyJointIndices(six_bar)) drawn.bodies.push_back(body);
   for (const Joint& joint : joints) drawn.names.push_back(joint.name);
   const auto places = [&](const SixBarAngles& angles) {
     std::vector<Vec> at;

@@ -131,18 +131,28 @@ std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar) 
   return joints;
 }
 
-std::array<std::vector<Eigen::Vector2d>, 6> SixBarBodyJoints(const SixBar& six_bar) {
-  std::array<std::vector<Eigen::Vector2d>, 6> joints;
-  joints[kSixBarGround] = {six_bar.ground_pivot};
-  joints[kSixBarUpperLink] = {six_bar.ground_pivot, six_bar.elbow};
-  joints[kSixBarForearm] = {six_bar.elbow, six_bar.wrist};
-  joints[kSixBarTaskBody] = {six_bar.wrist};
+std::array<std::vector<int>, 6> SixBarBodyJointIndices(const SixBar& six_bar) {
+  std::array<std::vector<int>, 6> bodies;
+  bodies[kSixBarGround] = {0};
+  bodies[kSixBarUpperLink] = {0, 1};
+  bodies[kSixBarForearm] = {1, 2};
+  bodies[kSixBarTaskBody] = {2};
   for (int l = 0; l < 2; ++l) {
-    const SixBarRRLink& link = six_bar.links[l];
-    joints[kSixBarFirstLink + l].push_back(link.from_joint);
-    joints[kSixBarFirstLink + l].push_back(link.to_joint);
-    joints[link.from_body].push_back(link.from_joint);
-    joints[link.to_body].push_back(link.to_joint);
+    const int from = 3 + 2 * l, to = 4 + 2 * l;
+    bodies[kSixBarFirstLink + l].push_back(from);
+    bodies[kSixBarFirstLink + l].push_back(to);
+    bodies[six_bar.links[l].from_body].push_back(from);
+    bodies[six_bar.links[l].to_body].push_back(to);
+  }
+  return bodies;
+}
+
+std::array<std::vector<Eigen::Vector2d>, 6> SixBarBodyJoints(const SixBar& six_bar) {
+  const std::array<double, kSixBarJointCount> numbers = SixBarJointNumbers(six_bar);
+  std::array<std::vector<Eigen::Vector2d>, 6> joints;
+  const std::array<std::vector<int>, 6> indices = SixBarBodyJointIndices(six_bar);
+  for (int body = 0; body < 6; ++body) {
+    for (const int j : indices[body]) joints[body].emplace_back(numbers[2 * j], numbers[2 * j + 1]);
   }
   return joints;
 }

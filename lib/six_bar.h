@@ -69,6 +69,11 @@ struct SixBar {
 // The joints as numbers (lib/six_bar_frames.h SixBarJoint order).
 std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar);
 
+// The joints of each body (SixBarBody order) as indices of the seven joints (SixBarJoint / 2:
+// the ground pivot, the elbow, the wrist, each RR link's first and second joint), in the order
+// SixBarBodyJoints lists them.
+std::array<std::vector<int>, 6> SixBarBodyJointIndices(const SixBar& six_bar);
+
 // The joints of each body (SixBarBody order) at the reference configuration, in Sigma: ground's
 // pivots (the ground pivot, then each RR link's joint on ground), the upper link's (ground pivot,
 // elbow, then RR joints on it), the forearm's (elbow, wrist, ...), the task body's (wrist, ...),

@@ -178,19 +178,7 @@ class SixBarBoundCost {
 // The task's bounds on the six-bar's joints (SixBarViolations' links and boxes).
 std::vector<SixBarBound> Bounds(const SixBar& six_bar, const DesignConstraints& constraints,
                                 double length) {
-  // Each body's joints as indices of the joint numbers (lib/six_bar_frames.h order / 2).
-  std::array<std::vector<int>, 6> bodies;
-  bodies[kSixBarGround] = {0};
-  bodies[kSixBarUpperLink] = {0, 1};
-  bodies[kSixBarForearm] = {1, 2};
-  bodies[kSixBarTaskBody] = {2};
-  for (int l = 0; l < 2; ++l) {
-    const int from = 3 + 2 * l, to = 4 + 2 * l;
-    bodies[kSixBarFirstLink + l].push_back(from);
-    bodies[kSixBarFirstLink + l].push_back(to);
-    bodies[six_bar.links[l].from_body].push_back(from);
-    bodies[six_bar.links[l].to_body].push_back(to);
-  }
+  const std::array<std::vector<int>, 6> bodies = SixBarBodyJointIndices(six_bar);
   std::vector<SixBarBound> bounds;
   for (const std::vector<int>& body : bodies) {
     for (size_t i = 0; i < body.size(); ++i) {

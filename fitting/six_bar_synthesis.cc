@@ -291,7 +291,7 @@ RankKey SixBarRankKey(const SixBarReport& report, double precision_fit,
 
 SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
                          const std::vector<SixBarAngles>& at_poses, double length,
-                         double precision_fit) {
+                         double precision_fit, bool screen) {
   const std::vector<PlanarPose>& poses = task.planar_poses;
   // A whole turn of the input from the first pose (none after a dead point between poses).
   const auto rotates = [&](SixBarReport* report) {
@@ -314,10 +314,34 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
   // the chosen one only (it does not rank).
   std::vector<SixBarReport> reports;
   std::vector<RankKey> keys;
+  // A quick judgement: a loop's transmission angle at a pose below the task's minimum is the
+  // defect under every input (the angle is the loop's, whichever link drives), so none is driven.
+  const double least_allowed = MinTransmissionAngleDeg(task.constraints);
+  std::array<double, 2> at_poses_deg = {90.0, 90.0};
+  for (size_t k = 0; screen && k < at_poses.size(); ++k) {
+    const std::array<double, 2> degrees = SixBarTransmissionDeg(six_bar, at_poses[k]);
+    for (int l = 0; l < 2; ++l) at_poses_deg[l] = std::min(at_poses_deg[l], degrees[l]);
+  }
+  const bool poor = std::min(at_poses_deg[0], at_poses_deg[1]) < least_allowed;
   for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
     if (!SixBarGroundedLink(six_bar, input)) continue;
-    const SixBarAnalysis analysis =
-        AnalyzeSixBar(six_bar, at_poses, input, length, kSixBarDriveStep, false);
+    SixBarAnalysis analysis;
+    // A quick judgement does not drive an input whose turns at the poses do not run one way.
+    bool order = false;
+    for (size_t k = 2; screen && k < at_poses.size(); ++k) {
+      order |= (at_poses[k - 1][input - 1] - at_poses[k - 2][input - 1]) *
+                   (at_poses[k][input - 1] - at_poses[k - 1][input - 1]) <=
+               0.0;
+    }
+    if (order || poor) {
+      if (order) analysis.defects = {"order"};
+      analysis.transmission_min_deg = at_poses_deg;
+      for (const SixBarAngles& angles : at_poses) {
+        analysis.input_angles.push_back(angles[input - 1] - at_poses[0][input - 1]);
+      }
+    } else {
+      analysis = AnalyzeSixBar(six_bar, at_poses, input, length, kSixBarDriveStep, false, !screen);
+    }
     SixBarReport report;
     report.six_bar = six_bar;
     report.input = input;
@@ -334,11 +358,13 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
     if (task.constraints.input_rotates_fully) rotates(&report);
     report.violates =
         SixBarViolations(task.constraints, six_bar, report.input_rotates_fully, length);
+    // A quick judgement asks only whether some input keeps everything.
+    if (screen && report.defects.empty() && report.violates.empty()) return report;
     keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
     reports.push_back(report);
   }
   SixBarReport best = reports[RankOrder(keys).front()];
-  if (!task.constraints.input_rotates_fully) rotates(&best);
+  if (!task.constraints.input_rotates_fully && !screen) rotates(&best);
   return best;
 }
 
@@ -371,6 +397,37 @@ void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* res
   if (!given.empty()) result->notes.push_back(given);
 }
 
+SixBarChainScreen ScreenSixBarChain(const Task& task) {
+  SixBarChainScreen screen;
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  SixBarSynthesisOptions options;
+  options.burmester.precision = task.precision;  // as SolveSixBarMotion
+  options.burmester.family_units = 0.0;
+  options.burmester.conic_family_units = 0.0;
+  std::vector<SixBar> six_bars;
+  SynthesizeSixBars(poses, *task.chain, options, &six_bars);
+  RemoveRepeatedSixBars(options.trivial_tolerance * length, &six_bars);
+  std::vector<Eigen::Vector2d> elbows;
+  int unreachable = -1;
+  if (!ChainElbows(poses, *task.chain, &elbows, &unreachable)) return screen;
+  const double precision_fit = PoseFitTolerance(task.precision, length);
+  std::vector<RankKey> keys;
+  for (const SixBar& six_bar : six_bars) {
+    const SixBarReport report = JudgeSixBar(
+        task, six_bar, SixBarAnglesAtPoses(six_bar, poses, elbows), length, precision_fit, true);
+    ++screen.six_bars;
+    keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
+    if (report.defects.empty() && report.violates.empty()) {
+      screen.buildable = true;
+      screen.best = keys.back();
+      return screen;
+    }
+  }
+  if (!keys.empty()) screen.best = keys[RankOrder(keys).front()];
+  return screen;
+}
+
 PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   PlanarMotionResult result = SixBarResult(task, "exact");
@@ -398,14 +455,15 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   ChainElbows(poses, *task.chain, &elbows, &unreachable);
   const double precision_fit = PoseFitTolerance(task.precision, length);
   for (size_t i = 0; i < six_bars.size(); ++i) {
-    SixBarReport report = JudgeSixBar(
-        task, six_bars[i], SixBarAnglesAtPoses(six_bars[i], poses, elbows), length, precision_fit);
+    SixBarReport report =
+        JudgeSixBar(task, six_bars[i], SixBarAnglesAtPoses(six_bars[i], poses, elbows), length,
+                    precision_fit, options.screen);
     report.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
     result.six_bars.push_back(report);
   }
   RankSixBars(task, precision_fit, &result);
   result.notes.push_back(
-      "six-bars on the given 3R chain: Watt I, Stephenson I, II and III (a chain grounded at one "
+      "six-bars on the 3R chain: Watt I, Stephenson I, II and III (a chain grounded at one "
       "end admits no Watt II); each RR link is the five-pose Burmester problem of the relative "
       "motion of the two bodies it joins (" +
       std::to_string(summary.burmester_problems) + " problems, " +

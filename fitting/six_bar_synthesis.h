@@ -60,6 +60,12 @@ struct SixBarSynthesisOptions {
   PlanarBurmesterOptions burmester;
   // A root whose joints are within this (times L) of a chain link's joints is that link.
   double trivial_tolerance = 1e-6;
+  // A quick judgement, to choose among chains (optimizers/task_solver.h SolveSixBarChosenChain,
+  // JudgeSixBar): each loop's least transmission angle not refined between the configurations
+  // reached; whether the input turns fully not asked unless the task requires it; no input driven
+  // whose turns at the poses do not run one way, nor any where a loop's transmission angle at a
+  // pose is below the task's minimum; the first input that keeps everything taken.
+  bool screen = false;
 };
 
 struct SixBarSynthesisSummary {
@@ -117,9 +123,10 @@ bool CombineSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& cha
 // input; a least transmission angle below the task's minimum is the defect "transmission"; the
 // task's constraints, SixBarViolations; its weighted RMS and largest pose errors) and driven by
 // the input the shared rule ranks first (SixBarRankKey at `precision_fit`). No error bound.
+// With `screen`, the quick judgement of SixBarSynthesisOptions::screen.
 SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
                          const std::vector<SixBarAngles>& at_poses, double length,
-                         double precision_fit);
+                         double precision_fit, bool screen = false);
 
 // A six-bar task's result before its six-bars: `method`, the task's precision, constraints and
 // chain, and its scale (the task's, else the poses' characteristic length).
@@ -127,6 +134,17 @@ PlanarMotionResult SixBarResult(const Task& task, const std::string& method);
 
 // Ranks result->six_bars by the shared rule and adds the notes on what the first breaks.
 void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* result);
+
+// A chain judged quickly (SixBarSynthesisOptions::screen) for choosing among chains
+// (optimizers/task_solver.h SolveSixBarChosenChain): whether a six-bar on it keeps the task's
+// constraints without a defect (the judging stops at the first), else the best key of its six-bars
+// by the shared rule.
+struct SixBarChainScreen {
+  bool buildable = false;
+  std::optional<RankKey> best;  // none: no six-bar on the chain
+  int six_bars = 0;             // judged
+};
+SixBarChainScreen ScreenSixBarChain(const Task& task);
 
 // A validated "linkage": "six-bar" task (five planar poses and its chain): every six-bar of the
 // chain, none listed twice (RemoveRepeatedSixBars), each judged under every grounded input

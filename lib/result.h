@@ -148,6 +148,7 @@ struct PlanarMotionResult {
   DesignConstraints constraints;    // the task's, echoed
   // "linkage": "six-bar": the chain used and the six-bars on it (the four-bar lists are empty).
   std::optional<SixBarChain> chain;
+  bool chain_chosen = false;  // linkfit chose the chain (the task gave none)
   std::vector<SixBarReport> six_bars;
   int burmester_problems = 0;  // the relative motions solved for them
 };

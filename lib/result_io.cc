@@ -819,6 +819,7 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
       object["elbow"] = chain.elbow_left ? "left" : "right";
     }
     root["chain"] = object;
+    if (result.chain_chosen) root["chain_chosen"] = true;
     root["six_bars"] = Json::array();
     for (const SixBarReport& report : result.six_bars) {
       root["six_bars"].push_back(SixBarToJson(report));

@@ -275,16 +275,15 @@ std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarA
   const SixBarFrames<double>& frames = placement.frames;
   std::array<double, 2> degrees = {90.0, 90.0};
   for (int l = 0; l < 2; ++l) {
-    const SixBarRRLink& link = six_bar.links[l];
     // The loop's coupler-rocker angle at the joint J the link closes on: between the link and
-    // the body's lever from J to the joint K by which that body hangs from its parent.
-    const Eigen::Vector2d j = frames.At(link.to_body, link.to_joint);
-    const Eigen::Vector2d k = frames.HingeAt(link.to_body);
-    const Eigen::Vector2d from = frames.At(link.from_body, link.from_joint);
-    const Eigen::Vector2d a = from - j, b = k - j;
-    if (!(a.norm() > 0.0) || !(b.norm() > 0.0)) continue;
-    const double sine = std::abs(a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
-    degrees[l] = std::asin(std::min(1.0, sine)) * 180.0 / M_PI;
+    // the body's lever from J to the joint K by which that body hangs from its parent
+    // (SixBarFrames::TransmissionSine); a link or lever of no length leaves 90.
+    const Eigen::Vector2d j = frames.OnBody(l);
+    if (!((frames.HingeAt(4 + l) - j).norm() > 0.0) ||
+        !((frames.HingeAt(six_bar.links[l].to_body) - j).norm() > 0.0)) {
+      continue;
+    }
+    degrees[l] = std::asin(std::min(1.0, frames.TransmissionSine(l))) * 180.0 / M_PI;
   }
   return degrees;
 }
@@ -296,7 +295,8 @@ bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, 
 }
 
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
-                             int input, double length, double step, bool full_turn) {
+                             int input, double length, double step, bool full_turn,
+                             bool refine_transmission) {
   SixBarAnalysis analysis;
   if (at_poses.empty()) return analysis;
   const int index = input - 1;
@@ -328,8 +328,9 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   const auto refine = [&](int l, const SixBarAngles& from, double value, double low, double high) {
     SixBarAngles sample = from;
     double sign = 0.0;
-    if (!(low != high) || !Assemble(six_bar, input, sample[index], &sample, tolerance,
-                                    kDriveIterations, nullptr, &sign)) {
+    if (!refine_transmission || !(low != high) ||
+        !Assemble(six_bar, input, sample[index], &sample, tolerance, kDriveIterations, nullptr,
+                  &sign)) {
       return;
     }
     const auto at = [&](double input_angle) {

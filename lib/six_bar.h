@@ -148,7 +148,9 @@ std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarA
 //   branch:  a dead point (singular closure) lies between two poses: the input cannot drive on;
 //   circuit: the continuation arrives at a pose's input turn in another assembly than the pose's.
 // With `full_turn`, whether a whole turn of the input from the first pose meets no dead point
-// (not tried after a branch defect, which stops it).
+// (not tried after a branch defect, which stops it). Without `refine_transmission`, the least
+// transmission angles are the least of the configurations reached (not refined between them: at
+// most a few degrees above, for a quick judgement).
 struct SixBarAnalysis {
   std::vector<std::string> defects;
   std::vector<double> input_angles;  // the input's turn from the first pose at each pose
@@ -164,7 +166,7 @@ struct SixBarAnalysis {
 inline constexpr double kSixBarDriveStep = 4.0 * M_PI / 180.0;
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
                              int input, double length, double step = kSixBarDriveStep,
-                             bool full_turn = true);
+                             bool full_turn = true, bool refine_transmission = true);
 
 // Whether a whole turn of body `input` from the assembly `angles` meets no dead point
 // (DriveSixBar).

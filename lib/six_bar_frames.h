@@ -82,6 +82,19 @@ class SixBarFrames {
     return At(to_body_[l], Joint(l == 0 ? kJointFirstTo : kJointSecondTo));
   }
 
+  // The sine of loop l's transmission angle (lib/six_bar.h SixBarTransmissionDeg): at the joint
+  // J = OnBody(l) the link closes on, between the link (to its first joint, HingeAt(4 + l)) and
+  // the body's lever to the joint by which it hangs (HingeAt(body)); 0 where either has no
+  // length.
+  T TransmissionSine(int l) const {
+    const Vector j = OnBody(l);
+    const Vector a = HingeAt(4 + l) - j, b = HingeAt(to_body_[l]) - j;
+    const T norms = a.norm() * b.norm();
+    if (!(norms > T(0.0))) return T(0.0);
+    using std::abs;
+    return abs(a.x() * b.y() - a.y() * b.x()) / norms;
+  }
+
   // The two loop closures (lib/six_bar.h SixBarClosure): OnLink(l) - OnBody(l).
   Eigen::Matrix<T, 4, 1> Closure() const {
     Eigen::Matrix<T, 4, 1> residual;

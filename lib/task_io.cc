@@ -764,11 +764,7 @@ class TaskParser {
       Fail("poses", "a six-bar task takes five poses (exactly) or more (least squares); got " +
                         std::to_string(task->planar_poses.size()));
     }
-    if (!root.contains("chain")) {
-      Fail("chain",
-           "missing field: give the 3R chain the six-bar is built on (choosing one is "
-           "not implemented yet)");
-    }
+    if (!root.contains("chain")) return;  // linkfit chooses one (fitting/six_bar_chains.h)
     const Json& value = Object(root.at("chain"), "chain");
     CheckKeys(value, "chain",
               {"ground_pivot", "wrist", "link_lengths", "elbow_at_first_pose", "elbow"});

@@ -26,6 +26,9 @@ constexpr int kTurn = kSixBarUpperLink - 1;
 constexpr int kAssemblyIterations = 30;
 constexpr double kAssemblyTolerance = 1e-13;
 
+// A held transmission angle's samples per interval between two poses (1: at the poses only).
+constexpr int kHeldSamples = 1;
+
 // Rounds of refinement at most (each while the last gained: AnotherRound).
 constexpr int kMaxRounds = 10;
 
@@ -73,39 +76,72 @@ Eigen::Vector3d PoseResidual(const SixBar& six_bar, const SixBarAngles& angles,
                          length * std::remainder(pose.theta - target.theta, 2.0 * M_PI));
 }
 
+// The configuration at the upper link's turn `turn` in T: assembled in doubles from `warm`
+// (updated), then one Newton step in T, which carries the free turns' derivatives (implicit
+// function theorem). False where it does not assemble.
+template <typename T>
+bool Configuration(const std::array<int, 2>& from, const std::array<int, 2>& to, const T* joints,
+                   const T& turn, double length, SixBarAngles* warm, std::array<T, 5>* angles) {
+  std::array<double, kSixBarJointCount> values;
+  for (int k = 0; k < kSixBarJointCount; ++k) values[k] = Value(joints[k]);
+  SixBarAngles x = *warm;
+  x[kTurn] = Value(turn);
+  if (!AssembleFree(from, to, values.data(), kAssemblyTolerance * length, &x)) return false;
+  *warm = x;
+  (*angles)[kTurn] = turn;
+  for (int k = 1; k < 5; ++k) (*angles)[k] = T(x[k]);
+  const SixBarFrames<T> frames(from, to, joints, angles->data());
+  const Eigen::Matrix<T, 4, 1> closure = frames.Closure();
+  const Eigen::Matrix<T, 4, 4> free = frames.ClosureJacobian().template rightCols<4>();
+  const Eigen::Matrix<T, 4, 1> step = free.partialPivLu().solve(closure);
+  for (int k = 1; k < 5; ++k) (*angles)[k] -= step[k - 1];
+  return true;
+}
+
+// A held transmission angle's penalties at a configuration (optimizers/design_bounds.h): per loop,
+// sqrt(weight) L max(0, held_sine - sin mu); 0 where no angle is held (held_sine 0).
+template <typename T>
+void TransmissionPenalty(const SixBarFrames<T>& frames, double length, double held_sine,
+                         double weight, T* residual) {
+  for (int l = 0; l < 2; ++l) {
+    const T shortfall = T(held_sine) - frames.TransmissionSine(l);
+    residual[l] = shortfall > T(0.0) ? T(std::sqrt(weight) * length) * shortfall : T(0.0);
+  }
+}
+
+// The transmission hold of a refinement: the sine held (0: none) and the penalty's weight (raised
+// in rounds with the bounds').
+struct TransmissionHold {
+  double held_sine = 0.0;
+  const double* weight = nullptr;
+};
+
 // One pose's residual for Ceres: parameters the joints (14), E's pose at the reference
 // configuration (x, y, theta) and the upper link's turn; the other turns solved inside, from the
-// last solution (`warm`, updated).
+// last solution (`warm`, updated). Residuals: the pose error (3) and, holding a transmission angle
+// (kHeld), each loop's penalty there (2).
+template <bool kHeld>
 class SixBarPoseCost {
  public:
   SixBarPoseCost(const std::array<int, 2>& from, const std::array<int, 2>& to,
-                 const PlanarPose& target, double length, double weight, SixBarAngles* warm)
+                 const PlanarPose& target, double length, double weight, SixBarAngles* warm,
+                 const TransmissionHold& hold)
       : from_(from),
         to_(to),
         target_(target),
         length_(length),
         scale_(std::sqrt(weight)),
-        warm_(warm) {}
+        warm_(warm),
+        hold_(hold) {}
 
   template <typename T>
   bool operator()(const T* joints, const T* reference, const T* turn, T* residual) const {
-    // The configuration in doubles.
-    std::array<double, kSixBarJointCount> values;
-    for (int k = 0; k < kSixBarJointCount; ++k) values[k] = Value(joints[k]);
-    SixBarAngles x = *warm_;
-    x[kTurn] = Value(turn[0]);
-    if (!AssembleFree(from_, to_, values.data(), kAssemblyTolerance * length_, &x)) return false;
-    *warm_ = x;
-    // One Newton step in T from it: the free turns' derivatives (implicit function theorem).
     std::array<T, 5> angles;
-    angles[kTurn] = turn[0];
-    for (int k = 1; k < 5; ++k) angles[k] = T(x[k]);
-    const SixBarFrames<T> frames(from_, to_, joints, angles.data());
-    const Eigen::Matrix<T, 4, 1> closure = frames.Closure();
-    const Eigen::Matrix<T, 4, 4> free = frames.ClosureJacobian().template rightCols<4>();
-    const Eigen::Matrix<T, 4, 1> step = free.partialPivLu().solve(closure);
-    for (int k = 1; k < 5; ++k) angles[k] -= step[k - 1];
+    if (!Configuration(from_, to_, joints, turn[0], length_, warm_, &angles)) return false;
     const SixBarFrames<T> moved(from_, to_, joints, angles.data());
+    if constexpr (kHeld) {
+      TransmissionPenalty(moved, length_, hold_.held_sine, *hold_.weight, residual + 3);
+    }
     const Eigen::Matrix<T, 2, 1> origin =
         moved.At(kSixBarTaskBody, Eigen::Matrix<T, 2, 1>(reference[0], reference[1]));
     const T theta = reference[2] + angles[kSixBarTaskBody - 1];
@@ -121,6 +157,37 @@ class SixBarPoseCost {
   PlanarPose target_;
   double length_, scale_;
   SixBarAngles* warm_;
+  TransmissionHold hold_;
+};
+
+// A held transmission angle between two poses: the penalty (2 residuals) at the upper link's turn
+// a share `along` of the way from pose k's turn to pose k + 1's (parameters: the joints and the
+// two turns), assembled from the last solution there (`warm`); none where it does not assemble
+// (a dead point or a fold of the upper link between the poses: the analysis judges those).
+class SixBarSampleCost {
+ public:
+  SixBarSampleCost(const std::array<int, 2>& from, const std::array<int, 2>& to, double along,
+                   double length, SixBarAngles* warm, const TransmissionHold& hold)
+      : from_(from), to_(to), along_(along), length_(length), warm_(warm), hold_(hold) {}
+
+  template <typename T>
+  bool operator()(const T* joints, const T* turn, const T* next_turn, T* residual) const {
+    const T at = (T(1.0) - T(along_)) * turn[0] + T(along_) * next_turn[0];
+    std::array<T, 5> angles;
+    if (!Configuration(from_, to_, joints, at, length_, warm_, &angles)) {
+      residual[0] = residual[1] = T(0.0);
+      return true;
+    }
+    TransmissionPenalty(SixBarFrames<T>(from_, to_, joints, angles.data()), length_,
+                        hold_.held_sine, *hold_.weight, residual);
+    return true;
+  }
+
+ private:
+  std::array<int, 2> from_, to_;
+  double along_, length_;
+  SixBarAngles* warm_;
+  TransmissionHold hold_;
 };
 
 // A bound on two joints of one body (a link: `lower` <= distance <= `upper`) or on one joint (a
@@ -244,13 +311,39 @@ void Score(const std::vector<PlanarPose>& poses, const std::vector<double>& weig
   fit->rms_pose_error = total > 0.0 ? std::sqrt(squares / total) : 0.0;
 }
 
-// One Levenberg-Marquardt solve from *fit, kept where it fits better.
+// How far a held transmission angle's sine falls short at the configurations of the poses and at
+// the kTransmissionSamples - 1 upper-link turns between each two (0 where none is held).
+double TransmissionShortfall(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
+                             double length, double held_sine) {
+  if (!(held_sine > 0.0)) return 0.0;
+  const std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(six_bar);
+  const std::array<int, 2> from = FromBodies(six_bar), to = ToBodies(six_bar);
+  double worst = 0.0;
+  const auto at = [&](const SixBarAngles& angles) {
+    const SixBarFrames<double> frames(from, to, joints.data(), angles.data());
+    for (int l = 0; l < 2; ++l) worst = std::max(worst, held_sine - frames.TransmissionSine(l));
+  };
+  for (size_t k = 0; k < at_poses.size(); ++k) {
+    at(at_poses[k]);
+    for (int s = 1; k + 1 < at_poses.size() && s < kHeldSamples; ++s) {
+      const double along = static_cast<double>(s) / kHeldSamples;
+      SixBarAngles angles = at_poses[k];
+      angles[kTurn] = (1.0 - along) * at_poses[k][kTurn] + along * at_poses[k + 1][kTurn];
+      if (AssembleFree(from, to, joints.data(), kAssemblyTolerance * length, &angles)) at(angles);
+    }
+  }
+  return worst;
+}
+
+// One Levenberg-Marquardt solve from *fit, kept where it fits better (keeping the bounds and a
+// held transmission angle first).
 void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>& weights,
                 double length, const SixBarRefinerOptions& options,
                 const std::vector<SixBarBound>& bounds, const double* bound_weight,
-                const double* inset, SixBarFit* fit, int* iterations, bool* converged,
-                std::string* message, double* violation) {
+                const double* inset, const TransmissionHold& hold, SixBarFit* fit, int* iterations,
+                bool* converged, std::string* message, double* violation, double* shortfall) {
   *violation = 0.0;
+  *shortfall = 0.0;
   const SixBar seed = fit->six_bar;
   std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(seed);
   std::array<double, 3> reference = {seed.reference_pose.origin_in_fixed.x(),
@@ -261,11 +354,35 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
   for (const SixBarAngles& angles : warm) turns.push_back(angles[kTurn]);
   ceres::Problem problem;
   for (size_t k = 0; k < poses.size(); ++k) {
-    problem.AddResidualBlock(
-        new ceres::AutoDiffCostFunction<SixBarPoseCost, 3, kSixBarJointCount, 3, 1>(
-            new SixBarPoseCost(FromBodies(seed), ToBodies(seed), poses[k], length,
-                               Weight(weights, k), &warm[k])),
-        nullptr, joints.data(), reference.data(), &turns[k]);
+    if (hold.held_sine > 0.0) {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SixBarPoseCost<true>, 5, kSixBarJointCount, 3, 1>(
+              new SixBarPoseCost<true>(FromBodies(seed), ToBodies(seed), poses[k], length,
+                                       Weight(weights, k), &warm[k], hold)),
+          nullptr, joints.data(), reference.data(), &turns[k]);
+    } else {
+      problem.AddResidualBlock(
+          new ceres::AutoDiffCostFunction<SixBarPoseCost<false>, 3, kSixBarJointCount, 3, 1>(
+              new SixBarPoseCost<false>(FromBodies(seed), ToBodies(seed), poses[k], length,
+                                        Weight(weights, k), &warm[k], hold)),
+          nullptr, joints.data(), reference.data(), &turns[k]);
+    }
+  }
+  // A held transmission angle also between the poses (its samples' last solutions, one each).
+  std::vector<SixBarAngles> sample_warm;
+  if (hold.held_sine > 0.0 && poses.size() > 1) {
+    sample_warm.reserve((poses.size() - 1) * (kHeldSamples - 1));
+    for (size_t k = 0; k + 1 < poses.size(); ++k) {
+      for (int s = 1; s < kHeldSamples; ++s) {
+        sample_warm.push_back(fit->at_poses[k]);
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<SixBarSampleCost, 2, kSixBarJointCount, 1, 1>(
+                new SixBarSampleCost(FromBodies(seed), ToBodies(seed),
+                                     static_cast<double>(s) / kHeldSamples, length,
+                                     &sample_warm.back(), hold)),
+            nullptr, joints.data(), &turns[k], &turns[k + 1]);
+      }
+    }
   }
   for (const SixBarBound& bound : bounds) {
     problem.AddResidualBlock(
@@ -321,11 +438,17 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     for (SixBarAngles& angles : candidate.at_poses) angles -= first;
     Score(poses, weights, length, &candidate);
   }
-  // Better: keeping the bounds (to within the slack), then the fit.
+  // Better: keeping the bounds (to within the slack) and a held transmission angle, then the fit.
   const double slack = kConstraintSlack * length;
-  if (placed) *violation = BoundViolation(candidate.six_bar, bounds);
-  const bool keeps = placed && *violation <= slack;
-  const bool kept = BoundViolation(fit->six_bar, bounds) <= slack;
+  if (placed) {
+    *violation = BoundViolation(candidate.six_bar, bounds);
+    *shortfall =
+        TransmissionShortfall(candidate.six_bar, candidate.at_poses, length, hold.held_sine);
+  }
+  const bool keeps = placed && *violation <= slack && *shortfall <= kTransmissionSlack;
+  const bool kept = BoundViolation(fit->six_bar, bounds) <= slack &&
+                    TransmissionShortfall(fit->six_bar, fit->at_poses, length, hold.held_sine) <=
+                        kTransmissionSlack;
   if (placed &&
       ((keeps && !kept) || (keeps == kept && candidate.rms_pose_error <= fit->rms_pose_error))) {
     *fit = candidate;
@@ -418,14 +541,25 @@ RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
   // (optimizers/design_bounds.h's rounds).
   const std::vector<SixBarBound> bounds = Bounds(fit->six_bar, options.constraints, length);
   double bound_weight = kBoundFirstWeight, inset = 0.0;
+  TransmissionHold hold;
+  if (options.min_transmission_deg) {
+    hold.held_sine = HeldTransmissionSine(*options.min_transmission_deg);
+    hold.weight = &bound_weight;
+  }
   for (int round = 0; round < kMaxRounds + kBoundRounds; ++round) {
     const double before = fit->rms_pose_error;
     const double violation_before = BoundViolation(fit->six_bar, bounds);
+    const double shortfall_before =
+        TransmissionShortfall(fit->six_bar, fit->at_poses, length, hold.held_sine);
     bool converged = true;
-    double violation = 0.0;  // the round's solution's (kept or not)
-    RefineOnce(poses, weights, length, options, bounds, &bound_weight, &inset, fit,
-               &summary.iterations, &converged, &summary.message, &violation);
+    double violation = 0.0, shortfall = 0.0;  // the round's solution's (kept or not)
+    RefineOnce(poses, weights, length, options, bounds, &bound_weight, &inset, hold, fit,
+               &summary.iterations, &converged, &summary.message, &violation, &shortfall);
     summary.converged = converged;
+    if (shortfall > kTransmissionSlack && violation <= kBoundSlack * length) {
+      bound_weight *= kBoundGrowth;
+      continue;
+    }
     if (violation > kBoundSlack * length) {
       if (violation > kBoundShiftFrom * length) {
         bound_weight *= kBoundGrowth;
@@ -434,7 +568,7 @@ RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
       }
       continue;
     }
-    if (violation_before <= kBoundSlack * length &&
+    if (violation_before <= kBoundSlack * length && shortfall_before <= kTransmissionSlack &&
         !AnotherRound(before, fit->rms_pose_error, converged)) {
       break;
     }

@@ -14,6 +14,7 @@
 #ifndef LINKFIT_OPTIMIZERS_SIX_BAR_REFINER_H_
 #define LINKFIT_OPTIMIZERS_SIX_BAR_REFINER_H_
 
+#include <optional>
 #include <vector>
 
 #include "lib/design_constraints.h"
@@ -34,6 +35,11 @@ struct SixBarRefinerOptions {
   // the pose errors fix a six-bar weakly, and without it a fit drifts toward links of hundreds
   // of L (a slider's limit) for a sliver of error.
   DesignConstraints constraints;
+  // A transmission angle held (degrees): each loop's, at the configuration of every pose and at
+  // kTransmissionSamples - 1 upper-link turns between each two, a penalty raised with the bounds'
+  // (optimizers/design_bounds.h HeldTransmissionSine: a degree's margin), until within
+  // kTransmissionSlack of the held sine. None by default: the fit alone.
+  std::optional<double> min_transmission_deg;
 };
 
 // A six-bar placed at the task poses: its configuration at each (the turns AnalyzeSixBar drives

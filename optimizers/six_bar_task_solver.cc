@@ -8,11 +8,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "fitting/planar_motion.h"
+#include "fitting/six_bar_chains.h"
 #include "fitting/six_bar_synthesis.h"
 #include "lib/task_io.h"
+#include "lib/text_format.h"
 #include "optimizers/six_bar_refiner.h"
 #include "optimizers/task_solver.h"
 
@@ -48,6 +52,16 @@ int RootsKept(const TaskSolverOptions& options, Effort effort) {
          : effort == Effort::kThorough ? 2 * options.six_bar_roots
                                        : options.six_bar_roots;
 }
+// The least transmission angle of a fit's loops at its configurations at the poses, degrees.
+double LeastTransmissionAtPoses(const SixBarFit& fit) {
+  double least = 90.0;
+  for (const SixBarAngles& angles : fit.at_poses) {
+    const std::array<double, 2> degrees = SixBarTransmissionDeg(fit.six_bar, angles);
+    least = std::min({least, degrees[0], degrees[1]});
+  }
+  return least;
+}
+
 int SixBarsRefined(const TaskSolverOptions& options, Effort effort) {
   return effort == Effort::kFast       ? std::max(1, options.six_bars_refined / 3)
          : effort == Effort::kThorough ? 3 * options.six_bars_refined
@@ -129,11 +143,19 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
   // Refined afresh while that gains (a fresh solve leaves a stiffened bound's penalty and a
   // collapsed trust region behind: the six-bar's valleys are flat), so that `linkfit refine`
   // finds each listed one refined.
+  // A fit whose loops keep the task's least transmission angle at the poses is then refined as
+  // `linkfit refine` refines it (RefineSixBarDesign): holding that angle.
+  const double minimum = MinTransmissionAngleDeg(task.constraints);
+  SixBarRefinerOptions holding = refiner;
+  holding.min_transmission_deg = minimum;
   for (SixBarFit& fit : fits) {
-    for (int pass = 0; pass < kRefinePasses; ++pass) {
-      const double before = fit.rms_pose_error;
-      RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
-      if (!Gains(before, fit.rms_pose_error, kPassGain)) break;
+    for (const SixBarRefinerOptions* with : {&refiner, &holding}) {
+      if (with == &holding && LeastTransmissionAtPoses(fit) < minimum) break;
+      for (int pass = 0; pass < kRefinePasses; ++pass) {
+        const double before = fit.rms_pose_error;
+        RefineSixBar(poses, task.pose_weights, length, &fit, *with);
+        if (!Gains(before, fit.rms_pose_error, kPassGain)) break;
+      }
     }
   }
   std::stable_sort(fits.begin(), fits.end(), [](const SixBarFit& a, const SixBarFit& b) {
@@ -201,27 +223,34 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
         "the six-bar does not assemble near the task's poses from its turns there "
         "(turns_at_poses_deg) or its upper link's range: is it this task's?");
   }
-  SixBarRefinerOptions refiner = options.six_bar_refiner;
-  refiner.constraints = task.constraints;
-  const RefinerSummary summary = RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
   const double precision_fit = PoseFitTolerance(task.precision, length);
   SixBarFit design;
   FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &design);
   const SixBarReport before = JudgeSixBar(task, six_bar, design.at_poses, length, precision_fit);
-  result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit));
-  // The refinement is the fit's: a transmission angle it gave up (below the minimum and by more
-  // than a degree below the design's) is said.
   const auto least = [](const SixBarReport& report) {
     return std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]);
   };
+  // A design whose transmission angle keeps the task's minimum keeps it: the refiner holds it
+  // (SixBarRefinerOptions::min_transmission_deg). Below it, the refinement is the fit's, and a
+  // note says when it costs the angle more.
   const double minimum = MinTransmissionAngleDeg(task.constraints);
-  if (least(result.six_bars.front()) < std::min(minimum, least(before) - 1.0)) {
+  SixBarRefinerOptions refiner = options.six_bar_refiner;
+  refiner.constraints = task.constraints;
+  if (least(before) >= minimum) refiner.min_transmission_deg = minimum;
+  const RefinerSummary summary = RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
+  result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit));
+  if (refiner.min_transmission_deg) {
+    result.notes.push_back(
+        "the refinement held the transmission angle at the task's minimum (" +
+        Format("%g", minimum) +
+        " degrees), which the design keeps: at the poses and between them, by penalty");
+  } else if (least(result.six_bars.front()) < least(before) - 1.0) {
     char angles[320];
     std::snprintf(angles, sizeof(angles),
-                  "the refined six-bar's least transmission angle is %.3g deg, below %.3g (the "
-                  "design's was %.3g): the six-bar refinement does not hold a transmission angle "
-                  "yet, only the fit; weigh the fit against the design's angle",
-                  least(result.six_bars.front()), minimum, least(before));
+                  "the refined six-bar's least transmission angle is %.3g deg, the design's %.3g, "
+                  "both below %.3g: a design below the minimum is refined on the fit alone; "
+                  "weigh the fit against the angle",
+                  least(result.six_bars.front()), least(before), minimum);
     result.notes.push_back(angles);
   }
   char text[200];
@@ -231,6 +260,140 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
                 summary.initial_rms, summary.final_rms, summary.initial_max, summary.final_max,
                 summary.iterations);
   result.notes.push_back(text);
+  result.solve_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+PlanarMotionResult SolveSixBarChosenChain(const Task& task, const TaskSolverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PlanarPose>& poses = task.planar_poses;
+  const double length = task.scale ? *task.scale : CharacteristicLength(poses);
+  const bool exact = poses.size() == 5;
+  SixBarChainSearchOptions search;
+  const int chains = options.six_bar_chains;
+  search.max_candidates = task.effort == Effort::kFast       ? std::max(1, chains / 3)
+                          : task.effort == Effort::kThorough ? 3 * chains
+                                                             : chains;
+  const std::vector<SixBarChainCandidate> candidates =
+      SixBarChainCandidates(poses, task.constraints, length, search);
+  if (candidates.empty()) {
+    PlanarMotionResult result = SixBarResult(task, exact ? "exact" : "least-squares");
+    result.notes.push_back(
+        "no 3R chain found for a six-bar: none of the chains tried reaches every pose on one elbow "
+        "with elbow angles within " +
+        Format("%g", search.min_elbow_angle_deg) + " to " +
+        Format("%g", 180.0 - search.min_elbow_angle_deg) + " degrees and joint travel within " +
+        Format("%g", search.max_joint_travel_deg) +
+        " degrees inside the task's bounds; give \"chain\" in the task");
+    result.solve_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  }
+  const double precision_fit = PoseFitTolerance(task.precision, length);
+  // Each chain judged quickly (ScreenSixBarChain) on five poses: the task's, or beyond five five
+  // spread over the task (the first and the last among them). Five poses: the chosen chain is
+  // solved in full. Beyond: the chains that screen best are solved by least squares, the best
+  // result kept.
+  Task screened = task;
+  if (!exact) {
+    screened.planar_poses.clear();
+    screened.pose_weights.clear();
+    screened.pose_exact.clear();
+    for (size_t k : SpreadIndices(poses.size(), 5, {})) screened.planar_poses.push_back(poses[k]);
+  }
+  struct Screened {
+    SixBarChain chain;
+    std::optional<RankKey> key;
+  };
+  std::vector<Screened> judged;
+  bool buildable = false;
+  for (const SixBarChainCandidate& candidate : candidates) {
+    Task on_chain = screened;
+    on_chain.chain = candidate.chain;
+    std::vector<Eigen::Vector2d> elbows;
+    int unreachable = -1;
+    if (!ChainElbows(on_chain.planar_poses, candidate.chain, &elbows, &unreachable)) continue;
+    const SixBarChainScreen screen = ScreenSixBarChain(on_chain);
+    judged.push_back({candidate.chain, screen.best});
+    if (screen.buildable) {
+      buildable = true;
+      break;
+    }
+  }
+  // The judged chains by their best six-bar (the shared rule), a chain without one last.
+  std::vector<RankKey> keys;
+  std::vector<int> with_key, order;
+  for (size_t c = 0; c < judged.size(); ++c) {
+    if (judged[c].key) {
+      keys.push_back(*judged[c].key);
+      with_key.push_back(static_cast<int>(c));
+    }
+  }
+  for (int k : RankOrder(keys)) order.push_back(with_key[k]);
+  for (size_t c = 0; c < judged.size(); ++c) {
+    if (!judged[c].key) order.push_back(static_cast<int>(c));
+  }
+  if (buildable)
+    std::swap(order.front(), *std::find(order.begin(), order.end(), judged.size() - 1));
+  const int solved = static_cast<int>(judged.size());
+  int chosen = order.front();  // into judged (not empty: every candidate reaches every pose)
+  std::optional<PlanarMotionResult> best;
+  int fitted_count = 0;
+  if (!exact) {
+    // Least squares on the best-screened chains, the result whose first six-bar ranks first kept.
+    std::optional<RankKey> best_key;
+    const int fits = task.effort == Effort::kFast       ? 1
+                     : task.effort == Effort::kThorough ? 3 * options.six_bar_least_squares_chains
+                                                        : options.six_bar_least_squares_chains;
+    fitted_count = std::min<int>(fits, static_cast<int>(order.size()));
+    for (int c = 0; c < fitted_count; ++c) {
+      Task on_chain = task;
+      on_chain.chain = judged[order[c]].chain;
+      PlanarMotionResult fitted = SolveSixBarLeastSquares(on_chain, options);
+      std::optional<RankKey> key;
+      if (!fitted.six_bars.empty()) {
+        key = SixBarRankKey(fitted.six_bars.front(), precision_fit, task.constraints);
+      }
+      if (!best || (key && (!best_key || RankOrder({*key, *best_key}).front() == 0))) {
+        best = std::move(fitted);
+        chosen = order[c];
+        if (key) best_key = key;
+      }
+    }
+  }
+  Task on_chain = task;
+  on_chain.chain = judged[chosen].chain;
+  PlanarMotionResult result = exact ? SolveSixBarMotion(on_chain) : std::move(*best);
+  const bool any = std::any_of(judged.begin(), judged.end(),
+                               [](const Screened& screened) { return screened.key.has_value(); });
+  result.chain_chosen = true;
+  const SixBarChain& chain = *result.chain;
+  result.notes.insert(
+      result.notes.begin(),
+      "linkfit chose the 3R chain (the task gives none): ground pivot (" +
+          Format("%.4g", chain.ground_pivot.x()) + ", " + Format("%.4g", chain.ground_pivot.y()) +
+          "), wrist (" + Format("%.4g", chain.wrist_in_moving.x()) + ", " +
+          Format("%.4g", chain.wrist_in_moving.y()) + ") in E, links " +
+          Format("%.4g", chain.upper_length) + " and " + Format("%.4g", chain.forearm_length) +
+          "; of " + std::to_string(candidates.size()) +
+          " candidate chains (every pose reached on one elbow, elbow angles within " +
+          Format("%g", search.min_elbow_angle_deg) + " to " +
+          Format("%g", 180.0 - search.min_elbow_angle_deg) + " degrees, joint travel within " +
+          Format("%g", search.max_joint_travel_deg) + " degrees; in the search's order), " +
+          std::to_string(solved) + " judged" +
+          (exact ? ": " : " on five of the poses spread over the task: ") +
+          (buildable ? std::string(exact ? "the last of them, this one," : "the last of them") +
+                           " is the first with a six-bar that keeps every constraint without a "
+                           "defect"
+           : any ? "none has a six-bar that keeps every constraint without a defect"
+                 : "none gives a six-bar") +
+          (exact ? (buildable ? ""
+                    : any     ? "; this one's best ranks first"
+                              : "")
+                 : "; the best " + std::to_string(fitted_count) +
+                       " fitted to all the poses, this one's first six-bar ranks first") +
+          "; give \"chain\" in the task to use your own");
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

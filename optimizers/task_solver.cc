@@ -747,7 +747,8 @@ std::string TypingNote(const Task& task, const TaskSolverOptions& options,
 }  // namespace
 
 PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& options) {
-  if (task.six_bar) {  // issue 36: a given chain
+  if (task.six_bar) {  // issue 36
+    if (!task.chain) return SolveSixBarChosenChain(task, options);
     return task.planar_poses.size() == 5 ? SolveSixBarMotion(task)
                                          : SolveSixBarLeastSquares(task, options);
   }

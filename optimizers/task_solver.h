@@ -83,6 +83,11 @@ struct TaskSolverOptions {
   int six_bar_roots = 6;
   int six_bars_refined = 8;
   SixBarRefinerOptions six_bar_refiner;
+  // Chains judged when a six-bar task leaves its chain to linkfit (SolveSixBarChosenChain), and
+  // beyond five poses those solved by least squares, at balanced effort (fast: a third, and one;
+  // thorough: three times).
+  int six_bar_chains = 24;
+  int six_bar_least_squares_chains = 2;
 };
 
 // Never throws for numerical trouble: what could not be done is said in the result's notes.
@@ -97,6 +102,18 @@ PlanarMotionResult SolvePlanarTask(const Task& task, const TaskSolverOptions& op
 // the pose errors with every joint free (RefineSixBar), listed once each, judged and ranked as
 // five-pose six-bars are (JudgeSixBar, RankSixBars).
 PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOptions& options = {});
+
+// A "linkage": "six-bar" task without "chain" (issue 36): linkfit chooses the chain. The
+// candidate chains (fitting/six_bar_chains.h SixBarChainCandidates: every pose reached on one
+// elbow, elbow angles away from the singular places, acceptable joint travel, the task's pivot
+// boxes and link bounds kept; fast, balanced and thorough effort try 8, 24 and 72 of them) are
+// judged quickly in their order (ScreenSixBarChain; beyond five poses on five spread over the
+// task) until one has a six-bar that keeps every constraint without a defect. Five poses: that
+// chain, else the one whose best six-bar the shared rule ranks first, is solved
+// (SolveSixBarMotion). Beyond: the best-judged chains (fast 1, balanced 2, thorough 6) are solved
+// by least squares (SolveSixBarLeastSquares) and the result whose first six-bar ranks first kept.
+// The chain is stated in the result (chain_chosen) and in a note.
+PlanarMotionResult SolveSixBarChosenChain(const Task& task, const TaskSolverOptions& options = {});
 
 // `linkfit refine` of a six-bar (a "linkage": "six-bar" task, any number of poses): placed at the
 // poses from `at_poses` (the design's turns; empty: from its upper link's range,

@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 
+#include "fitting/six_bar_chains.h"
 #include "fitting/six_bar_synthesis.h"
 #include "lib/six_bar.h"
 #include "tests/support/random_six_bar.h"
@@ -208,6 +209,78 @@ TEST(SixBarAnalysis, FourDegreeStepsJudgeAsHalfDegreeSteps) {
   EXPECT_GT(whole_turns, 0);
   std::cout << analyses << " analyses, " << defective << " with defects, " << whole_turns
             << " whole turns; transmission angles apart by at most " << worst << " degrees\n";
+}
+
+// The chain search (fitting/six_bar_chains.h): every candidate reaches every pose on its elbow with
+// elbow angles and joint travels within the options, recomputed here from its joints; candidates
+// come best first, none near an earlier one; a tighter elbow-angle bound only removes candidates,
+// and a fixed-pivot box keeps every ground pivot inside it.
+TEST(SixBarChains, CandidatesKeepTheirBoundsAndComeBestFirst) {
+  std::mt19937_64 rng(3661);
+  for (const testing::SixBarLayout& layout : testing::SixBarLayouts()) {
+    const testing::GeneratedSixBarTask generated = testing::RandomSixBarTask(rng, layout);
+    const double length = CharacteristicLength(generated.poses);
+    SixBarChainSearchOptions options;
+    options.max_candidates = 1000;
+    const std::vector<SixBarChainCandidate> candidates =
+        SixBarChainCandidates(generated.poses, DesignConstraints(), length, options);
+    ASSERT_GT(candidates.size(), 10u);
+    for (size_t i = 0; i < candidates.size(); ++i) {
+      const SixBarChainCandidate& candidate = candidates[i];
+      const SixBarChain& chain = candidate.chain;
+      std::vector<Eigen::Vector2d> elbows;
+      int unreachable = -1;
+      ASSERT_TRUE(ChainElbows(generated.poses, chain, &elbows, &unreachable));
+      double least = 180.0, low = 0.0, high = 0.0, first = 0.0;
+      for (size_t k = 0; k < elbows.size(); ++k) {
+        const Eigen::Vector2d wrist = generated.poses[k].ToFixed(chain.wrist_in_moving);
+        const Eigen::Vector2d u = chain.ground_pivot - elbows[k], v = wrist - elbows[k];
+        const double beta = std::acos(u.dot(v) / (u.norm() * v.norm())) * 180.0 / M_PI;
+        least = std::min({least, beta, 180.0 - beta});
+        const Eigen::Vector2d upper = elbows[k] - chain.ground_pivot;
+        const double turn = std::atan2(upper.y(), upper.x()) * 180.0 / M_PI;
+        if (k == 0) first = turn;
+        const double from_first = std::remainder(turn - first, 360.0);
+        low = std::min(low, from_first);
+        high = std::max(high, from_first);
+      }
+      EXPECT_NEAR(least, candidate.min_elbow_angle_deg, 1e-9);
+      EXPECT_GE(least, options.min_elbow_angle_deg);
+      EXPECT_LE(high - low, options.max_joint_travel_deg + 1e-9);
+      EXPECT_LE(candidate.score, candidate.min_elbow_angle_deg);
+      if (i > 0) {
+        EXPECT_LE(candidate.score, candidates[i - 1].score);
+      }
+      for (size_t j = 0; j < i; ++j) {
+        const SixBarChain& before = candidates[j].chain;
+        EXPECT_FALSE(before.elbow_left == chain.elbow_left &&
+                     (before.ground_pivot - chain.ground_pivot).norm() < options.apart * length &&
+                     (before.wrist_in_moving - chain.wrist_in_moving).norm() <
+                         options.apart * length);
+      }
+    }
+    SixBarChainSearchOptions tighter = options;
+    tighter.min_elbow_angle_deg = 40.0;
+    const std::vector<SixBarChainCandidate> fewer =
+        SixBarChainCandidates(generated.poses, DesignConstraints(), length, tighter);
+    EXPECT_LT(fewer.size(), candidates.size());
+    for (const SixBarChainCandidate& candidate : fewer) {
+      EXPECT_GE(candidate.min_elbow_angle_deg, 40.0);
+    }
+    DesignConstraints boxed;
+    boxed.fixed_pivots_box = PlanarBox{candidates[0].chain.ground_pivot - Eigen::Vector2d(1, 1),
+                                       candidates[0].chain.ground_pivot};
+    const std::vector<SixBarChainCandidate> inside =
+        SixBarChainCandidates(generated.poses, boxed, length, options);
+    ASSERT_FALSE(inside.empty());
+    for (const SixBarChainCandidate& candidate : inside) {
+      EXPECT_TRUE(
+          (candidate.chain.ground_pivot.array() <= boxed.fixed_pivots_box->max.array() + 1e-12)
+              .all() &&
+          (candidate.chain.ground_pivot.array() >= boxed.fixed_pivots_box->min.array() - 1e-12)
+              .all());
+    }
+  }
 }
 
 }  // namespace

@@ -693,6 +693,36 @@ void DrawJointedParts(Svg* svg, const View& view, const PictureMechanism::Joints
     }
   }
   const std::vector<int> ground = joints.bodies.empty() ? std::vector<int>() : joints.bodies[0];
+  // Each moving joint's name at the first of eight places around it whose box (about 6.5 px a
+  // character, 11 px high) meets no name placed before and no other joint: joints a few pixels
+  // apart (a new crank's pin beside the link's) keep their names apart.
+  std::vector<Vec> pins;
+  for (const Vec& place : places) {
+    if (view.Shows(place)) pins.push_back(view.Px(place));
+  }
+  struct Box {
+    double left, top, right, bottom;
+  };
+  std::vector<Box> placed;
+  const auto name_box = [](const Vec& at, size_t characters) {
+    return Box{at.x(), at.y() - 10.0, at.x() + 6.5 * static_cast<double>(characters), at.y() + 2.0};
+  };
+  const auto free = [&](const Box& box, const Vec& own) {
+    for (const Box& other : placed) {
+      if (box.left < other.right && other.left < box.right && box.top < other.bottom &&
+          other.top < box.bottom) {
+        return false;
+      }
+    }
+    for (const Vec& pin : pins) {
+      if ((pin - own).norm() < 1e-9) continue;
+      if (pin.x() + kPivotRadius > box.left && pin.x() - kPivotRadius < box.right &&
+          pin.y() + kPivotRadius > box.top && pin.y() - kPivotRadius < box.bottom) {
+        return false;
+      }
+    }
+    return true;
+  };
   for (size_t j = 0; j < places.size(); ++j) {
     if (!view.Shows(places[j])) continue;
     const Vec p = view.Px(places[j]);
@@ -702,7 +732,21 @@ void DrawJointedParts(Svg* svg, const View& view, const PictureMechanism::Joints
     // The ground's joints are named with their symbols (DrawGround), the moving ones here.
     if (j < joints.names.size() &&
         std::find(ground.begin(), ground.end(), static_cast<int>(j)) == ground.end()) {
-      svg->Text(p + Vec(7.0, -6.0), joints.names[j], Halo(kLinkColour, 11.0));
+      const std::string& name = joints.names[j];
+      const double width = 6.5 * static_cast<double>(name.size());
+      const Vec offsets[] = {Vec(7.0, -6.0),           Vec(7.0, 14.0),
+                             Vec(-7.0 - width, -6.0),  Vec(-7.0 - width, 14.0),
+                             Vec(-0.5 * width, -10.0), Vec(-0.5 * width, 20.0),
+                             Vec(10.0, 4.0),           Vec(-10.0 - width, 4.0)};
+      Vec at = p + offsets[0];
+      for (const Vec& offset : offsets) {
+        if (free(name_box(p + offset, name.size()), p)) {
+          at = p + offset;
+          break;
+        }
+      }
+      placed.push_back(name_box(at, name.size()));
+      svg->Text(at, name, Halo(kLinkColour, 11.0));
     }
   }
   if (Ok(pose) && view.Shows(pose.origin_in_fixed)) {

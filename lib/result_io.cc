@@ -818,6 +818,7 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
     } else {
       object["elbow"] = chain.elbow_left ? "left" : "right";
     }
+    if (chain.hold) object["hold"] = true;
     root["chain"] = object;
     if (result.chain_chosen) root["chain_chosen"] = true;
     root["six_bars"] = Json::array();

@@ -112,6 +112,10 @@ struct SixBarChain {
   double forearm_length = 1.0;  // elbow to wrist (a23)
   std::optional<Eigen::Vector2d> elbow_at_first_pose;
   bool elbow_left = true;
+  // Held by least squares and refinement (the ground pivot, both link lengths and the wrist in
+  // E kept; optimizers/six_bar_refiner.h SixBarRefinerOptions::held_chain); else every joint is
+  // free, the chain's too.
+  bool hold = false;
 };
 
 // The chain's elbow at each pose (Sigma), or false (and summary->unreachable_pose) where a pose

@@ -767,7 +767,7 @@ class TaskParser {
     if (!root.contains("chain")) return;  // linkfit chooses one (fitting/six_bar_chains.h)
     const Json& value = Object(root.at("chain"), "chain");
     CheckKeys(value, "chain",
-              {"ground_pivot", "wrist", "link_lengths", "elbow_at_first_pose", "elbow"});
+              {"ground_pivot", "wrist", "link_lengths", "elbow_at_first_pose", "elbow", "hold"});
     SixBarChain chain;
     chain.ground_pivot = Vector<2>(Field(value, "chain", "ground_pivot"), "chain.ground_pivot");
     chain.wrist_in_moving = Vector<2>(Field(value, "chain", "wrist"), "chain.wrist");
@@ -786,6 +786,7 @@ class TaskParser {
     }
     chain.elbow_left =
         ParseEnum<bool>(value, "chain", "elbow", true, {{"left", true}, {"right", false}});
+    if (value.contains("hold")) chain.hold = Bool(value.at("hold"), "chain.hold");
     std::vector<Eigen::Vector2d> elbows;
     int unreachable = -1;
     if (!ChainElbows(task->planar_poses, chain, &elbows, &unreachable)) {

@@ -242,6 +242,39 @@ class SixBarBoundCost {
   const double* inset_;
 };
 
+// A held chain (SixBarRefinerOptions::held_chain): sqrt(kChainHoldWeight) times the ground pivot's
+// offset (2), each chain link's length error (2) and the wrist's offset in E (2).
+class SixBarChainHoldCost {
+ public:
+  explicit SixBarChainHoldCost(const SixBarChain& chain) : chain_(chain) {}
+
+  template <typename T>
+  bool operator()(const T* joints, const T* reference, T* residual) const {
+    using std::cos;
+    using std::sin;
+    using std::sqrt;
+    const T scale = T(std::sqrt(kChainHoldWeight));
+    const Eigen::Matrix<T, 2, 1> ground(joints[kJointGroundPivot], joints[kJointGroundPivot + 1]);
+    const Eigen::Matrix<T, 2, 1> elbow(joints[kJointElbow], joints[kJointElbow + 1]);
+    const Eigen::Matrix<T, 2, 1> wrist(joints[kJointWrist], joints[kJointWrist + 1]);
+    residual[0] = scale * (ground.x() - T(chain_.ground_pivot.x()));
+    residual[1] = scale * (ground.y() - T(chain_.ground_pivot.y()));
+    residual[2] =
+        scale * (sqrt((elbow - ground).squaredNorm() + T(1e-300)) - T(chain_.upper_length));
+    residual[3] =
+        scale * (sqrt((wrist - elbow).squaredNorm() + T(1e-300)) - T(chain_.forearm_length));
+    // The wrist in E: R(-theta) (wrist - origin) at the reference configuration.
+    const T c = cos(reference[2]), s = sin(reference[2]);
+    const T dx = wrist.x() - reference[0], dy = wrist.y() - reference[1];
+    residual[4] = scale * (c * dx + s * dy - T(chain_.wrist_in_moving.x()));
+    residual[5] = scale * (-s * dx + c * dy - T(chain_.wrist_in_moving.y()));
+    return true;
+  }
+
+ private:
+  SixBarChain chain_;
+};
+
 // The task's bounds on the six-bar's joints (SixBarViolations' links and boxes).
 std::vector<SixBarBound> Bounds(const SixBar& six_bar, const DesignConstraints& constraints,
                                 double length) {
@@ -388,6 +421,12 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     problem.AddResidualBlock(
         new ceres::AutoDiffCostFunction<SixBarBoundCost, 4, kSixBarJointCount, 3>(
             new SixBarBoundCost(bound, bound_weight, inset)),
+        nullptr, joints.data(), reference.data());
+  }
+  if (options.held_chain) {
+    problem.AddResidualBlock(
+        new ceres::AutoDiffCostFunction<SixBarChainHoldCost, 6, kSixBarJointCount, 3>(
+            new SixBarChainHoldCost(*options.held_chain)),
         nullptr, joints.data(), reference.data());
   }
   problem.SetParameterBlockConstant(&turns[0]);

@@ -40,7 +40,14 @@ struct SixBarRefinerOptions {
   // (optimizers/design_bounds.h HeldTransmissionSine: a degree's margin), until within
   // kTransmissionSlack of the held sine. None by default: the fit alone.
   std::optional<double> min_transmission_deg;
+  // A chain held (lib/six_bar.h SixBarChain::hold): the six-bar's ground pivot at the chain's, its
+  // upper link and forearm of the chain's lengths and its wrist at the chain's place in E, each a
+  // penalty of weight kChainHoldWeight (deviations of order 1e-8 L). None by default: every joint
+  // free, the chain's too.
+  std::optional<SixBarChain> held_chain;
 };
+
+inline constexpr double kChainHoldWeight = 1e10;
 
 // A six-bar placed at the task poses: its configuration at each (the turns AnalyzeSixBar drives
 // through) and its pose errors there (PoseError with L).

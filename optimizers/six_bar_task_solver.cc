@@ -140,6 +140,7 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
   fits.resize(std::min<size_t>(fits.size(), SixBarsRefined(options, task.effort)));
   SixBarRefinerOptions refiner = options.six_bar_refiner;
   refiner.constraints = task.constraints;
+  if (task.chain && task.chain->hold) refiner.held_chain = task.chain;
   // Refined afresh while that gains (a fresh solve leaves a stiffened bound's penalty and a
   // collapsed trust region behind: the six-bar's valleys are flat), so that `linkfit refine`
   // finds each listed one refined.
@@ -183,8 +184,12 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
       std::to_string(problems) + " relative motions, the " + std::to_string(kept_roots) +
       " best-fitting dyads of each kept); of the " + std::to_string(six_bars.size()) +
       " six-bars they make on the chain, the " + std::to_string(fits.size()) +
-      " that fit the poses best are refined on the pose errors, every joint free (the chain's "
-      "too: each six-bar's own are in its joints_at_first_pose)");
+      " that fit the poses best are refined on the pose errors, " +
+      (task.chain->hold ? std::string("the chain held (\"hold\": true; its ground pivot, link "
+                                      "lengths and wrist in E) and the RR links' joints free")
+                        : std::string("every joint free (the chain's too: each six-bar's own are "
+                                      "in its joints_at_first_pose; \"hold\": true in the chain "
+                                      "holds it)")));
   if (std::find(task.pose_exact.begin(), task.pose_exact.end(), true) != task.pose_exact.end()) {
     result.notes.push_back(
         "poses marked exact are fitted as the others: six-bars do not hold exact poses yet");
@@ -236,6 +241,7 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
   const double minimum = MinTransmissionAngleDeg(task.constraints);
   SixBarRefinerOptions refiner = options.six_bar_refiner;
   refiner.constraints = task.constraints;
+  if (task.chain && task.chain->hold) refiner.held_chain = task.chain;
   if (least(before) >= minimum) refiner.min_transmission_deg = minimum;
   const RefinerSummary summary = RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
   result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit));
@@ -253,10 +259,11 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
                   least(result.six_bars.front()), least(before), minimum);
     result.notes.push_back(angles);
   }
-  char text[200];
+  char text[240];
   std::snprintf(text, sizeof(text),
-                "refined on the pose errors, every joint free: RMS pose error %.6g -> %.6g, "
+                "refined on the pose errors, %s: RMS pose error %.6g -> %.6g, "
                 "largest %.6g -> %.6g (%d iterations)",
+                refiner.held_chain ? "the task's chain held" : "every joint free",
                 summary.initial_rms, summary.final_rms, summary.initial_max, summary.final_max,
                 summary.iterations);
   result.notes.push_back(text);

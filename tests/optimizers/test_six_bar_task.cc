@@ -415,6 +415,48 @@ TEST(SixBarTask, ARefinementThatGivesUpTheTransmissionAngleSaysSo) {
   }));
 }
 
+// A chain the task holds ("hold": true) stays where the task puts it through least squares: every
+// listed six-bar has the chain's ground pivot, link lengths and wrist in E (within 1e-6 L), and the
+// best still fits within 10 % of the generator's own error (the generator is on that chain).
+TEST(SixBarTask, AHeldChainStaysThroughLeastSquares) {
+  std::mt19937_64 rng(3615);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  for (const int l : {0, 3}) {
+    const testing::SixBarLayout& layout = testing::SixBarLayouts()[l];
+    testing::GeneratedSixBarTask generated = testing::RandomSixBarTask(rng, layout, 9);
+    SCOPED_TRACE(SixBarTopologyName(layout.topology));
+    for (PlanarPose& pose : generated.poses) {
+      pose.origin_in_fixed += Eigen::Vector2d(noise(rng), noise(rng));
+      pose.theta += noise(rng);
+    }
+    std::string text = TaskText(generated);
+    text.replace(text.find("\"elbow_at_first_pose\""), 0, "\"hold\": true, ");
+    const Task task = ParseTask(text, "held.json");
+    ASSERT_TRUE(task.chain && task.chain->hold);
+    const PlanarMotionResult result = std::get<PlanarMotionResult>(SolveTask(task));
+    ASSERT_FALSE(result.six_bars.empty());
+    const SixBarChain& chain = generated.chain;
+    double best = std::numeric_limits<double>::infinity();
+    for (const SixBarReport& report : result.six_bars) {
+      const SixBar& six_bar = report.six_bar;
+      EXPECT_LT((six_bar.ground_pivot - chain.ground_pivot).norm(), 1e-6 * result.scale);
+      EXPECT_NEAR((six_bar.elbow - six_bar.ground_pivot).norm(), chain.upper_length,
+                  1e-6 * result.scale);
+      EXPECT_NEAR((six_bar.wrist - six_bar.elbow).norm(), chain.forearm_length,
+                  1e-6 * result.scale);
+      EXPECT_LT((six_bar.reference_pose.ToMoving(six_bar.wrist) - chain.wrist_in_moving).norm(),
+                1e-6 * result.scale);
+      best = std::min(best, report.rms_pose_error);
+    }
+    SixBarFit generator;
+    ASSERT_TRUE(FitSixBarToPoses(generated.six_bar, generated.poses, {}, result.scale,
+                                 generated.configurations, &generator));
+    EXPECT_LE(best, 1.1 * generator.rms_pose_error);
+    std::cout << "held chain: best listed " << best / generator.rms_pose_error
+              << " of the generator's error\n";
+  }
+}
+
 // `linkfit refine` of a six-bar whose loops keep the task's least transmission angle (30 degrees
 // by default) through the poses keeps it (the refiner holds it, optimizers/six_bar_refiner.h
 // min_transmission_deg) and says so; the fit stays within 10 % of the generator's own error. The

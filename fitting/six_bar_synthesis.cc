@@ -323,17 +323,32 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
     for (int l = 0; l < 2; ++l) at_poses_deg[l] = std::min(at_poses_deg[l], degrees[l]);
   }
   const bool poor = std::min(at_poses_deg[0], at_poses_deg[1]) < least_allowed;
-  for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
-    if (!SixBarGroundedLink(six_bar, input)) continue;
-    SixBarAnalysis analysis;
-    // A quick judgement does not drive an input whose turns at the poses do not run one way.
-    bool order = false;
-    for (size_t k = 2; screen && k < at_poses.size(); ++k) {
-      order |= (at_poses[k - 1][input - 1] - at_poses[k - 2][input - 1]) *
-                   (at_poses[k][input - 1] - at_poses[k - 1][input - 1]) <=
-               0.0;
+  // The inputs whose turns at the poses run one way first: when one of them drives the six-bar
+  // without a kinematic defect, an input with an order defect cannot rank above it (the shared
+  // rule's groups; the violations are the same under every input unless the task asks for a
+  // fully turning one), and is not driven. A quick judgement drives none with an order defect.
+  const auto ordered = [&](int input) {
+    for (size_t k = 2; k < at_poses.size(); ++k) {
+      if ((at_poses[k - 1][input - 1] - at_poses[k - 2][input - 1]) *
+              (at_poses[k][input - 1] - at_poses[k - 1][input - 1]) <=
+          0.0) {
+        return false;
+      }
     }
-    if (order || poor) {
+    return true;
+  };
+  std::vector<int> inputs;
+  for (const bool first : {true, false}) {
+    for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
+      if (SixBarGroundedLink(six_bar, input) && ordered(input) == first) inputs.push_back(input);
+    }
+  }
+  bool kinematically_free = false;
+  for (const int input : inputs) {
+    const bool order = !ordered(input);
+    if (order && kinematically_free && !task.constraints.input_rotates_fully) break;
+    SixBarAnalysis analysis;
+    if ((order && screen) || poor) {
       if (order) analysis.defects = {"order"};
       analysis.transmission_min_deg = at_poses_deg;
       for (const SixBarAngles& angles : at_poses) {
@@ -360,6 +375,7 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
         SixBarViolations(task.constraints, six_bar, report.input_rotates_fully, length);
     // A quick judgement asks only whether some input keeps everything.
     if (screen && report.defects.empty() && report.violates.empty()) return report;
+    kinematically_free |= !HasKinematicDefect(report.defects);
     keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
     reports.push_back(report);
   }

@@ -88,6 +88,10 @@ bool Assemble(const SixBar& six_bar, int input, double input_angle, SixBarAngles
   return false;
 }
 
+// The closure a continuation step on the way is assembled to (times L); the last step, to the
+// drive's target, to 1e-13 L (measured: the same defects and transmission angles).
+constexpr double kStepTolerance = 1e-10;
+
 // Newton steps a continuation step may take (more: the step is halved).
 constexpr int kDriveIterations = 8;
 
@@ -240,28 +244,38 @@ bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles
     return false;
   }
   double step = max_step;
+  SixBarAngles acceleration = SixBarAngles::Zero();
   for (int steps = 0; std::abs(to_angle - (*angles)[input - 1]) > 0.0; ++steps) {
     if (steps == kMaxDriveSteps) return false;
     const double remaining = to_angle - (*angles)[input - 1];
     const double delta = std::copysign(std::min(step, std::abs(remaining)), remaining);
     const SixBarAngles predicted = *angles + delta * velocity;
-    SixBarAngles next = predicted, next_velocity;
+    // Newton starts from the second-order prediction (the turns' acceleration from the last
+    // step's change of velocity); the step is judged against the first-order one.
+    SixBarAngles next = predicted + 0.5 * delta * delta * acceleration, next_velocity;
     double next_determinant = 0.0;
     const double target =
         std::abs(delta) < std::abs(remaining) ? (*angles)[input - 1] + delta : to_angle;
     // Corrected within a few Newton steps by a small share of the predicted move, the free turns'
     // Jacobian's determinant of the same sign: the same assembly, no dead point (a fold, or a
     // crossing of two assemblies) stepped over.
-    if (Assemble(six_bar, input, target, &next, tolerance, kDriveIterations, &next_velocity,
-                 &next_determinant) &&
-        (next - predicted).cwiseAbs().maxCoeff() <=
-            kDriveCorrection * std::max(std::abs(delta) * velocity.cwiseAbs().maxCoeff(), 1e-6) &&
+    const double allowed =
+        kDriveCorrection * std::max(std::abs(delta) * velocity.cwiseAbs().maxCoeff(), 1e-6);
+    // Steps on the way are assembled to kStepTolerance, the last to full precision.
+    const bool last = target == to_angle;
+    if (Assemble(six_bar, input, target, &next, last ? tolerance : kStepTolerance * length,
+                 kDriveIterations, &next_velocity, &next_determinant) &&
+        (next - predicted).cwiseAbs().maxCoeff() <= allowed &&
         next_determinant * determinant > 0.0) {
+      acceleration = (next_velocity - velocity) / delta;
       *angles = next;
       velocity = next_velocity;
       determinant = next_determinant;
       if (visit) visit(*angles);
-      step = std::min(max_step, 2.0 * step);
+      // The next step grows while the correction stays well within its bound (it grows as the
+      // step's square): doubled below a quarter of it, by a quarter below half of it.
+      const double share = (next - predicted).cwiseAbs().maxCoeff() / allowed;
+      step = std::min(max_step, share < 0.25 ? 2.0 * step : share < 0.5 ? 1.25 * step : step);
       continue;
     }
     step /= 2.0;
@@ -316,31 +330,34 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   }
   // Each loop's transmission angle at every configuration the continuation reaches. Where its
   // least may lie between samples, it is refined by golden-section search over the input there,
-  // each configuration assembled from a sample's on the sample's assembly (the free turns'
+  // each configuration on the sample's assembly (the free turns'
   // Jacobian's determinant of the same sign: near a dead point, Newton's method can reach the
   // other assembly close by): about a sample below its two neighbours (the input running one way
   // through them), and between the first two samples of a run or its last two (a run: from the
   // first pose, or a pose the continuation restarts from, to a stop) where the end is the lower.
-  const double tolerance = 1e-13 * length;
+  // Each from the last configuration the search reached, assembled to kStepTolerance.
   SixBarAngles last[3];
   std::array<double, 2> degrees[3];
   int samples = 0;
   const auto refine = [&](int l, const SixBarAngles& from, double value, double low, double high) {
     SixBarAngles sample = from;
     double sign = 0.0;
+    const double step_tolerance = kStepTolerance * length;
     if (!refine_transmission || !(low != high) ||
-        !Assemble(six_bar, input, sample[index], &sample, tolerance, kDriveIterations, nullptr,
+        !Assemble(six_bar, input, sample[index], &sample, step_tolerance, kDriveIterations, nullptr,
                   &sign)) {
       return;
     }
+    SixBarAngles warm = sample;
     const auto at = [&](double input_angle) {
-      SixBarAngles assembled = sample;
+      SixBarAngles assembled = warm;
       double determinant = 0.0;
-      if (!Assemble(six_bar, input, input_angle, &assembled, tolerance, kDriveIterations, nullptr,
-                    &determinant) ||
+      if (!Assemble(six_bar, input, input_angle, &assembled, step_tolerance, kDriveIterations,
+                    nullptr, &determinant) ||
           !(determinant * sign > 0.0)) {
         return value;
       }
+      warm = assembled;
       return SixBarTransmissionDeg(six_bar, assembled)[l];
     };
     double& least = analysis.transmission_min_deg[l];

@@ -76,18 +76,40 @@ Eigen::Vector3d PoseResidual(const SixBar& six_bar, const SixBarAngles& angles,
                          length * std::remainder(pose.theta - target.theta, 2.0 * M_PI));
 }
 
-// The configuration at the upper link's turn `turn` in T: assembled in doubles from `warm`
-// (updated), then one Newton step in T, which carries the free turns' derivatives (implicit
-// function theorem). False where it does not assemble.
+// A configuration's solutions during a solve: the last evaluation's (a trial step's too) and the
+// last accepted step's, which each evaluation starts from (a rejected trial's, far off, could
+// lead Newton's method to another assembly; WarmKeeper moves `last` to `accepted` after each
+// successful step).
+struct Warm {
+  SixBarAngles accepted, last;
+};
+
+class WarmKeeper : public ceres::IterationCallback {
+ public:
+  explicit WarmKeeper(std::vector<Warm*> warms) : warms_(std::move(warms)) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
+    if (summary.step_is_successful) {
+      for (Warm* warm : warms_) warm->accepted = warm->last;
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  std::vector<Warm*> warms_;
+};
+
+// The configuration at the upper link's turn `turn` in T: assembled in doubles from
+// warm->accepted (the result in warm->last), then one Newton step in T, which carries the free
+// turns' derivatives (implicit function theorem). False where it does not assemble.
 template <typename T>
 bool Configuration(const std::array<int, 2>& from, const std::array<int, 2>& to, const T* joints,
-                   const T& turn, double length, SixBarAngles* warm, std::array<T, 5>* angles) {
+                   const T& turn, double length, Warm* warm, std::array<T, 5>* angles) {
   std::array<double, kSixBarJointCount> values;
   for (int k = 0; k < kSixBarJointCount; ++k) values[k] = Value(joints[k]);
-  SixBarAngles x = *warm;
+  SixBarAngles x = warm->accepted;
   x[kTurn] = Value(turn);
   if (!AssembleFree(from, to, values.data(), kAssemblyTolerance * length, &x)) return false;
-  *warm = x;
+  warm->last = x;
   (*angles)[kTurn] = turn;
   for (int k = 1; k < 5; ++k) (*angles)[k] = T(x[k]);
   const SixBarFrames<T> frames(from, to, joints, angles->data());
@@ -124,7 +146,7 @@ template <bool kHeld>
 class SixBarPoseCost {
  public:
   SixBarPoseCost(const std::array<int, 2>& from, const std::array<int, 2>& to,
-                 const PlanarPose& target, double length, double weight, SixBarAngles* warm,
+                 const PlanarPose& target, double length, double weight, Warm* warm,
                  const TransmissionHold& hold)
       : from_(from),
         to_(to),
@@ -156,7 +178,7 @@ class SixBarPoseCost {
   std::array<int, 2> from_, to_;
   PlanarPose target_;
   double length_, scale_;
-  SixBarAngles* warm_;
+  Warm* warm_;
   TransmissionHold hold_;
 };
 
@@ -167,7 +189,7 @@ class SixBarPoseCost {
 class SixBarSampleCost {
  public:
   SixBarSampleCost(const std::array<int, 2>& from, const std::array<int, 2>& to, double along,
-                   double length, SixBarAngles* warm, const TransmissionHold& hold)
+                   double length, Warm* warm, const TransmissionHold& hold)
       : from_(from), to_(to), along_(along), length_(length), warm_(warm), hold_(hold) {}
 
   template <typename T>
@@ -186,7 +208,7 @@ class SixBarSampleCost {
  private:
   std::array<int, 2> from_, to_;
   double along_, length_;
-  SixBarAngles* warm_;
+  Warm* warm_;
   TransmissionHold hold_;
 };
 
@@ -382,9 +404,10 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
   std::array<double, 3> reference = {seed.reference_pose.origin_in_fixed.x(),
                                      seed.reference_pose.origin_in_fixed.y(),
                                      seed.reference_pose.theta};
-  std::vector<SixBarAngles> warm = fit->at_poses;
+  std::vector<Warm> warm;
+  for (const SixBarAngles& angles : fit->at_poses) warm.push_back({angles, angles});
   std::vector<double> turns;
-  for (const SixBarAngles& angles : warm) turns.push_back(angles[kTurn]);
+  for (const SixBarAngles& angles : fit->at_poses) turns.push_back(angles[kTurn]);
   ceres::Problem problem;
   for (size_t k = 0; k < poses.size(); ++k) {
     if (hold.held_sine > 0.0) {
@@ -402,12 +425,12 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     }
   }
   // A held transmission angle also between the poses (its samples' last solutions, one each).
-  std::vector<SixBarAngles> sample_warm;
+  std::vector<Warm> sample_warm;
   if (hold.held_sine > 0.0 && poses.size() > 1) {
     sample_warm.reserve((poses.size() - 1) * (kHeldSamples - 1));
     for (size_t k = 0; k + 1 < poses.size(); ++k) {
       for (int s = 1; s < kHeldSamples; ++s) {
-        sample_warm.push_back(fit->at_poses[k]);
+        sample_warm.push_back({fit->at_poses[k], fit->at_poses[k]});
         problem.AddResidualBlock(
             new ceres::AutoDiffCostFunction<SixBarSampleCost, 2, kSixBarJointCount, 1, 1>(
                 new SixBarSampleCost(FromBodies(seed), ToBodies(seed),
@@ -446,6 +469,11 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     *message = "not refined: the six-bar's closures cannot be solved at its configurations";
     return;
   }
+  std::vector<Warm*> warms;
+  for (Warm& w : warm) warms.push_back(&w);
+  for (Warm& w : sample_warm) warms.push_back(&w);
+  WarmKeeper keeper(warms);
+  solver_options.callbacks.push_back(&keeper);
   ceres::Solver::Summary ceres_summary;
   ceres::Solve(solver_options, &problem, &ceres_summary);
   *iterations += static_cast<int>(ceres_summary.iterations.size());
@@ -464,12 +492,14 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     refined.links[l].to_joint = {joints[to], joints[to + 1]};
   }
   refined.reference_pose = PlanarPose(reference[0], reference[1], reference[2]);
-  // The costs' configurations follow every evaluation, a rejected trial step's too: evaluated
-  // at the solution, they are its (else the seed's configurations are the start).
-  problem.Evaluate(ceres::Problem::EvaluateOptions(), nullptr, nullptr, nullptr, nullptr);
-  for (size_t k = 0; k < poses.size(); ++k) warm[k][kTurn] = turns[k];
+  // Placed from the last accepted step's configurations (the solution's).
+  std::vector<SixBarAngles> start;
+  for (size_t k = 0; k < poses.size(); ++k) {
+    start.push_back(warm[k].accepted);
+    start.back()[kTurn] = turns[k];
+  }
   SixBarFit candidate;
-  bool placed = FitSixBarToPoses(refined, poses, weights, length, warm, &candidate) ||
+  bool placed = FitSixBarToPoses(refined, poses, weights, length, start, &candidate) ||
                 FitSixBarToPoses(refined, poses, weights, length, fit->at_poses, &candidate);
   if (placed) {
     const SixBarAngles first = candidate.at_poses[0];

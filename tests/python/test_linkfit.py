@@ -212,3 +212,24 @@ def test_every_public_name_has_a_docstring_help_shows(name):
     if callable(getattr(linkfit, name)) and not isinstance(getattr(linkfit, name), type):
         for section in ("Args:", "Returns:", "Raises:"):
             assert section in doc, (name, section)
+
+
+def test_a_six_bar_task_without_a_chain_gets_one_chosen(tmp_path):
+    """A six-bar task without "chain" (issue 36): the result names the chain linkfit chose, every
+    listed six-bar is built on it (its ground pivot, its link lengths), and it equals the CLI's."""
+    task = json.loads((DATA / "six_bar_5_poses.json").read_text())
+    del task["chain"]
+    result = linkfit.solve(task)
+    assert result["chain_chosen"] is True
+    chain = result["chain"]
+    assert result["notes"][0].startswith("linkfit chose the 3R chain")
+    assert result["six_bars"]
+    for six_bar in result["six_bars"]:
+        joints = six_bar["joints_at_first_pose"]
+        assert np.allclose(joints["ground_pivot"], chain["ground_pivot"], atol=1e-12)
+        upper = np.linalg.norm(np.subtract(joints["elbow"], joints["ground_pivot"]))
+        forearm = np.linalg.norm(np.subtract(joints["wrist"], joints["elbow"]))
+        assert np.allclose([upper, forearm], chain["link_lengths"], rtol=1e-9)
+    path = tmp_path / "no_chain.json"
+    path.write_text(json.dumps(task))
+    assert untimed(dict(result)) == untimed(cli_solve(path))

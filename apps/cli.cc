@@ -434,11 +434,16 @@ int Show(const std::string& result_path) {
 // design's mechanism refined against the task (optimizers/task_solver.h RefineTask), before and
 // after in the result.
 int Refine(const std::string& task_path, const std::string& design_path,
-           const std::string& result_path, int mechanism_index) {
+           const std::string& result_path, int mechanism_index, bool summary) {
+  if (summary && result_path == "-") {
+    throw InputError("-o -: --summary prints the table on stdout; write the JSON to a file");
+  }
   OutputSet outputs;
   outputs.AddInput(task_path);
   outputs.AddInput(design_path);
-  OutputFile& result_file = outputs.Add(result_path, "-o");
+  // With --summary and no -o, stdout takes the table and the JSON is not written (as solve).
+  OutputFile* result_file =
+      summary && result_path.empty() ? nullptr : &outputs.Add(result_path, "-o");
   const std::vector<Task> tasks = ReadTaskFile(task_path);
   if (tasks.size() != 1) throw InputError(task_path + ": refine takes one task, not a batch");
   const Task& task = tasks[0];
@@ -448,8 +453,13 @@ int Refine(const std::string& task_path, const std::string& design_path,
   choice.task_source = task_path;
   choice.design_source = design_path;
   choice.mechanism_item = design_path + ": --mechanism " + std::to_string(mechanism_index);
-  result_file.Write(ResultToJson(RefineTask(task, design, choice), 2) + "\n");
+  const TaskResult result = RefineTask(task, design, choice);
+  if (result_file != nullptr) result_file->Write(ResultToJson(result, 2) + "\n");
   outputs.CommitAll();
+  if (summary) {
+    std::cout << ResultSummary(ResultToJson(result, -1),
+                               std::filesystem::path(task_path).filename().string());
+  }
   return kExitOk;
 }
 
@@ -510,12 +520,15 @@ int Run(int argc, char** argv) {
 
   std::string refine_task, design_path, refine_output;
   int refine_index = 1;
+  bool refine_summary = false;
   CLI::App* refine = app.add_subcommand(
       "refine",
       "Refine a design against a task: a planar four-bar on its pose error, a path four-bar on "
       "its point errors (prescribed or free timing), spatial dyads each on their residuals and "
-      "their platform traced.");
-  refine->add_option("TASK", refine_task, "task file (.json): planar or spatial motion, or path")
+      "their platform traced, a six-bar on its pose errors (\"linkage\": \"six-bar\").");
+  refine
+      ->add_option("TASK", refine_task,
+                   "task file (.json): planar (four- or six-bar) or spatial motion, or path")
       ->required();
   refine
       ->add_option("DESIGN", design_path,
@@ -527,6 +540,9 @@ int Run(int argc, char** argv) {
                    "SP dyads], \"mechanisms\": [{\"dyads\": [five indices]}]})")
       ->required();
   refine->add_option("-o,--output", refine_output, "write the result to this file");
+  refine->add_flag("--summary", refine_summary,
+                   "print the refined design's table on stdout (as solve --summary; the JSON "
+                   "then goes to -o only)");
   refine
       ->add_option("--mechanism", refine_index,
                    "which mechanism (spatial: platform) of the design to refine: its rank, "
@@ -592,7 +608,9 @@ int Run(int argc, char** argv) {
     return kExitBadInput;
   }
   if (solve->parsed()) return Solve(task_path, outputs);
-  if (refine->parsed()) return Refine(refine_task, design_path, refine_output, refine_index);
+  if (refine->parsed()) {
+    return Refine(refine_task, design_path, refine_output, refine_index, refine_summary);
+  }
   if (show->parsed()) return Show(show_path);
   if (bench->parsed()) {
     bench_options.trade = !extremes_only && !constrained_only;

@@ -1177,8 +1177,10 @@ void DrawPanelHeader(Svg* svg, double left, double top, double width, const std:
     if (i + 1 == shown && labels.size() > shown) {
       text = "\xe2\x80\xa6 and " + std::to_string(labels.size() - shown + 1) + " more";
     }
+    // Defects and broken bounds in red; "no defects" in green.
+    const char* colour = text == "no defects" ? "#2e7d32" : "#a0302a";
     svg->Text(Vec(left, top + kTitleLine + kLabelLine * static_cast<double>(i + 1) - 2.0), text,
-              "font-size=\"11\" fill=\"#a0302a\"", label_chars);
+              std::string("font-size=\"11\" fill=\"") + colour + "\"", label_chars);
   }
 }
 

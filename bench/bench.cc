@@ -862,9 +862,10 @@ void RunSixBarChosen(int tasks, uint64_t seed) {
       const linkfit::PlanarMotionResult result = linkfit::SolvePlanarTask(task);
       ms.push_back(1e-3 * MicrosecondsSince(begin));
       for (const std::string& note : result.notes) {
-        const size_t at = note.find(" judged");
+        // "... Judged: N; ..."
+        const size_t at = note.find("Judged: ");
         if (note.rfind("linkfit chose the 3R chain", 0) == 0 && at != std::string::npos) {
-          chains += std::atoi(note.substr(note.rfind(", ", at) + 2).c_str());
+          chains += std::atoi(note.substr(at + 8).c_str());
         }
       }
       const bool free =

@@ -389,6 +389,7 @@ PlanarMotionResult SixBarResult(const Task& task, const std::string& method) {
   result.method = method;
   result.precision = task.precision;
   result.constraints = task.constraints;
+  result.six_bar = true;
   result.chain = task.chain;
   result.scale = task.scale ? *task.scale : CharacteristicLength(task.planar_poses);
   return result;

@@ -455,8 +455,13 @@ std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& 
                          const std::string& mechanism) {
   if (ranked.empty() || ranked.front().breaks_default.empty()) return "";
   const RankKey& first = ranked.front();
-  std::string note = "the first " + mechanism + " breaks " + first.breaks_default +
-                     ", which the task did not give; it fits best";
+  // Why it is first: among those of its group (no more defects, no more violations), within the
+  // data's precision and then the smallest (exact solutions fit equally), or the best fit.
+  std::string note =
+      "the first " + mechanism + " breaks " + first.breaks_default +
+      ", which the task did not give; it is first as " +
+      (first.within_precision ? "it meets the data within their precision, the smallest that does"
+                              : "it fits best of those with no more defects");
   for (size_t i = 1; i < ranked.size(); ++i) {
     const RankKey& key = ranked[i];
     if (!key.breaks_default.empty() || GroupOf(key) != GroupOf(first) || !key.fit) continue;
@@ -464,17 +469,18 @@ std::string DefaultsNote(const std::vector<RankKey>& ranked, const std::string& 
     const double ratio = first.fit && *first.fit > 0.0 ? *key.fit / *first.fit : 0.0;
     if (ratio > 0.0) {
       std::snprintf(text, sizeof(text),
-                    "; the best that keeps them (--mechanism %zu) has %s %.3g, %.3g times the "
-                    "first's",
+                    "; the best that keeps the defaults (--mechanism %zu) has %s %.3g, %.3g times "
+                    "the first's",
                     i + 1, unit.c_str(), *key.fit, ratio);
     } else {
-      std::snprintf(text, sizeof(text), "; the best that keeps them (--mechanism %zu) has %s %.3g",
-                    i + 1, unit.c_str(), *key.fit);
+      std::snprintf(text, sizeof(text),
+                    "; the best that keeps the defaults (--mechanism %zu) has %s %.3g", i + 1,
+                    unit.c_str(), *key.fit);
     }
     return note + text + "; give \"constraints\" to require them";
   }
   return note + "; no listed " + mechanism +
-         " of its kind keeps them; give \"constraints\" to require them";
+         " of its group keeps the defaults; give \"constraints\" to require them";
 }
 
 std::string GivenConstraintsNote(const DesignConstraints& constraints,

@@ -147,8 +147,10 @@ struct PlanarMotionResult {
   bool closed = false;              // the task's last pose repeated the first (dropped)
   DesignConstraints constraints;    // the task's, echoed
   // "linkage": "six-bar": the chain used and the six-bars on it (the four-bar lists are empty).
-  std::optional<SixBarChain> chain;
-  bool chain_chosen = false;  // linkfit chose the chain (the task gave none)
+  bool six_bar = false;  // a six-bar task's result: six_bars listed (none, maybe), no four-bars
+  std::optional<SixBarChain> chain;  // the chain the six-bars are built on (none in a refinement
+                                     // of a task without one)
+  bool chain_chosen = false;         // linkfit chose the chain (the task gave none)
   std::vector<SixBarReport> six_bars;
   int burmester_problems = 0;  // the relative motions solved for them
 };

@@ -821,6 +821,8 @@ std::string ResultToJson(const PlanarMotionResult& result, int indent) {
     if (chain.hold) object["hold"] = true;
     root["chain"] = object;
     if (result.chain_chosen) root["chain_chosen"] = true;
+  }
+  if (result.six_bar || result.chain) {
     root["six_bars"] = Json::array();
     for (const SixBarReport& report : result.six_bars) {
       root["six_bars"].push_back(SixBarToJson(report));

@@ -135,6 +135,10 @@ void TransmissionPenalty(const SixBarFrames<T>& frames, double length, double he
 // in rounds with the bounds').
 struct TransmissionHold {
   double held_sine = 0.0;
+  // The sine of the minimum itself: a fit is taken over a better one only where it keeps that
+  // (the penalty's degree of margin aside), so that a design keeping it is never given up for a
+  // worse fit.
+  double kept_sine = 0.0;
   const double* weight = nullptr;
 };
 
@@ -507,17 +511,20 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
     for (SixBarAngles& angles : candidate.at_poses) angles -= first;
     Score(poses, weights, length, &candidate);
   }
-  // Better: keeping the bounds (to within the slack) and a held transmission angle, then the fit.
+  // Better: keeping the bounds (to within the slack) and a held transmission angle's minimum,
+  // then the fit.
   const double slack = kConstraintSlack * length;
   if (placed) {
     *violation = BoundViolation(candidate.six_bar, bounds);
     *shortfall =
         TransmissionShortfall(candidate.six_bar, candidate.at_poses, length, hold.held_sine);
   }
-  const bool keeps = placed && *violation <= slack && *shortfall <= kTransmissionSlack;
-  const bool kept = BoundViolation(fit->six_bar, bounds) <= slack &&
-                    TransmissionShortfall(fit->six_bar, fit->at_poses, length, hold.held_sine) <=
-                        kTransmissionSlack;
+  const bool keeps =
+      placed && *violation <= slack &&
+      TransmissionShortfall(candidate.six_bar, candidate.at_poses, length, hold.kept_sine) <= 0.0;
+  const bool kept =
+      BoundViolation(fit->six_bar, bounds) <= slack &&
+      TransmissionShortfall(fit->six_bar, fit->at_poses, length, hold.kept_sine) <= 0.0;
   if (placed &&
       ((keeps && !kept) || (keeps == kept && candidate.rms_pose_error <= fit->rms_pose_error))) {
     *fit = candidate;
@@ -613,6 +620,7 @@ RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
   TransmissionHold hold;
   if (options.min_transmission_deg) {
     hold.held_sine = HeldTransmissionSine(*options.min_transmission_deg);
+    hold.kept_sine = std::sin(std::min(90.0, *options.min_transmission_deg) * M_PI / 180.0);
     hold.weight = &bound_weight;
   }
   for (int round = 0; round < kMaxRounds + kBoundRounds; ++round) {

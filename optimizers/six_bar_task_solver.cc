@@ -242,14 +242,27 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
   SixBarRefinerOptions refiner = options.six_bar_refiner;
   refiner.constraints = task.constraints;
   if (task.chain && task.chain->hold) refiner.held_chain = task.chain;
-  if (least(before) >= minimum) refiner.min_transmission_deg = minimum;
+  if (least(before) >= minimum && LeastTransmissionAtPoses(design) >= minimum) {
+    refiner.min_transmission_deg = minimum;
+  }
   const RefinerSummary summary = RefineSixBar(poses, task.pose_weights, length, &fit, refiner);
-  result.six_bars.push_back(JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit));
+  SixBarReport refined = JudgeSixBar(task, fit.six_bar, fit.at_poses, length, precision_fit);
+  // Never worse than the design: a refinement that fits worse without breaking fewer constraints
+  // gives the design back.
+  if (refined.rms_pose_error > before.rms_pose_error &&
+      refined.violates.size() >= before.violates.size()) {
+    refined = before;
+    result.notes.push_back(
+        "the refinement found no better fit that keeps what the design keeps: the design is "
+        "given back unchanged");
+  }
+  result.six_bars.push_back(refined);
   if (refiner.min_transmission_deg) {
     result.notes.push_back(
         "the refinement held the transmission angle at the task's minimum (" +
         Format("%g", minimum) +
-        " degrees), which the design keeps: at the poses and between them, by penalty");
+        " degrees), which the design keeps: at every pose, by penalty (the analysis judges it "
+        "between them too)");
   } else if (least(result.six_bars.front()) < least(before) - 1.0) {
     char angles[320];
     std::snprintf(angles, sizeof(angles),
@@ -264,8 +277,8 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
                 "refined on the pose errors, %s: RMS pose error %.6g -> %.6g, "
                 "largest %.6g -> %.6g (%d iterations)",
                 refiner.held_chain ? "the task's chain held" : "every joint free",
-                summary.initial_rms, summary.final_rms, summary.initial_max, summary.final_max,
-                summary.iterations);
+                summary.initial_rms, result.six_bars.front().rms_pose_error, summary.initial_max,
+                result.six_bars.front().max_pose_error, summary.iterations);
   result.notes.push_back(text);
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -376,31 +389,40 @@ PlanarMotionResult SolveSixBarChosenChain(const Task& task, const TaskSolverOpti
                                [](const Screened& screened) { return screened.key.has_value(); });
   result.chain_chosen = true;
   const SixBarChain& chain = *result.chain;
-  result.notes.insert(
-      result.notes.begin(),
+  const std::string where =
       "linkfit chose the 3R chain (the task gives none): ground pivot (" +
-          Format("%.4g", chain.ground_pivot.x()) + ", " + Format("%.4g", chain.ground_pivot.y()) +
-          "), wrist (" + Format("%.4g", chain.wrist_in_moving.x()) + ", " +
-          Format("%.4g", chain.wrist_in_moving.y()) + ") in E, links " +
-          Format("%.4g", chain.upper_length) + " and " + Format("%.4g", chain.forearm_length) +
-          "; of " + std::to_string(candidates.size()) +
-          " candidate chains (every pose reached on one elbow, elbow angles within " +
-          Format("%g", search.min_elbow_angle_deg) + " to " +
-          Format("%g", 180.0 - search.min_elbow_angle_deg) + " degrees, joint travel within " +
-          Format("%g", search.max_joint_travel_deg) + " degrees; in the search's order), " +
-          std::to_string(solved) + " judged" +
-          (exact ? ": " : " on five of the poses spread over the task: ") +
-          (buildable ? std::string(exact ? "the last of them, this one," : "the last of them") +
-                           " is the first with a six-bar that keeps every constraint without a "
-                           "defect"
-           : any ? "none has a six-bar that keeps every constraint without a defect"
-                 : "none gives a six-bar") +
-          (exact ? (buildable ? ""
-                    : any     ? "; this one's best ranks first"
-                              : "")
-                 : "; the best " + std::to_string(fitted_count) +
-                       " fitted to all the poses, this one's first six-bar ranks first") +
-          "; give \"chain\" in the task to use your own");
+      Format("%.4g", chain.ground_pivot.x()) + ", " + Format("%.4g", chain.ground_pivot.y()) +
+      "), wrist (" + Format("%.4g", chain.wrist_in_moving.x()) + ", " +
+      Format("%.4g", chain.wrist_in_moving.y()) + ") in E, links " +
+      Format("%.4g", chain.upper_length) + " and " + Format("%.4g", chain.forearm_length) +
+      ", elbow " + (chain.elbow_left ? "left" : "right") +
+      " of the line from the ground pivot to "
+      "the wrist. ";
+  const std::string searched =
+      "It is candidate " + std::to_string(chosen + 1) + " of " + std::to_string(candidates.size()) +
+      " tried in order (each reaches every pose on one elbow, with elbow angles from " +
+      Format("%g", search.min_elbow_angle_deg) + " to " +
+      Format("%g", 180.0 - search.min_elbow_angle_deg) + " degrees and joint travel up to " +
+      Format("%g", search.max_joint_travel_deg) + " degrees). Judged: " + std::to_string(solved) +
+      (exact ? "" : " (on five of the poses spread over the task)") + "; ";
+  std::string why;
+  if (exact) {
+    why = buildable ? "this is the first with a six-bar that keeps every constraint without a "
+                      "defect"
+          : any     ? "none has a six-bar that keeps every constraint without a defect; this "
+                      "one's best six-bar ranks first"
+                    : "none gives a six-bar";
+  } else {
+    why = std::string(buildable ? "the last has a six-bar through those five poses that keeps "
+                                  "every constraint without a defect"
+                      : any     ? "none has a six-bar through those five poses that keeps every "
+                                  "constraint without a defect"
+                                : "none gives a six-bar") +
+          "; the best " + std::to_string(fitted_count) +
+          " were fitted to all the poses, and this one's first six-bar ranks first";
+  }
+  result.notes.insert(result.notes.begin(),
+                      where + searched + why + ". Give \"chain\" in the task to use your own.");
   result.solve_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

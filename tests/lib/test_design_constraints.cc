@@ -92,6 +92,15 @@ TEST(RankOrder, DefaultsTheTaskDidNotGiveOrderNearTiesOnly) {
   EXPECT_NE(note.find("(--mechanism 2) has an RMS point error of 9, 9 times the first's"),
             std::string::npos)
       << note;
+  EXPECT_NE(note.find("it is first as it fits best of those with no more defects"),
+            std::string::npos)
+      << note;
+  // Exact solutions fit equally: the first is the smallest of those within the precision.
+  RankKey exact = best;
+  exact.within_precision = true;
+  EXPECT_NE(DefaultsNote({exact, far}, "an RMS point error of")
+                .find("it meets the data within their precision, the smallest that does"),
+            std::string::npos);
   EXPECT_EQ(DefaultsNote({far, best}, "an RMS point error of"), "");
   // Given by the task, the same limits are constraints and defects as before.
   DesignConstraints given;

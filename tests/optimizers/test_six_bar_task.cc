@@ -680,6 +680,68 @@ TEST(SixBarTask, AChosenChainKeepsThePivotBoxes) {
   EXPECT_NE(none.notes.front().find("no 3R chain found"), std::string::npos) << none.notes.front();
 }
 
+// `linkfit refine` of a six-bar on a task without a chain (the newcomer's: a chain linkfit chose
+// for five poses, refined on eight measured ones): the result lists the refined six-bar (the
+// six-bar list does not hang on the task's chain), never worse than the design, and `linkfit show`
+// prints it.
+TEST(SixBarTask, RefineOnATaskWithoutAChainListsTheSixBar) {
+  std::mt19937_64 rng(3616);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  testing::GeneratedSixBarTask generated =
+      testing::RandomSixBarTask(rng, testing::SixBarLayouts()[2], 8);
+  const std::string dir = (std::filesystem::temp_directory_path() /
+                           ("linkfit_six_bar_no_chain_" + std::to_string(::getpid())))
+                              .string();
+  std::filesystem::create_directories(dir);
+  testing::GeneratedSixBarTask five = generated;
+  five.poses = {generated.poses[0], generated.poses[2], generated.poses[4], generated.poses[6],
+                generated.poses[7]};
+  std::ofstream(dir + "/five.json") << TaskTextWithoutChain(five);
+  for (PlanarPose& pose : generated.poses) {
+    pose.origin_in_fixed += Eigen::Vector2d(noise(rng), noise(rng));
+    pose.theta += noise(rng);
+  }
+  std::ofstream(dir + "/eight.json") << TaskTextWithoutChain(generated);
+  const std::string cli = std::string("'") + LINKFIT_BINARY + "'";
+  ASSERT_EQ(
+      std::system((cli + " solve " + dir + "/five.json -o " + dir + "/five_result.json").c_str()),
+      0);
+  ASSERT_EQ(std::system((cli + " refine " + dir + "/eight.json " + dir +
+                         "/five_result.json --mechanism 1 -o " + dir + "/refined.json")
+                            .c_str()),
+            0);
+  const nlohmann::json refined = nlohmann::json::parse(std::ifstream(dir + "/refined.json"));
+  ASSERT_TRUE(refined.contains("six_bars"));
+  ASSERT_EQ(refined.at("six_bars").size(), 1u);
+  EXPECT_FALSE(refined.contains("chain"));
+  // Never worse than the design placed on the eight poses.
+  const Task eight = ParseTask(TaskTextWithoutChain(generated), "eight.json");
+  std::stringstream five_result;
+  five_result << std::ifstream(dir + "/five_result.json").rdbuf();
+  const SixBarDesign design =
+      ParseSixBarDesign(five_result.str(), "five_result.json", eight.planar_poses);
+  SixBarFit placed;
+  ASSERT_TRUE(FitSixBarToPoses(design.six_bars[0], eight.planar_poses, {}, refined.at("scale"),
+                               design.at_poses[0], &placed));
+  EXPECT_LE(refined.at("six_bars")[0].at("rms_pose_error").get<double>(),
+            placed.rms_pose_error * (1.0 + 1e-9));
+  EXPECT_EQ(std::system((cli + " show " + dir + "/refined.json > " + dir + "/shown.txt").c_str()),
+            0);
+  std::ifstream shown(dir + "/shown.txt");
+  std::stringstream text;
+  text << shown.rdbuf();
+  EXPECT_NE(text.str().find("six-bars, refined: 1 listed"), std::string::npos) << text.str();
+  // refine --summary prints the same table.
+  EXPECT_EQ(std::system((cli + " refine " + dir + "/eight.json " + dir +
+                         "/five_result.json --summary > " + dir + "/summary.txt")
+                            .c_str()),
+            0);
+  std::stringstream summary;
+  summary << std::ifstream(dir + "/summary.txt").rdbuf();
+  EXPECT_NE(summary.str().find("six-bars, refined: 1 listed"), std::string::npos) << summary.str();
+  std::filesystem::remove_all(dir);
+}
+
 TEST(SixBarTask, TheCommandLineSolvesItAndNamesAPoseOutOfReach) {
   std::mt19937_64 rng(3605);
   testing::GeneratedSixBarTask generated =

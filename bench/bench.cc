@@ -978,11 +978,11 @@ void RunSixBar(int tasks, uint64_t seed) {
 // own RMS pose error on the noisy poses, and the share whose first listed keeps the defaults.
 void RunSixBarLeastSquares(int tasks, uint64_t seed, bool chosen) {
   std::printf(
-      "\nsix-bars on a %s chain, nine poses with noise 0.002 L and 0.002 rad, least squares at "
+      "\nsix-bars on a %s, nine poses with noise 0.002 L and 0.002 rad, least squares at "
       "balanced effort (SolvePlanarTask, one core): time in s (median, max), best listed and "
       "first listed RMS pose error over the generator's (median, max), share whose first keeps "
       "the defaults, share whose first is also defect-free\n",
-      chosen ? "chosen (the same tasks without theirs)" : "given");
+      chosen ? "chosen chain (the same tasks without theirs)" : "given chain");
   std::printf("%-26s %6s %8s %8s %10s %10s %10s %10s %10s %10s\n", "layout", "tasks", "med_s",
               "max_s", "best_med", "best_max", "first_med", "first_max", "first_ok", "first_free");
   std::mt19937_64 rng(seed);

@@ -836,6 +836,20 @@ void RunSpherical(int tasks, uint64_t seed) {
   }
 }
 
+// The name of a random six-bar layout in the six-bar rows.
+std::string SixBarLayoutName(const linkfit::testing::SixBarLayout& layout) {
+  return std::string(linkfit::SixBarTopologyName(layout.topology)) + ", link 2 from " +
+         std::to_string(layout.from1);
+}
+
+// Whether no four-bar through the poses (SolvePlanarMotion) is without defect.
+bool NoDefectFreeFourBar(const std::vector<linkfit::PlanarPose>& poses) {
+  const linkfit::PlanarMotionResult four_bars =
+      linkfit::SolvePlanarMotion(linkfit::PlanarMotionTask(poses));
+  return std::none_of(four_bars.mechanisms.begin(), four_bars.mechanisms.end(),
+                      [](const linkfit::MechanismReport& m) { return m.defects.empty(); });
+}
+
 // Six-bars on a chain linkfit chooses (issue 36): the tasks of RunSixBar (the same seed) without
 // their chain, solved end to end (SolvePlanarTask: SolveSixBarChosenChain at balanced effort);
 // the time, the chains solved, the share whose first listed six-bar is defect-free and keeps the
@@ -874,19 +888,14 @@ void RunSixBarChosen(int tasks, uint64_t seed) {
       first_ok += !result.six_bars.empty() && result.six_bars.front().defects.empty() &&
                   result.six_bars.front().violates.empty();
       free_six_bar += free;
-      const linkfit::PlanarMotionResult four_bars =
-          linkfit::SolvePlanarMotion(linkfit::PlanarMotionTask(generated.poses));
-      if (std::none_of(four_bars.mechanisms.begin(), four_bars.mechanisms.end(),
-                       [](const linkfit::MechanismReport& m) { return m.defects.empty(); })) {
+      if (NoDefectFreeFourBar(generated.poses)) {
         ++no_four_bar;
         six_bar_instead += free;
       }
     }
-    char name[64];
-    std::snprintf(name, sizeof(name), "%s, link 2 from %d",
-                  linkfit::SixBarTopologyName(layout.topology), layout.from1);
-    std::printf("%-26s %6d %8.2f %8.2f %8.2f %7.2f %9.1f%% %9.1f%% %9.1f%% %11.1f%%\n", name, tasks,
-                linkfit::Percentile(ms, 0.5), linkfit::Percentile(ms, 0.99),
+    const std::string name = SixBarLayoutName(layout);
+    std::printf("%-26s %6d %8.2f %8.2f %8.2f %7.2f %9.1f%% %9.1f%% %9.1f%% %11.1f%%\n",
+                name.c_str(), tasks, linkfit::Percentile(ms, 0.5), linkfit::Percentile(ms, 0.99),
                 *std::max_element(ms.begin(), ms.end()), 1.0 * chains / tasks,
                 100.0 * first_ok / tasks, 100.0 * free_six_bar / tasks, 100.0 * no_four_bar / tasks,
                 no_four_bar > 0 ? 100.0 * six_bar_instead / no_four_bar : 0.0);
@@ -951,21 +960,14 @@ void RunSixBar(int tasks, uint64_t seed) {
       }
       recovered += found;
       free_six_bar += free;
-      const linkfit::PlanarMotionResult four_bars =
-          linkfit::SolvePlanarMotion(linkfit::PlanarMotionTask(generated.poses));
-      const bool free_four_bar =
-          std::any_of(four_bars.mechanisms.begin(), four_bars.mechanisms.end(),
-                      [](const linkfit::MechanismReport& m) { return m.defects.empty(); });
-      if (!free_four_bar) {
+      if (NoDefectFreeFourBar(generated.poses)) {
         ++no_four_bar;
         six_bar_instead += free;
       }
     }
-    char name[64];
-    std::snprintf(name, sizeof(name), "%s, link 2 from %d",
-                  linkfit::SixBarTopologyName(layout.topology), layout.from1);
-    std::printf("%-26s %6d %8.2f %8.2f %8.0f %9.1f%% %8.1f %9.1f%% %9.1f%% %11.1f%%\n", name, tasks,
-                linkfit::Percentile(ms, 0.5), linkfit::Percentile(ms, 0.99),
+    const std::string name = SixBarLayoutName(layout);
+    std::printf("%-26s %6d %8.2f %8.2f %8.0f %9.1f%% %8.1f %9.1f%% %9.1f%% %11.1f%%\n",
+                name.c_str(), tasks, linkfit::Percentile(ms, 0.5), linkfit::Percentile(ms, 0.99),
                 linkfit::Percentile(synthesis_us, 0.5), 100.0 * recovered / tasks,
                 1.0 * listed / tasks, 100.0 * free_six_bar / tasks, 100.0 * no_four_bar / tasks,
                 no_four_bar > 0 ? 100.0 * six_bar_instead / no_four_bar : 0.0);
@@ -1018,11 +1020,9 @@ void RunSixBarLeastSquares(int tasks, uint64_t seed, bool chosen) {
       keeps += result.six_bars.front().violates.empty();
       free += result.six_bars.front().violates.empty() && result.six_bars.front().defects.empty();
     }
-    char name[64];
-    std::snprintf(name, sizeof(name), "%s, link 2 from %d",
-                  linkfit::SixBarTopologyName(layout.topology), layout.from1);
-    std::printf("%-26s %6d %8.2f %8.2f %10.3f %10.3f %10.3f %10.3f %9.1f%% %9.1f%%\n", name, tasks,
-                linkfit::Percentile(seconds, 0.5), linkfit::Percentile(seconds, 1.0),
+    const std::string name = SixBarLayoutName(layout);
+    std::printf("%-26s %6d %8.2f %8.2f %10.3f %10.3f %10.3f %10.3f %9.1f%% %9.1f%%\n", name.c_str(),
+                tasks, linkfit::Percentile(seconds, 0.5), linkfit::Percentile(seconds, 1.0),
                 linkfit::Percentile(best, 0.5), linkfit::Percentile(best, 1.0),
                 linkfit::Percentile(first, 0.5), linkfit::Percentile(first, 1.0),
                 100.0 * keeps / std::max(1, tasks), 100.0 * free / std::max(1, tasks));

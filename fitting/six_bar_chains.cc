@@ -30,10 +30,6 @@ double Spread(const std::vector<double>& turns) {
   return high - low;
 }
 
-bool InBox(const PlanarBox& box, const Eigen::Vector2d& point) {
-  return (point.array() >= box.min.array()).all() && (point.array() <= box.max.array()).all();
-}
-
 double Angle(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
 
 }  // namespace

@@ -10,14 +10,11 @@
 #include "lib/path_motion.h"
 
 namespace linkfit {
-namespace {
 
 bool InBox(const PlanarBox& box, const Eigen::Vector2d& point, double slack) {
   return point.x() >= box.min.x() - slack && point.x() <= box.max.x() + slack &&
          point.y() >= box.min.y() - slack && point.y() <= box.max.y() + slack;
 }
-
-}  // namespace
 
 void ClassViolations(const DesignConstraints& constraints, const FourBarClass& kind,
                      std::vector<std::string>* violates) {

@@ -28,6 +28,9 @@ struct PlanarBox {
   Eigen::Vector2d max = Eigen::Vector2d::Zero();
 };
 
+// Whether `point` is in `box`, each side moved out by `slack`.
+bool InBox(const PlanarBox& box, const Eigen::Vector2d& point, double slack = 0.0);
+
 // Without "max_link_length", least-squares and search results keep every link within this
 // many times L (and a result lists a four-bar beyond it, or at it to within 1e-4 of it: a fit
 // that ran to the limit, as violating "max_link_length", a default it breaks).

@@ -45,11 +45,6 @@ PlanarBox BoxWithoutTheOutputPivot(const testing::GeneratedTask& generated) {
   return box;
 }
 
-bool InBox(const PlanarBox& box, const Eigen::Vector2d& point, double slack) {
-  return (point.array() >= box.min.array() - slack).all() &&
-         (point.array() <= box.max.array() + slack).all();
-}
-
 void ExpectFixedPivotsIn(const PlanarMotionResult& result, const MechanismReport& mechanism,
                          const PlanarBox& box) {
   for (const int index : {mechanism.input_dyad, mechanism.output_dyad}) {

@@ -934,9 +934,7 @@ void RunSixBar(int tasks, uint64_t seed) {
       // The synthesis alone (every root of the relative motions, combined; no analysis).
       {
         linkfit::SixBarSynthesisOptions synthesis;
-        synthesis.burmester.precision = task.precision;
-        synthesis.burmester.family_units = 0.0;
-        synthesis.burmester.conic_family_units = 0.0;
+        synthesis.burmester = linkfit::SixBarRootOptions(synthesis.burmester, task.precision);
         std::vector<linkfit::SixBar> six_bars;
         const auto synthesis_begin = std::chrono::steady_clock::now();
         linkfit::SynthesizeSixBars(generated.poses, generated.chain, synthesis, &six_bars);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 
 #include "fitting/model_choice.h"
 #include "fitting/planar_motion.h"
@@ -337,15 +338,14 @@ SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
     }
     return true;
   };
-  std::vector<int> inputs;
-  for (const bool first : {true, false}) {
-    for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
-      if (SixBarGroundedLink(six_bar, input) && ordered(input) == first) inputs.push_back(input);
-    }
+  std::vector<std::pair<int, bool>> inputs;  // each grounded link, and whether it has "order"
+  for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
+    if (SixBarGroundedLink(six_bar, input)) inputs.emplace_back(input, !ordered(input));
   }
+  std::stable_partition(inputs.begin(), inputs.end(),
+                        [](const std::pair<int, bool>& input) { return !input.second; });
   bool kinematically_free = false;
-  for (const int input : inputs) {
-    const bool order = !ordered(input);
+  for (const auto& [input, order] : inputs) {
     if (order && kinematically_free && !task.constraints.input_rotates_fully) break;
     SixBarAnalysis analysis;
     if ((order && screen) || poor) {
@@ -414,14 +414,21 @@ void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* res
   if (!given.empty()) result->notes.push_back(given);
 }
 
+PlanarBurmesterOptions SixBarRootOptions(const PlanarBurmesterOptions& base,
+                                         const DataPrecision& precision) {
+  PlanarBurmesterOptions options = base;
+  options.precision = precision;
+  options.family_units = 0.0;
+  options.conic_family_units = 0.0;
+  return options;
+}
+
 SixBarChainScreen ScreenSixBarChain(const Task& task) {
   SixBarChainScreen screen;
   const std::vector<PlanarPose>& poses = task.planar_poses;
   const double length = task.scale ? *task.scale : CharacteristicLength(poses);
   SixBarSynthesisOptions options;
-  options.burmester.precision = task.precision;  // as SolveSixBarMotion
-  options.burmester.family_units = 0.0;
-  options.burmester.conic_family_units = 0.0;
+  options.burmester = SixBarRootOptions(options.burmester, task.precision);
   std::vector<SixBar> six_bars;
   SynthesizeSixBars(poses, *task.chain, options, &six_bars);
   RemoveRepeatedSixBars(options.trivial_tolerance * length, &six_bars);
@@ -433,7 +440,6 @@ SixBarChainScreen ScreenSixBarChain(const Task& task) {
   for (const SixBar& six_bar : six_bars) {
     const SixBarReport report = JudgeSixBar(
         task, six_bar, SixBarAnglesAtPoses(six_bar, poses, elbows), length, precision_fit, true);
-    ++screen.six_bars;
     keys.push_back(SixBarRankKey(report, precision_fit, task.constraints));
     if (report.defects.empty() && report.violates.empty()) {
       screen.buildable = true;
@@ -451,13 +457,7 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   const std::vector<PlanarPose>& poses = task.planar_poses;
   const double length = result.scale > 0.0 ? result.scale : 1.0;
   SixBarSynthesisOptions synthesis = options;
-  // The data's precision types the roots (a circle whose slider reading fits within it is a
-  // slider). It does not make a relative motion a family of dyads: its rows carry the chain's
-  // inverse kinematics, and the six-bar needs its roots, however well the digits fix them
-  // (measured: poses printed to four decimals lost every root of some chains to a "family").
-  synthesis.burmester.precision = task.precision;
-  synthesis.burmester.family_units = 0.0;
-  synthesis.burmester.conic_family_units = 0.0;
+  synthesis.burmester = SixBarRootOptions(options.burmester, task.precision);
   std::vector<SixBar> six_bars;
   SixBarSynthesisSummary summary;
   std::vector<std::array<double, 2>> error_bounds;
@@ -472,9 +472,8 @@ PlanarMotionResult SolveSixBarMotion(const Task& task, const SixBarSynthesisOpti
   ChainElbows(poses, *task.chain, &elbows, &unreachable);
   const double precision_fit = PoseFitTolerance(task.precision, length);
   for (size_t i = 0; i < six_bars.size(); ++i) {
-    SixBarReport report =
-        JudgeSixBar(task, six_bars[i], SixBarAnglesAtPoses(six_bars[i], poses, elbows), length,
-                    precision_fit, options.screen);
+    SixBarReport report = JudgeSixBar(
+        task, six_bars[i], SixBarAnglesAtPoses(six_bars[i], poses, elbows), length, precision_fit);
     report.error_bound = std::max(error_bounds[i][0], error_bounds[i][1]);
     result.six_bars.push_back(report);
   }

@@ -60,13 +60,15 @@ struct SixBarSynthesisOptions {
   PlanarBurmesterOptions burmester;
   // A root whose joints are within this (times L) of a chain link's joints is that link.
   double trivial_tolerance = 1e-6;
-  // A quick judgement, to choose among chains (optimizers/task_solver.h SolveSixBarChosenChain,
-  // JudgeSixBar): each loop's least transmission angle not refined between the configurations
-  // reached; whether the input turns fully not asked unless the task requires it; no input driven
-  // whose turns at the poses do not run one way, nor any where a loop's transmission angle at a
-  // pose is below the task's minimum; the first input that keeps everything taken.
-  bool screen = false;
 };
+
+// The Burmester options a six-bar task's relative motions are solved with: `base` with the data's
+// `precision`, which types the roots (a circle whose slider reading fits within it is a slider),
+// and no families. A relative motion's rows carry the chain's inverse kinematics, and the six-bar
+// needs its roots however well the digits fix them (measured: poses printed to four decimals lost
+// every root of some chains to a "family").
+PlanarBurmesterOptions SixBarRootOptions(const PlanarBurmesterOptions& base,
+                                         const DataPrecision& precision);
 
 struct SixBarSynthesisSummary {
   int burmester_problems = 0;  // relative motions solved
@@ -123,7 +125,11 @@ bool CombineSixBars(const std::vector<PlanarPose>& poses, const SixBarChain& cha
 // input; a least transmission angle below the task's minimum is the defect "transmission"; the
 // task's constraints, SixBarViolations; its weighted RMS and largest pose errors) and driven by
 // the input the shared rule ranks first (SixBarRankKey at `precision_fit`). No error bound.
-// With `screen`, the quick judgement of SixBarSynthesisOptions::screen.
+// With `screen`, a quick judgement, to choose among chains (ScreenSixBarChain): each loop's least
+// transmission angle not refined between the configurations reached; whether the input turns
+// fully not asked unless the task requires it; no input driven whose turns at the poses do not run
+// one way, nor any where a loop's transmission angle at a pose is below the task's minimum; the
+// first input that keeps everything taken.
 SixBarReport JudgeSixBar(const Task& task, const SixBar& six_bar,
                          const std::vector<SixBarAngles>& at_poses, double length,
                          double precision_fit, bool screen = false);
@@ -135,14 +141,13 @@ PlanarMotionResult SixBarResult(const Task& task, const std::string& method);
 // Ranks result->six_bars by the shared rule and adds the notes on what the first breaks.
 void RankSixBars(const Task& task, double precision_fit, PlanarMotionResult* result);
 
-// A chain judged quickly (SixBarSynthesisOptions::screen) for choosing among chains
+// A chain judged quickly (JudgeSixBar's `screen`) for choosing among chains
 // (optimizers/task_solver.h SolveSixBarChosenChain): whether a six-bar on it keeps the task's
 // constraints without a defect (the judging stops at the first), else the best key of its six-bars
 // by the shared rule.
 struct SixBarChainScreen {
   bool buildable = false;
   std::optional<RankKey> best;  // none: no six-bar on the chain
-  int six_bars = 0;             // judged
 };
 SixBarChainScreen ScreenSixBarChain(const Task& task);
 

@@ -26,9 +26,6 @@ constexpr int kTurn = kSixBarUpperLink - 1;
 constexpr int kAssemblyIterations = 30;
 constexpr double kAssemblyTolerance = 1e-13;
 
-// A held transmission angle's samples per interval between two poses (1: at the poses only).
-constexpr int kHeldSamples = 1;
-
 // Rounds of refinement at most (each while the last gained: AnotherRound).
 constexpr int kMaxRounds = 10;
 
@@ -182,36 +179,6 @@ class SixBarPoseCost {
   std::array<int, 2> from_, to_;
   PlanarPose target_;
   double length_, scale_;
-  Warm* warm_;
-  TransmissionHold hold_;
-};
-
-// A held transmission angle between two poses: the penalty (2 residuals) at the upper link's turn
-// a share `along` of the way from pose k's turn to pose k + 1's (parameters: the joints and the
-// two turns), assembled from the last solution there (`warm`); none where it does not assemble
-// (a dead point or a fold of the upper link between the poses: the analysis judges those).
-class SixBarSampleCost {
- public:
-  SixBarSampleCost(const std::array<int, 2>& from, const std::array<int, 2>& to, double along,
-                   double length, Warm* warm, const TransmissionHold& hold)
-      : from_(from), to_(to), along_(along), length_(length), warm_(warm), hold_(hold) {}
-
-  template <typename T>
-  bool operator()(const T* joints, const T* turn, const T* next_turn, T* residual) const {
-    const T at = (T(1.0) - T(along_)) * turn[0] + T(along_) * next_turn[0];
-    std::array<T, 5> angles;
-    if (!Configuration(from_, to_, joints, at, length_, warm_, &angles)) {
-      residual[0] = residual[1] = T(0.0);
-      return true;
-    }
-    TransmissionPenalty(SixBarFrames<T>(from_, to_, joints, angles.data()), length_,
-                        hold_.held_sine, *hold_.weight, residual);
-    return true;
-  }
-
- private:
-  std::array<int, 2> from_, to_;
-  double along_, length_;
   Warm* warm_;
   TransmissionHold hold_;
 };
@@ -370,10 +337,10 @@ void Score(const std::vector<PlanarPose>& poses, const std::vector<double>& weig
   fit->rms_pose_error = total > 0.0 ? std::sqrt(squares / total) : 0.0;
 }
 
-// How far a held transmission angle's sine falls short at the configurations of the poses and at
-// the kTransmissionSamples - 1 upper-link turns between each two (0 where none is held).
+// How far a held transmission angle's sine falls short at the configurations of the poses (0
+// where none is held).
 double TransmissionShortfall(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
-                             double length, double held_sine) {
+                             double held_sine) {
   if (!(held_sine > 0.0)) return 0.0;
   const std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(six_bar);
   const std::array<int, 2> from = FromBodies(six_bar), to = ToBodies(six_bar);
@@ -382,15 +349,7 @@ double TransmissionShortfall(const SixBar& six_bar, const std::vector<SixBarAngl
     const SixBarFrames<double> frames(from, to, joints.data(), angles.data());
     for (int l = 0; l < 2; ++l) worst = std::max(worst, held_sine - frames.TransmissionSine(l));
   };
-  for (size_t k = 0; k < at_poses.size(); ++k) {
-    at(at_poses[k]);
-    for (int s = 1; k + 1 < at_poses.size() && s < kHeldSamples; ++s) {
-      const double along = static_cast<double>(s) / kHeldSamples;
-      SixBarAngles angles = at_poses[k];
-      angles[kTurn] = (1.0 - along) * at_poses[k][kTurn] + along * at_poses[k + 1][kTurn];
-      if (AssembleFree(from, to, joints.data(), kAssemblyTolerance * length, &angles)) at(angles);
-    }
-  }
+  for (const SixBarAngles& angles : at_poses) at(angles);
   return worst;
 }
 
@@ -428,22 +387,6 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
           nullptr, joints.data(), reference.data(), &turns[k]);
     }
   }
-  // A held transmission angle also between the poses (its samples' last solutions, one each).
-  std::vector<Warm> sample_warm;
-  if (hold.held_sine > 0.0 && poses.size() > 1) {
-    sample_warm.reserve((poses.size() - 1) * (kHeldSamples - 1));
-    for (size_t k = 0; k + 1 < poses.size(); ++k) {
-      for (int s = 1; s < kHeldSamples; ++s) {
-        sample_warm.push_back({fit->at_poses[k], fit->at_poses[k]});
-        problem.AddResidualBlock(
-            new ceres::AutoDiffCostFunction<SixBarSampleCost, 2, kSixBarJointCount, 1, 1>(
-                new SixBarSampleCost(FromBodies(seed), ToBodies(seed),
-                                     static_cast<double>(s) / kHeldSamples, length,
-                                     &sample_warm.back(), hold)),
-            nullptr, joints.data(), &turns[k], &turns[k + 1]);
-      }
-    }
-  }
   for (const SixBarBound& bound : bounds) {
     problem.AddResidualBlock(
         new ceres::AutoDiffCostFunction<SixBarBoundCost, 4, kSixBarJointCount, 3>(
@@ -475,7 +418,6 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
   }
   std::vector<Warm*> warms;
   for (Warm& w : warm) warms.push_back(&w);
-  for (Warm& w : sample_warm) warms.push_back(&w);
   WarmKeeper keeper(warms);
   solver_options.callbacks.push_back(&keeper);
   ceres::Solver::Summary ceres_summary;
@@ -516,15 +458,13 @@ void RefineOnce(const std::vector<PlanarPose>& poses, const std::vector<double>&
   const double slack = kConstraintSlack * length;
   if (placed) {
     *violation = BoundViolation(candidate.six_bar, bounds);
-    *shortfall =
-        TransmissionShortfall(candidate.six_bar, candidate.at_poses, length, hold.held_sine);
+    *shortfall = TransmissionShortfall(candidate.six_bar, candidate.at_poses, hold.held_sine);
   }
   const bool keeps =
       placed && *violation <= slack &&
-      TransmissionShortfall(candidate.six_bar, candidate.at_poses, length, hold.kept_sine) <= 0.0;
-  const bool kept =
-      BoundViolation(fit->six_bar, bounds) <= slack &&
-      TransmissionShortfall(fit->six_bar, fit->at_poses, length, hold.kept_sine) <= 0.0;
+      TransmissionShortfall(candidate.six_bar, candidate.at_poses, hold.kept_sine) <= 0.0;
+  const bool kept = BoundViolation(fit->six_bar, bounds) <= slack &&
+                    TransmissionShortfall(fit->six_bar, fit->at_poses, hold.kept_sine) <= 0.0;
   if (placed &&
       ((keeps && !kept) || (keeps == kept && candidate.rms_pose_error <= fit->rms_pose_error))) {
     *fit = candidate;
@@ -627,7 +567,7 @@ RefinerSummary RefineSixBar(const std::vector<PlanarPose>& poses,
     const double before = fit->rms_pose_error;
     const double violation_before = BoundViolation(fit->six_bar, bounds);
     const double shortfall_before =
-        TransmissionShortfall(fit->six_bar, fit->at_poses, length, hold.held_sine);
+        TransmissionShortfall(fit->six_bar, fit->at_poses, hold.held_sine);
     bool converged = true;
     double violation = 0.0, shortfall = 0.0;  // the round's solution's (kept or not)
     RefineOnce(poses, weights, length, options, bounds, &bound_weight, &inset, hold, fit,

@@ -35,10 +35,11 @@ struct SixBarRefinerOptions {
   // the pose errors fix a six-bar weakly, and without it a fit drifts toward links of hundreds
   // of L (a slider's limit) for a sliver of error.
   DesignConstraints constraints;
-  // A transmission angle held (degrees): each loop's, at the configuration of every pose and at
-  // kTransmissionSamples - 1 upper-link turns between each two, a penalty raised with the bounds'
-  // (optimizers/design_bounds.h HeldTransmissionSine: a degree's margin), until within
-  // kTransmissionSlack of the held sine. None by default: the fit alone.
+  // A transmission angle held (degrees): each loop's, at the configuration of every pose (the
+  // analysis judges it between them), a penalty raised with the bounds' (optimizers/design_bounds.h
+  // HeldTransmissionSine: a degree's margin) until within kTransmissionSlack of the held sine; a
+  // fit is taken over a better one only where it keeps the minimum itself. None by default: the
+  // fit alone.
   std::optional<double> min_transmission_deg;
   // A chain held (lib/six_bar.h SixBarChain::hold): the six-bar's ground pivot at the chain's, its
   // upper link and forearm of the chain's lengths and its wrist at the chain's place in E, each a

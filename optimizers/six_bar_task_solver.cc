@@ -79,10 +79,8 @@ PlanarMotionResult SolveSixBarLeastSquares(const Task& task, const TaskSolverOpt
   const SixBarChain& chain = *task.chain;
   const double root_length = SixBarTaskLength(poses, chain);
   const double trivial_tolerance = SixBarSynthesisOptions().trivial_tolerance * root_length;
-  PlanarBurmesterOptions burmester = options.planar.burmester;
-  burmester.precision = task.precision;
-  burmester.family_units = 0.0;  // as for five poses (SolveSixBarMotion)
-  burmester.conic_family_units = 0.0;
+  const PlanarBurmesterOptions burmester =
+      SixBarRootOptions(options.planar.burmester, task.precision);
   const int kept_roots = RootsKept(options, task.effort);
   int problems = 0, sliders = 0, trivial = 0;
   // Each relative motion's RR links: the seeds' dyads refined on every relative pose, the chain's
@@ -222,15 +220,14 @@ PlanarMotionResult RefineSixBarDesign(const Task& task, const SixBar& six_bar,
   PlanarMotionResult result = SixBarResult(task, "refined");
   const std::vector<PlanarPose>& poses = task.planar_poses;
   const double length = result.scale > 0.0 ? result.scale : 1.0;
-  SixBarFit fit;
-  if (!FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &fit)) {
+  SixBarFit design;
+  if (!FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &design)) {
     throw InputError(
         "the six-bar does not assemble near the task's poses from its turns there "
         "(turns_at_poses_deg) or its upper link's range: is it this task's?");
   }
+  SixBarFit fit = design;
   const double precision_fit = PoseFitTolerance(task.precision, length);
-  SixBarFit design;
-  FitSixBarToPoses(six_bar, poses, task.pose_weights, length, at_poses, &design);
   const SixBarReport before = JudgeSixBar(task, six_bar, design.at_poses, length, precision_fit);
   const auto least = [](const SixBarReport& report) {
     return std::min(report.transmission_min_deg[0], report.transmission_min_deg[1]);
@@ -331,9 +328,6 @@ PlanarMotionResult SolveSixBarChosenChain(const Task& task, const TaskSolverOpti
   for (const SixBarChainCandidate& candidate : candidates) {
     Task on_chain = screened;
     on_chain.chain = candidate.chain;
-    std::vector<Eigen::Vector2d> elbows;
-    int unreachable = -1;
-    if (!ChainElbows(on_chain.planar_poses, candidate.chain, &elbows, &unreachable)) continue;
     const SixBarChainScreen screen = ScreenSixBarChain(on_chain);
     judged.push_back({candidate.chain, screen.best});
     if (screen.buildable) {
@@ -357,7 +351,7 @@ PlanarMotionResult SolveSixBarChosenChain(const Task& task, const TaskSolverOpti
   if (buildable)
     std::swap(order.front(), *std::find(order.begin(), order.end(), judged.size() - 1));
   const int solved = static_cast<int>(judged.size());
-  int chosen = order.front();  // into judged (not empty: every candidate reaches every pose)
+  int chosen = order.front();  // into judged (candidates, in order; not empty)
   std::optional<PlanarMotionResult> best;
   int fitted_count = 0;
   if (!exact) {

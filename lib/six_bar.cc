@@ -1,5 +1,6 @@
 #include "lib/six_bar.h"
 
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <algorithm>
 #include <array>
@@ -117,6 +118,65 @@ constexpr double kRefineWindowDeg = 10.0;
 // degrees of 18 shrinks after steps of 0.025 degrees).
 constexpr int kTransmissionShrinks = 10;
 
+// Dyads placed in closed form (SixBarDriver::Drive) whose least sine squared of the angle between
+// a dyad's bodies is below this (15 degrees) at a step or the next are searched for a dead point
+// between them, by this many golden-section shrinks (to 0.00013 of the step: a dip below 0
+// narrower than that is passed).
+constexpr double kDipMargin = 0.067;
+constexpr int kDipShrinks = 20;
+
+// DriveSixBar by continuation.
+bool Continue(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
+              double length, double max_step,
+              const std::function<void(const SixBarAngles&)>& visit) {
+  const double tolerance = 1e-13 * length;
+  SixBarAngles velocity;
+  double determinant = 0.0;
+  if (!Assemble(six_bar, input, (*angles)[input - 1], angles, tolerance, kDriveIterations,
+                &velocity, &determinant)) {
+    return false;
+  }
+  double step = max_step;
+  SixBarAngles acceleration = SixBarAngles::Zero();
+  for (int steps = 0; std::abs(to_angle - (*angles)[input - 1]) > 0.0; ++steps) {
+    if (steps == kMaxDriveSteps) return false;
+    const double remaining = to_angle - (*angles)[input - 1];
+    const double delta = std::copysign(std::min(step, std::abs(remaining)), remaining);
+    const SixBarAngles predicted = *angles + delta * velocity;
+    // Newton starts from the second-order prediction (the turns' acceleration from the last
+    // step's change of velocity); the step is judged against the first-order one.
+    SixBarAngles next = predicted + 0.5 * delta * delta * acceleration, next_velocity;
+    double next_determinant = 0.0;
+    const double target =
+        std::abs(delta) < std::abs(remaining) ? (*angles)[input - 1] + delta : to_angle;
+    // Corrected within a few Newton steps by a small share of the predicted move, the free turns'
+    // Jacobian's determinant of the same sign: the same assembly, no dead point (a fold, or a
+    // crossing of two assemblies) stepped over.
+    const double allowed =
+        kDriveCorrection * std::max(std::abs(delta) * velocity.cwiseAbs().maxCoeff(), 1e-6);
+    // Steps on the way are assembled to kStepTolerance, the last to full precision.
+    const bool last = target == to_angle;
+    if (Assemble(six_bar, input, target, &next, last ? tolerance : kStepTolerance * length,
+                 kDriveIterations, &next_velocity, &next_determinant) &&
+        (next - predicted).cwiseAbs().maxCoeff() <= allowed &&
+        next_determinant * determinant > 0.0) {
+      acceleration = (next_velocity - velocity) / delta;
+      *angles = next;
+      velocity = next_velocity;
+      determinant = next_determinant;
+      if (visit) visit(*angles);
+      // The next step grows while the correction stays well within its bound (it grows as the
+      // step's square): doubled below a quarter of it, by a quarter below half of it.
+      const double share = (next - predicted).cwiseAbs().maxCoeff() / allowed;
+      step = std::min(max_step, share < 0.25 ? 2.0 * step : share < 0.5 ? 1.25 * step : step);
+      continue;
+    }
+    step /= 2.0;
+    if (step < kDeadPointStep) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::array<double, kSixBarJointCount> SixBarJointNumbers(const SixBar& six_bar) {
@@ -233,55 +293,234 @@ bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
   return true;
 }
 
-bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
-                 double length, double max_step,
-                 const std::function<void(const SixBarAngles&)>& visit) {
-  const double tolerance = 1e-13 * length;
-  SixBarAngles velocity;
+SixBarDriver::SixBarDriver(const SixBar& six_bar, int input, double length,
+                           SixBarPositions positions)
+    : six_bar_(six_bar), input_(input), length_(length) {
+  const std::array<double, kSixBarJointCount> numbers = SixBarJointNumbers(six_bar);
+  for (int j = 0; j < 7; ++j) reference_[j] = Eigen::Vector2d(numbers[2 * j], numbers[2 * j + 1]);
+  const std::array<std::vector<int>, 6> body_joints = SixBarBodyJointIndices(six_bar);
+  input_hinge_ = input == kSixBarUpperLink   ? 0
+                 : input == kSixBarFirstLink ? kJointFirstFrom / 2
+                                             : kJointSecondFrom / 2;
+  ground_joints_ = body_joints[kSixBarGround];
+  input_joints_ = body_joints[input];
+  if (positions != SixBarPositions::kClosedFormWhereItCan || !SixBarGroundedLink(six_bar, input)) {
+    return;
+  }
+  // Each joint's two bodies.
+  std::array<std::vector<int>, 7> joint_bodies;
+  for (int body = 0; body < 6; ++body) {
+    for (const int j : body_joints[body]) joint_bodies[j].push_back(body);
+  }
+  // Dyads found one after the other from ground and the input: two bodies not yet placed, joined
+  // at a joint, each with one other joint on a placed body (two would fix it alone: not a dyad).
+  std::array<bool, 6> placed = {};
+  placed[kSixBarGround] = placed[input] = true;
+  const auto other = [&](int j, int body) {
+    return joint_bodies[j][0] == body ? joint_bodies[j][1] : joint_bodies[j][0];
+  };
+  // The one joint of `body` but `j` on a placed body; -1 where none or more than one.
+  const auto hung = [&](int body, int j) {
+    int found = -1;
+    for (const int k : body_joints[body]) {
+      if (k == j || !placed[other(k, body)]) continue;
+      if (found >= 0) return -1;
+      found = k;
+    }
+    return found;
+  };
+  const double shortest = 1e-9 * length;
+  for (int count = 0; count < 2; ++count) {
+    bool found = false;
+    for (int j = 0; j < 7 && !found; ++j) {
+      if (joint_bodies[j].size() != 2) return;
+      const int a = joint_bodies[j][0], b = joint_bodies[j][1];
+      if (placed[a] || placed[b]) continue;
+      const int ja = hung(a, j), jb = hung(b, j);
+      if (ja < 0 || jb < 0) continue;
+      Dyad& dyad = dyads_[count];
+      dyad.a = a;
+      dyad.b = b;
+      dyad.j = j;
+      dyad.ja = ja;
+      dyad.jb = jb;
+      const Eigen::Vector2d along_a = reference_[j] - reference_[ja];
+      const Eigen::Vector2d along_b = reference_[j] - reference_[jb];
+      dyad.ra = along_a.norm();
+      dyad.rb = along_b.norm();
+      if (!(dyad.ra > shortest) || !(dyad.rb > shortest)) return;  // by continuation
+      dyad.lever_a = along_a;
+      dyad.lever_b = along_b;
+      for (const int k : body_joints[a]) {
+        if (k != j && k != ja) dyad.joints_a.push_back(k);
+      }
+      for (const int k : body_joints[b]) {
+        if (k != j && k != jb) dyad.joints_b.push_back(k);
+      }
+      placed[a] = placed[b] = true;
+      found = true;
+    }
+    if (!found) return;  // a triad: by continuation
+  }
+  dyad_count_ = 2;
+}
+
+std::array<int, 2> SixBarDriver::Sides(const SixBarAngles& angles) const {
+  const Placement placement(six_bar_, angles);
+  std::array<int, 2> sides = {1, 1};
+  for (int k = 0; k < 2; ++k) {
+    const Dyad& dyad = dyads_[k];
+    // Each joint on body a of its dyad (or the known body of ja, jb: placed the same).
+    const Eigen::Vector2d j = placement.frames.At(dyad.a, reference_[dyad.j]);
+    const Eigen::Vector2d ja = placement.frames.At(dyad.a, reference_[dyad.ja]);
+    const Eigen::Vector2d jb = placement.frames.At(dyad.b, reference_[dyad.jb]);
+    const Eigen::Vector2d d = jb - ja, e = j - ja;
+    sides[k] = d.x() * e.y() - d.y() * e.x() >= 0.0 ? 1 : -1;
+  }
+  return sides;
+}
+
+bool SixBarDriver::Close(double input_angle, const std::array<int, 2>& sides, SixBarAngles* angles,
+                         double* margin) const {
+  std::array<Eigen::Vector2d, 7> at;
+  std::array<double, 6> turns = {};
+  for (const int j : ground_joints_) at[j] = reference_[j];
+  const Eigen::Rotation2Dd input_turn(input_angle);
+  turns[input_] = input_angle;
+  for (const int j : input_joints_) {
+    at[j] = reference_[input_hinge_] + input_turn * (reference_[j] - reference_[input_hinge_]);
+  }
+  *margin = 1.0;
+  for (int k = 0; k < 2; ++k) {
+    const Dyad& dyad = dyads_[k];
+    // The middle joint j at distances ra from ja and rb from jb: with d = jb - ja,
+    // j = ja + u d + v perp(d), u = (ra^2 - rb^2 + |d|^2) / (2 |d|^2), v = +-sqrt(D) / (2 |d|^2),
+    // D = (|d|^2 - (ra - rb)^2) ((ra + rb)^2 - |d|^2), and D / (4 ra^2 rb^2) the sine squared of
+    // the angle between the dyad's two bodies at j: 0 at a dead point, negative past one.
+    const Eigen::Vector2d d = at[dyad.jb] - at[dyad.ja];
+    const double d2 = d.squaredNorm();
+    const double ra = dyad.ra, rb = dyad.rb;
+    const double discriminant = (d2 - (ra - rb) * (ra - rb)) * ((ra + rb) * (ra + rb) - d2);
+    *margin = std::min(*margin, discriminant / (4.0 * ra * ra * rb * rb));
+    if (!(discriminant >= 0.0) || !(d2 > 0.0)) return false;
+    const double u = (ra * ra - rb * rb + d2) / (2.0 * d2);
+    const double v = sides[k] * std::sqrt(discriminant) / (2.0 * d2);
+    at[dyad.j] = at[dyad.ja] + u * d + v * Perp(d);
+    // Each body's turn from the reference as a rotation: the one taking its reference lever
+    // (from its known joint to j) to the lever now, both of its length.
+    for (const bool first : {true, false}) {
+      const int known = first ? dyad.ja : dyad.jb;
+      const Eigen::Vector2d& lever = first ? dyad.lever_a : dyad.lever_b;
+      const Eigen::Vector2d now = at[dyad.j] - at[known];
+      const double squared = lever.squaredNorm();
+      Eigen::Matrix2d rotation;
+      const double c = lever.dot(now) / squared,
+                   s = (lever.x() * now.y() - lever.y() * now.x()) / squared;
+      rotation << c, -s, s, c;
+      for (const int j : first ? dyad.joints_a : dyad.joints_b) {
+        at[j] = at[known] + rotation * (reference_[j] - reference_[known]);
+      }
+      if (angles != nullptr) turns[first ? dyad.a : dyad.b] = std::atan2(s, c);
+    }
+  }
+  if (angles == nullptr) return true;
+  for (int body = 1; body < 6; ++body) {
+    // Each turn continued from the one it replaces (whole turns off the change).
+    const double change = turns[body] - (*angles)[body - 1];
+    (*angles)[body - 1] += change - 2.0 * M_PI * std::nearbyint(change / (2.0 * M_PI));
+  }
+  (*angles)[input_ - 1] = input_angle;
+  return true;
+}
+
+bool SixBarDriver::AssemblyOf(const SixBarAngles& angles, SixBarAssembly* assembly) const {
+  if (closed_form()) {
+    assembly->sides = Sides(angles);
+    return true;
+  }
+  SixBarAngles assembled = angles;
+  return Assemble(six_bar_, input_, angles[input_ - 1], &assembled, kStepTolerance * length_,
+                  kDriveIterations, nullptr, &assembly->determinant);
+}
+
+bool SixBarDriver::Place(const SixBarAssembly& assembly, double input_angle, SixBarAngles* angles,
+                         double tolerance) const {
+  if (closed_form()) {
+    double margin = 0.0;
+    return Close(input_angle, assembly.sides, angles, &margin);
+  }
+  SixBarAngles assembled = *angles;
   double determinant = 0.0;
-  if (!Assemble(six_bar, input, (*angles)[input - 1], angles, tolerance, kDriveIterations,
-                &velocity, &determinant)) {
+  if (!Assemble(six_bar_, input_, input_angle, &assembled, tolerance * length_, kDriveIterations,
+                nullptr, &determinant) ||
+      !(determinant * assembly.determinant > 0.0)) {
     return false;
   }
-  double step = max_step;
-  SixBarAngles acceleration = SixBarAngles::Zero();
-  for (int steps = 0; std::abs(to_angle - (*angles)[input - 1]) > 0.0; ++steps) {
-    if (steps == kMaxDriveSteps) return false;
-    const double remaining = to_angle - (*angles)[input - 1];
-    const double delta = std::copysign(std::min(step, std::abs(remaining)), remaining);
-    const SixBarAngles predicted = *angles + delta * velocity;
-    // Newton starts from the second-order prediction (the turns' acceleration from the last
-    // step's change of velocity); the step is judged against the first-order one.
-    SixBarAngles next = predicted + 0.5 * delta * delta * acceleration, next_velocity;
-    double next_determinant = 0.0;
-    const double target =
-        std::abs(delta) < std::abs(remaining) ? (*angles)[input - 1] + delta : to_angle;
-    // Corrected within a few Newton steps by a small share of the predicted move, the free turns'
-    // Jacobian's determinant of the same sign: the same assembly, no dead point (a fold, or a
-    // crossing of two assemblies) stepped over.
-    const double allowed =
-        kDriveCorrection * std::max(std::abs(delta) * velocity.cwiseAbs().maxCoeff(), 1e-6);
-    // Steps on the way are assembled to kStepTolerance, the last to full precision.
-    const bool last = target == to_angle;
-    if (Assemble(six_bar, input, target, &next, last ? tolerance : kStepTolerance * length,
-                 kDriveIterations, &next_velocity, &next_determinant) &&
-        (next - predicted).cwiseAbs().maxCoeff() <= allowed &&
-        next_determinant * determinant > 0.0) {
-      acceleration = (next_velocity - velocity) / delta;
-      *angles = next;
-      velocity = next_velocity;
-      determinant = next_determinant;
-      if (visit) visit(*angles);
-      // The next step grows while the correction stays well within its bound (it grows as the
-      // step's square): doubled below a quarter of it, by a quarter below half of it.
-      const double share = (next - predicted).cwiseAbs().maxCoeff() / allowed;
-      step = std::min(max_step, share < 0.25 ? 2.0 * step : share < 0.5 ? 1.25 * step : step);
-      continue;
+  *angles = assembled;
+  return true;
+}
+
+bool SixBarDriver::Drive(double to_angle, SixBarAngles* angles, double max_step,
+                         const std::function<void(const SixBarAngles&)>& visit) const {
+  if (!closed_form()) {
+    return Continue(six_bar_, input_, to_angle, angles, length_, max_step, visit);
+  }
+  const std::array<int, 2> sides = Sides(*angles);
+  const double from = (*angles)[input_ - 1];
+  SixBarAngles next = *angles;
+  double margin = 0.0;
+  if (!Close(from, sides, &next, &margin)) return false;
+  const int steps = std::max(1, static_cast<int>(std::ceil(std::abs(to_angle - from) / max_step)));
+  const auto least = [&](double input_angle) {
+    double at = 0.0;
+    Close(input_angle, sides, nullptr, &at);
+    return at;
+  };
+  // Stopped at a dead point between the input turns `good` (assembled) and `past` (not): the
+  // last assembly before it, found by bisection to kDeadPointStep, is the last one reached.
+  const auto stop = [&](double good, double past) {
+    SixBarAngles placed = *angles;
+    double at = 0.0;
+    while (std::abs(past - good) > kDeadPointStep) {
+      const double middle = 0.5 * (good + past);
+      if (Close(middle, sides, &placed, &at)) {
+        good = middle;
+        next = placed;
+      } else {
+        past = middle;
+      }
     }
-    step /= 2.0;
-    if (step < kDeadPointStep) return false;
+    if (good != (*angles)[input_ - 1]) {
+      *angles = next;
+      if (visit) visit(*angles);
+    }
+    return false;
+  };
+  for (int step = 1; step <= steps; ++step) {
+    const double before = (*angles)[input_ - 1], before_margin = margin;
+    const double input_angle = step == steps ? to_angle : from + (to_angle - from) * step / steps;
+    if (!Close(input_angle, sides, &next, &margin)) return stop(before, input_angle);
+    // A dyad may fold and open again between two steps: where the dyads' least angle is small at
+    // either, its least between them is sought (a dead point where it falls below 0).
+    if (std::min(before_margin, margin) < kDipMargin) {
+      const GoldenSection dip = GoldenSectionSearch(least, before, input_angle, kDipShrinks);
+      if (dip.least < 0.0) {
+        const double middle = 0.5 * (dip.low + dip.high);
+        return stop(before, least(middle) < 0.0    ? middle
+                            : least(dip.low) < 0.0 ? dip.low
+                                                   : dip.high);
+      }
+    }
+    *angles = next;
+    if (visit) visit(*angles);
   }
   return true;
+}
+
+bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
+                 double length, double max_step,
+                 const std::function<void(const SixBarAngles&)>& visit, SixBarPositions positions) {
+  return SixBarDriver(six_bar, input, length, positions).Drive(to_angle, angles, max_step, visit);
 }
 
 std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarAngles& angles) {
@@ -303,16 +542,18 @@ std::array<double, 2> SixBarTransmissionDeg(const SixBar& six_bar, const SixBarA
 }
 
 bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, int input,
-                             double length, double step) {
+                             double length, double step, SixBarPositions positions) {
   SixBarAngles driven = angles;
-  return DriveSixBar(six_bar, input, angles[input - 1] + 2.0 * M_PI, &driven, length, step);
+  return DriveSixBar(six_bar, input, angles[input - 1] + 2.0 * M_PI, &driven, length, step, nullptr,
+                     positions);
 }
 
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
                              int input, double length, double step, bool full_turn,
-                             bool refine_transmission) {
+                             bool refine_transmission, SixBarPositions positions) {
   SixBarAnalysis analysis;
   if (at_poses.empty()) return analysis;
+  const SixBarDriver driver(six_bar, input, length, positions);
   const int index = input - 1;
   for (const SixBarAngles& angles : at_poses) {
     analysis.input_angles.push_back(angles[index] - at_poses[0][index]);
@@ -340,23 +581,12 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   std::array<double, 2> degrees[3];
   int samples = 0;
   const auto refine = [&](int l, const SixBarAngles& from, double value, double low, double high) {
-    SixBarAngles sample = from;
-    double sign = 0.0;
-    const double step_tolerance = kStepTolerance * length;
-    if (!refine_transmission || !(low != high) ||
-        !Assemble(six_bar, input, sample[index], &sample, step_tolerance, kDriveIterations, nullptr,
-                  &sign)) {
-      return;
-    }
-    SixBarAngles warm = sample;
+    SixBarAssembly assembly;
+    if (!refine_transmission || !(low != high) || !driver.AssemblyOf(from, &assembly)) return;
+    SixBarAngles warm = from;
     const auto at = [&](double input_angle) {
       SixBarAngles assembled = warm;
-      double determinant = 0.0;
-      if (!Assemble(six_bar, input, input_angle, &assembled, step_tolerance, kDriveIterations,
-                    nullptr, &determinant) ||
-          !(determinant * sign > 0.0)) {
-        return value;
-      }
+      if (!driver.Place(assembly, input_angle, &assembled, kStepTolerance)) return value;
       warm = assembled;
       return SixBarTransmissionDeg(six_bar, assembled)[l];
     };
@@ -397,7 +627,7 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   SixBarAngles angles = at_poses[0];
   transmission(angles);
   for (size_t k = 1; k < at_poses.size(); ++k) {
-    if (!DriveSixBar(six_bar, input, at_poses[k][index], &angles, length, step, transmission)) {
+    if (!driver.Drive(at_poses[k][index], &angles, step, transmission)) {
       add("branch");
       break;
     }
@@ -417,8 +647,8 @@ SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngl
   // A whole turn of the input from the first pose (none past a dead point between poses).
   if (full_turn && std::find(analysis.defects.begin(), analysis.defects.end(), "branch") ==
                        analysis.defects.end()) {
-    analysis.input_rotates_fully =
-        SixBarInputRotatesFully(six_bar, at_poses[0], input, length, step);
+    SixBarAngles driven = at_poses[0];
+    analysis.input_rotates_fully = driver.Drive(at_poses[0][index] + 2.0 * M_PI, &driven, step);
   }
   return analysis;
 }

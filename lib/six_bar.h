@@ -123,17 +123,93 @@ struct SixBarChain {
 bool ChainElbows(const std::vector<PlanarPose>& poses, const SixBarChain& chain,
                  std::vector<Eigen::Vector2d>* elbows, int* unreachable_pose);
 
-// Drives the six-bar by body `input` from `angles` (an assembly) to the input turn `to_angle`
-// by continuation: steps of at most `max_step` radians, each predicted along the closure's
-// tangent and corrected by Newton's method (AssembleSixBar), accepted when that converges in a
-// few iterations, moves the turns by a small share of the predicted move and keeps the sign of
-// the free turns' Jacobian's determinant (else a jump toward another assembly, or over a dead
-// point, is possible: the step is halved; after a success it doubles again). `visit`, when
-// given, sees each configuration reached. Returns false at a dead point (the step falls below
-// 1e-8 radians); `angles` is then the last assembly reached.
+// How a six-bar's positions under an input are found.
+enum class SixBarPositions {
+  // In closed form where the input leaves two RR dyads (Assur groups of class II) that close one
+  // after the other: each dyad's middle joint on the circles about its two known joints (a
+  // circle intersection), its assembly the side of the line through them that joint is on. The
+  // chain's own topology decides: Watt I under every input, Stephenson II under the upper and
+  // first links and the new-crank Stephenson I are dyads; Stephenson III and Stephenson II under
+  // its second link leave a triad, placed by continuation. Else:
+  kClosedFormWhereItCan,
+  kContinuation,  // always by continuation (Newton's method on the loop closures)
+};
+
+// One assembly of a six-bar under an input, to place it at other input turns on the same one:
+// the sides of its dyads (closed form), or the sign of the free turns' Jacobian's determinant
+// (continuation).
+struct SixBarAssembly {
+  std::array<int, 2> sides = {1, 1};
+  double determinant = 0.0;
+};
+
+// The six-bar's positions under body `input` (a grounded link: 1, 4 or 5), by `positions`.
+class SixBarDriver {
+ public:
+  SixBarDriver(const SixBar& six_bar, int input, double length,
+               SixBarPositions positions = SixBarPositions::kClosedFormWhereItCan);
+
+  // Whether the positions are in closed form (else by continuation).
+  bool closed_form() const { return dyad_count_ == 2; }
+
+  // The assembly `angles` are in (closed form: read from them; continuation: they are assembled
+  // to 1e-10 L at their input turn first); false where they do not assemble there or are at a
+  // dead point.
+  bool AssemblyOf(const SixBarAngles& angles, SixBarAssembly* assembly) const;
+
+  // The six-bar in `assembly` at the input turn `input_angle`, into `angles` (continuation: from
+  // them as the start, to `tolerance` times the length): false beyond a dead point (no such
+  // assembly there) or, by continuation, where Newton's method reaches another assembly.
+  bool Place(const SixBarAssembly& assembly, double input_angle, SixBarAngles* angles,
+             double tolerance = 1e-10) const;
+
+  // Drives the six-bar (DriveSixBar, whose contract this keeps). In closed form: in even steps
+  // of at most `max_step`, a dead point where a dyad does not close at a step, or where between
+  // two steps its least angle (golden-section search where it falls below 15 degrees at either)
+  // does; every turn continued from the last step's (no jump of a whole turn).
+  bool Drive(double to_angle, SixBarAngles* angles, double max_step,
+             const std::function<void(const SixBarAngles&)>& visit = nullptr) const;
+
+ private:
+  // One dyad: bodies a and b joined at joint j, hanging from known joints ja (on a) and jb (on
+  // b), at distances ra and rb from j; each body's other joints.
+  struct Dyad {
+    int a = 0, b = 0, j = 0, ja = 0, jb = 0;
+    double ra = 0.0, rb = 0.0;
+    Eigen::Vector2d lever_a, lever_b;  // j - ja, j - jb at the reference configuration
+    std::vector<int> joints_a, joints_b;
+  };
+  // The dyads at input turn `input_angle` on `sides`: the turns (continued from those in
+  // `angles`; none where it is null), and the least of the dyads' sin^2 of the angle between
+  // their two bodies at j (negative where one does not close: that one's, the later ones not
+  // placed). False where a dyad does not close.
+  bool Close(double input_angle, const std::array<int, 2>& sides, SixBarAngles* angles,
+             double* margin) const;
+  std::array<int, 2> Sides(const SixBarAngles& angles) const;
+
+  const SixBar& six_bar_;
+  int input_ = 1;
+  double length_ = 1.0;
+  std::array<Eigen::Vector2d, 7> reference_;  // the joints at the reference configuration
+  std::vector<int> ground_joints_, input_joints_;
+  int input_hinge_ = 0;  // the input's joint on ground
+  std::array<Dyad, 2> dyads_;
+  int dyad_count_ = 0;
+};
+
+// Drives the six-bar by body `input` from `angles` (an assembly) to the input turn `to_angle`,
+// in closed form where it can (SixBarDriver::Drive), else by continuation: steps of at most
+// `max_step` radians, each predicted along the closure's tangent and corrected by Newton's method
+// (AssembleSixBar), accepted when that converges in a few iterations, moves the turns by a small
+// share of the predicted move and keeps the sign of the free turns' Jacobian's determinant (else
+// a jump toward another assembly, or over a dead point, is possible: the step is halved; it grows
+// again while the corrections stay small). `visit`, when given, sees each configuration reached.
+// Returns false at a dead point (by continuation: the step falls below 1e-8 radians); `angles` is
+// then the last assembly reached.
 bool DriveSixBar(const SixBar& six_bar, int input, double to_angle, SixBarAngles* angles,
                  double length, double max_step,
-                 const std::function<void(const SixBarAngles&)>& visit = nullptr);
+                 const std::function<void(const SixBarAngles&)>& visit = nullptr,
+                 SixBarPositions positions = SixBarPositions::kClosedFormWhereItCan);
 
 // Whether body `body`'s turn can drive the six-bar: a link turning about a ground pivot.
 bool SixBarGroundedLink(const SixBar& six_bar, int body);
@@ -170,12 +246,14 @@ struct SixBarAnalysis {
 inline constexpr double kSixBarDriveStep = 4.0 * M_PI / 180.0;
 SixBarAnalysis AnalyzeSixBar(const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses,
                              int input, double length, double step = kSixBarDriveStep,
-                             bool full_turn = true, bool refine_transmission = true);
+                             bool full_turn = true, bool refine_transmission = true,
+                             SixBarPositions positions = SixBarPositions::kClosedFormWhereItCan);
 
 // Whether a whole turn of body `input` from the assembly `angles` meets no dead point
 // (DriveSixBar).
 bool SixBarInputRotatesFully(const SixBar& six_bar, const SixBarAngles& angles, int input,
-                             double length, double step = kSixBarDriveStep);
+                             double length, double step = kSixBarDriveStep,
+                             SixBarPositions positions = SixBarPositions::kClosedFormWhereItCan);
 
 // The configurations over the input's range from the assembly `at_first` (DriveSixBar, steps of at
 // most `step`): a whole turn when it meets no dead point (from `at_first` on, the input rising);

@@ -211,6 +211,76 @@ TEST(SixBarAnalysis, FourDegreeStepsJudgeAsHalfDegreeSteps) {
             << " whole turns; transmission angles apart by at most " << worst << " degrees\n";
 }
 
+// Positions in closed form (lib/six_bar.h SixBarDriver: two dyads placed one after the other)
+// against continuation, on every six-bar of random tasks of each layout and each grounded input:
+// at each pose the closed form places the pose's own configuration from its assembly; the
+// analyses give the same defects and whole turns, and without defects the least transmission
+// angles within 0.1 degrees. The topologies the closed form takes: Watt I under every input,
+// Stephenson I and II under the upper and first links, never Stephenson III (a triad).
+TEST(SixBarAnalysis, ClosedFormJudgesAsContinuation) {
+  std::mt19937_64 rng(3605);
+  int analyses = 0, closed = 0, defective = 0, whole_turns = 0;
+  double worst_angle = 0.0, worst_place = 0.0;
+  for (const testing::SixBarLayout& layout : testing::SixBarLayouts()) {
+    for (int trial = 0; trial < 3; ++trial) {
+      const testing::GeneratedSixBarTask task = testing::RandomSixBarTask(rng, layout);
+      std::vector<SixBar> six_bars;
+      SynthesizeSixBars(task.poses, task.chain, {}, &six_bars);
+      std::vector<Eigen::Vector2d> elbows;
+      int unreachable = -1;
+      ASSERT_TRUE(ChainElbows(task.poses, task.chain, &elbows, &unreachable));
+      for (const SixBar& six_bar : six_bars) {
+        const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, task.poses, elbows);
+        for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
+          if (!SixBarGroundedLink(six_bar, input)) continue;
+          const SixBarDriver driver(six_bar, input, 1.0);
+          const bool triad =
+              six_bar.topology == SixBarTopology::kStephensonIII ||
+              (six_bar.topology == SixBarTopology::kStephensonII && input == kSixBarSecondLink);
+          EXPECT_EQ(driver.closed_form(), !triad)
+              << SixBarTopologyName(six_bar.topology) << " under body " << input;
+          closed += driver.closed_form();
+          for (const SixBarAngles& at_pose : at_poses) {
+            if (!driver.closed_form()) break;
+            SixBarAssembly assembly;
+            ASSERT_TRUE(driver.AssemblyOf(at_pose, &assembly));
+            SixBarAngles placed = SixBarAngles::Zero();
+            ASSERT_TRUE(driver.Place(assembly, at_pose[input - 1], &placed));
+            for (int j = 0; j < 5; ++j) {
+              worst_place = std::max(worst_place,
+                                     std::abs(std::remainder(placed[j] - at_pose[j], 2.0 * M_PI)));
+            }
+            EXPECT_LT(SixBarClosure(six_bar, placed).norm(), 1e-12);
+          }
+          const SixBarAnalysis closed_form = AnalyzeSixBar(six_bar, at_poses, input, 1.0);
+          const SixBarAnalysis continuation =
+              AnalyzeSixBar(six_bar, at_poses, input, 1.0, kSixBarDriveStep, true, true,
+                            SixBarPositions::kContinuation);
+          EXPECT_EQ(closed_form.defects, continuation.defects);
+          EXPECT_EQ(closed_form.input_rotates_fully, continuation.input_rotates_fully);
+          for (int l = 0; l < 2 && continuation.defects.empty(); ++l) {
+            worst_angle = std::max(worst_angle, std::abs(closed_form.transmission_min_deg[l] -
+                                                         continuation.transmission_min_deg[l]));
+            EXPECT_NEAR(closed_form.transmission_min_deg[l], continuation.transmission_min_deg[l],
+                        0.1);
+          }
+          ++analyses;
+          defective += !continuation.defects.empty();
+          whole_turns += continuation.input_rotates_fully;
+        }
+      }
+    }
+  }
+  EXPECT_LT(worst_place, 1e-9);
+  EXPECT_GT(closed, analyses / 3);
+  EXPECT_GT(defective, analyses / 10);
+  EXPECT_GT(whole_turns, 0);
+  std::cout << analyses << " analyses, " << closed << " in closed form, " << defective
+            << " with defects, " << whole_turns << " whole turns; transmission angles apart by at "
+            << "most " << worst_angle << " degrees; poses placed within " << worst_place
+            << " radians\n";
+}
+
 // The chain search (fitting/six_bar_chains.h): every candidate reaches every pose on its elbow with
 // elbow angles and joint travels within the options, recomputed here from its joints; candidates
 // come best first, none near an earlier one; a tighter elbow-angle bound only removes candidates,

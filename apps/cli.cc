@@ -22,6 +22,7 @@
 #include "apps/output_file.h"
 #include "apps/picture.h"
 #include "bench/trade_bench.h"
+#include "lib/analysis_io.h"
 #include "lib/parallel.h"
 #include "lib/result_io.h"
 #include "lib/result_summary.h"
@@ -463,6 +464,22 @@ int Refine(const std::string& task_path, const std::string& design_path,
   return kExitOk;
 }
 
+// `linkfit analyze`: the kinematics (and statics, with a load) of one mechanism of a result file
+// (lib/analysis_io.h), JSON or CSV to -o or stdout.
+int Analyze(const std::string& result_path, const std::string& output_path, AnalysisRequest request,
+            const std::vector<double>& force) {
+  OutputSet outputs;
+  outputs.AddInput(result_path);
+  OutputFile& output = outputs.Add(output_path.empty() ? "-" : output_path, "-o");
+  if (!force.empty()) request.load.coupler_force = Eigen::Vector2d(force[0], force[1]);
+  std::ifstream in(result_path, std::ios::binary);
+  if (!in) throw InputError(result_path + ": cannot read the file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  output.Write(AnalyzeResultText(text, result_path, request));
+  outputs.CommitAll();
+  return kExitOk;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app(kDescription, "linkfit");
   app.footer(kFooter);
@@ -555,6 +572,42 @@ int Run(int argc, char** argv) {
   show->add_option("RESULT", show_path, "result file: .json (one result) or .jsonl (one per line)")
       ->required();
 
+  std::string analyze_result, analyze_output;
+  AnalysisRequest analysis;
+  int analyze_index = 1;
+  std::vector<double> analyze_force;
+  CLI::App* analyze = app.add_subcommand(
+      "analyze",
+      "Kinematics of a listed four-bar over its input's range: every link's angle, angular "
+      "velocity and acceleration, the coupler point's position, velocity and acceleration, the "
+      "transmission angle, the mechanical advantage, the dead points; with a load, the input "
+      "torque that holds it.");
+  analyze->add_option("RESULT", analyze_result, "result file of `linkfit solve` (.json)")
+      ->required();
+  analyze
+      ->add_option("--mechanism", analyze_index,
+                   "which listed mechanism: its rank, counted from 1 as in --summary")
+      ->check(WholeNumber(1, kMaxIndex));
+  analyze->add_option("--input-speed", analysis.input_speed,
+                      "the input crank's constant angular velocity, rad/s (default 1)");
+  analyze
+      ->add_option("--steps", analysis.steps,
+                   "samples over the input's range: a whole turn for a crank, between the dead "
+                   "points for a rocker (default 360)")
+      ->check(WholeNumber(1, 1000000));
+  analyze
+      ->add_option("--force", analyze_force,
+                   "a load at the coupler point: FX,FY (the result's length unit times "
+                   "newtons gives the torque's unit)")
+      ->delimiter(',')
+      ->expected(2);
+  analyze->add_option("--output-torque", analysis.load.output_torque,
+                      "a load torque on the output rocker, counter-clockwise");
+  analyze->add_option("--slider-force", analysis.load.slider_force,
+                      "a load force on the slider, along its line's direction");
+  analyze->add_flag("--csv", analysis.csv, "CSV, one row per step, instead of JSON");
+  analyze->add_option("-o,--output", analyze_output, "write to this file (default: stdout)");
+
   BenchOptions bench_options;
   bool trade_only = false, extremes_only = false, constrained_only = false;
   CLI::App* bench = app.add_subcommand(
@@ -593,9 +646,9 @@ int Run(int argc, char** argv) {
   // A first word that is no command (CLI11 would say "A subcommand is required").
   const std::string first = argc > 1 ? argv[1] : "";
   if (!first.empty() && first[0] != '-' && first != "solve" && first != "refine" &&
-      first != "bench" && first != "show") {
+      first != "bench" && first != "show" && first != "analyze") {
     PrintError("error", std::string("unknown command '") + argv[1] +
-                            "': solve, refine, show or bench (see 'linkfit --help')");
+                            "': solve, refine, analyze, show or bench (see 'linkfit --help')");
     return kExitBadInput;
   }
   try {
@@ -612,6 +665,10 @@ int Run(int argc, char** argv) {
     return Refine(refine_task, design_path, refine_output, refine_index, refine_summary);
   }
   if (show->parsed()) return Show(show_path);
+  if (analyze->parsed()) {
+    analysis.mechanism = analyze_index - 1;
+    return Analyze(analyze_result, analyze_output, analysis, analyze_force);
+  }
   if (bench->parsed()) {
     bench_options.trade = !extremes_only && !constrained_only;
     bench_options.extremes = !trade_only && !constrained_only;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "apps/picture.h"
+#include "lib/analysis_io.h"
 #include "lib/parallel.h"
 #include "lib/result_io.h"
 #include "lib/result_summary.h"
@@ -180,6 +181,24 @@ PYBIND11_MODULE(_linkfit, m) {
          int threads) { return linkfit::SolveMany(texts, sources, threads); },
       py::arg("texts"), py::arg("sources"), py::arg("threads") = 0,
       "Solves tasks (JSON texts) on `threads` threads (0: all cores); results in input order.");
+  m.def(
+      "analyze_json",
+      [](const std::string& result, int mechanism, double input_speed, int steps, double force_x,
+         double force_y, double output_torque, double slider_force) {
+        linkfit::AnalysisRequest request;
+        request.mechanism = mechanism;
+        request.input_speed = input_speed;
+        request.steps = steps;
+        request.load.coupler_force = Eigen::Vector2d(force_x, force_y);
+        request.load.output_torque = output_torque;
+        request.load.slider_force = slider_force;
+        py::gil_scoped_release release;
+        return linkfit::AnalyzeResultText(result, "result", request);
+      },
+      py::arg("result"), py::arg("mechanism") = 0, py::arg("input_speed") = 1.0,
+      py::arg("steps") = 360, py::arg("force_x") = 0.0, py::arg("force_y") = 0.0,
+      py::arg("output_torque") = 0.0, py::arg("slider_force") = 0.0,
+      "The kinematics of one mechanism of a result (JSON text), as `linkfit analyze` writes it.");
   m.def(
       "summary_json",
       [](const std::string& result, const std::string& title) {

@@ -16,11 +16,12 @@ Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses
 """
 
 import json
+import math
 
-from ._linkfit import (InputError, __version__, refine_drawn_json, solve_drawn_json,
-                       solve_many_json, summary_json)
+from ._linkfit import (InputError, __version__, analyze_json, refine_drawn_json,
+                       solve_drawn_json, solve_many_json, summary_json)
 
-__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "plot", "summary",
+__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "analyze", "plot", "summary",
            "planar_poses", "spatial_poses", "path_points", "__version__"]
 
 InputError.__doc__ = """Bad input: a task, design or argument that linkfit refuses.
@@ -352,6 +353,70 @@ def summary(result, title=""):
     """
     return summary_json(result if isinstance(result, str) else json.dumps(_plain(dict(result))),
                         title)
+
+
+def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None):
+    """The kinematics of a listed four-bar over its input's range, as ``linkfit analyze``.
+
+    Closed form from the loop equation and its derivatives: per step the input angle, every
+    link's angle, angular velocity and angular acceleration, the coupler point's position,
+    velocity and acceleration, the transmission angle and the mechanical advantage; the dead
+    points where a rocker's range ends; with a load, the input torque that holds it (virtual
+    work) and its peak. Planar 4Rs and slider-cranks driven by a crank (motion, path and
+    function results).
+
+    Args:
+        result: a result (dict from :func:`solve` or :func:`refine`, or read from a file) or its
+            JSON text.
+        mechanism (int): a list index (0, the first listed; the CLI's ``--mechanism`` counts
+            from 1).
+        input_speed (float): the input crank's constant angular velocity, rad/s (not 0).
+        steps (int): samples over the input's range (a whole turn for a crank, between the dead
+            points for a rocker).
+        load (dict or None): ``{"coupler_force": [fx, fy], "output_torque": t,
+            "slider_force": f}``, each optional.
+
+    Returns:
+        dict: the analysis (the JSON ``linkfit analyze`` writes): ``input_deg``, ``links``
+        (``input``, ``coupler``, ``output`` or ``slider``: ``angle_deg``, ``angular_velocity``,
+        ``angular_acceleration``), ``coupler_point``, ``coupler_point_velocity``,
+        ``coupler_point_acceleration``, ``transmission_angle_deg``, ``mechanical_advantage``
+        (None where the output stands still), ``dead_points``, with a load ``input_torque`` and
+        ``peak_input_torque``.
+
+    Raises:
+        InputError: for a result without such a mechanism, one not analyzed (yet), or a bad
+            argument.
+
+    Example:
+        >>> kin = linkfit.analyze(linkfit.solve(task), steps=72, load={"coupler_force": [0, -10]})
+        >>> round(max(kin["transmission_angle_deg"]), 1), round(kin["peak_input_torque"])
+        (115.4, 375)
+    """
+    load = dict(load or {})
+    unknown = set(load) - {"coupler_force", "output_torque", "slider_force"}
+    if unknown:
+        raise InputError("load: unknown field " + sorted(unknown)[0] +
+                         " (coupler_force, output_torque, slider_force)")
+    def number(value, what):
+        value = _plain(value)
+        if not _is_number(value) or not math.isfinite(value):
+            raise InputError("%s: expected a finite number, got %r" % (what, value))
+        return float(value)
+
+    force = _plain(load.get("coupler_force", [0.0, 0.0]))
+    if not isinstance(force, (list, tuple)) or len(force) != 2:
+        raise InputError("load.coupler_force: expected [fx, fy]")
+    force = [number(v, "load.coupler_force") for v in force]
+    speed = number(input_speed, "input_speed")
+    if speed == 0.0:
+        raise InputError("input_speed: expected a number other than 0 (rad/s)")
+    steps = _whole_number(steps, "steps", 1, 1000000)
+    mechanism = _whole_number(mechanism, "mechanism", 0, 10**9)
+    text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))
+    return json.loads(analyze_json(text, mechanism, speed, steps, force[0], force[1],
+                                   number(load.get("output_torque", 0.0), "load.output_torque"),
+                                   number(load.get("slider_force", 0.0), "load.slider_force")))
 
 
 def plot(result, ax=None, mechanism=None, task=None):

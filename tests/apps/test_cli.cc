@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -233,6 +234,87 @@ TEST_F(CliTest, SummaryAndShowPrintTheTable) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_NE(bad.err.find("not a linkfit result"), std::string::npos) << bad.err;
   EXPECT_EQ(Run("solve --summary -o - '" + task + "'").status, 2);
+}
+
+// `linkfit analyze` (issue 37) on the bundled four-bar's result: the named arrays, one entry per
+// step from the first pose's crank angle (the coupler point there where the result puts it),
+// the load's torque, CSV with a row per step; path and function results (the latter without a
+// coupler point); bad requests exit 2 with one line and write nothing.
+TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
+  const std::string result_path = Path("result.json");
+  ASSERT_EQ(Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json' -o '" +
+                result_path + "'")
+                .status,
+            0);
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(result_path));
+  const RunResult run =
+      Run("analyze '" + result_path + "' --steps 36 --input-speed 2 --force 0,-10 -o '" +
+          Path("kinematics.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json kinematics = nlohmann::json::parse(ReadFile(Path("kinematics.json")));
+  for (const char* key :
+       {"input_deg", "coupler_point", "coupler_point_velocity", "coupler_point_acceleration",
+        "transmission_angle_deg", "mechanical_advantage", "input_torque"}) {
+    ASSERT_TRUE(kinematics.contains(key)) << key;
+    EXPECT_EQ(kinematics[key].size(), 36u) << key;
+  }
+  for (const char* link : {"input", "coupler", "output"}) {
+    for (const char* key : {"angle_deg", "angular_velocity", "angular_acceleration"}) {
+      EXPECT_EQ(kinematics["links"][link][key].size(), 36u) << link << " " << key;
+    }
+  }
+  EXPECT_TRUE(kinematics["input_rotates_fully"].get<bool>());  // the first is a crank-rocker
+  const nlohmann::json& joints = result["mechanisms"][0]["linkage"]["joints"];
+  const double crank_deg =
+      std::atan2(joints["input_pin"][1].get<double>() - joints["input_pivot"][1].get<double>(),
+                 joints["input_pin"][0].get<double>() - joints["input_pivot"][0].get<double>()) *
+      180.0 / M_PI;
+  EXPECT_NEAR(kinematics["input_deg"][0].get<double>(), crank_deg, 1e-9);
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_NEAR(kinematics["coupler_point"][0][c].get<double>(),
+                joints["coupler_point"][c].get<double>(), 1e-9);
+  }
+  EXPECT_EQ(kinematics["links"]["input"]["angular_velocity"][5].get<double>(), 2.0);
+  EXPECT_GT(kinematics["peak_input_torque"].get<double>(), 0.0);
+  // CSV: a header and a row per step.
+  const RunResult csv = Run("analyze '" + result_path + "' --steps 36 --csv");
+  ASSERT_EQ(csv.status, 0) << csv.err;
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 37);
+  EXPECT_EQ(csv.out.rfind("input_deg,coupler_angle_deg,", 0), 0u);
+  // A path result and a function result.
+  for (const char* task : {"path_5_points.json", "function_log10.json"}) {
+    const std::string solved = Path(std::string("solved_") + task);
+    ASSERT_EQ(
+        Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/" + task + "' -o '" + solved + "'")
+            .status,
+        0);
+    const RunResult analyzed = Run("analyze '" + solved + "' --steps 10");
+    ASSERT_EQ(analyzed.status, 0) << task << ": " << analyzed.err;
+    const nlohmann::json parsed = nlohmann::json::parse(analyzed.out);
+    EXPECT_EQ(parsed.contains("coupler_point"), std::string(task) == "path_5_points.json");
+    EXPECT_FALSE(parsed["input_deg"].empty()) << task;
+  }
+  // Bad requests: one line, exit 2, no output file.
+  const std::string six_bar = Path("six_bar.json");
+  ASSERT_EQ(Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/six_bar_5_poses.json' -o '" +
+                six_bar + "'")
+                .status,
+            0);
+  const struct {
+    std::string args, message;
+  } bad[] = {
+      {"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
+      {"'" + six_bar + "'", "analysis of six-bars is not available yet"},
+      {"'" + result_path + "' --input-speed 0", "--input-speed: expected a number other than 0"},
+      {"'" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json'", "no \"mechanisms\""},
+  };
+  for (const auto& request : bad) {
+    const RunResult refused = Run("analyze " + request.args + " -o '" + Path("out.json") + "'");
+    EXPECT_EQ(refused.status, 2) << request.args;
+    EXPECT_EQ(refused.err.find('\n'), refused.err.size() - 1) << refused.err;
+    EXPECT_NE(refused.err.find(request.message), std::string::npos) << refused.err;
+    EXPECT_FALSE(std::filesystem::exists(Path("out.json")));
+  }
 }
 
 // A six-bar result's table (issue 36): one row per six-bar listed, in the result's order, with its

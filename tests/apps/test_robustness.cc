@@ -375,7 +375,12 @@ TEST_F(RobustnessTest, OptionValuesAreRefusedInOneLine) {
        "--mechanism: expected a whole number from 1 to 1000000000, got -3"},
       {{"bench", "--seed", "-1"},
        "--seed: expected a whole number from 0 to 9223372036854775807, got -1"},
-      {{"frobnicate", task}, "unknown command 'frobnicate': solve, refine, show or bench"},
+      {{"analyze", task, "--steps", "0"},
+       "--steps: expected a whole number from 1 to 1000000, got 0"},
+      {{"analyze", task, "--input-speed", "fast"}, "--input-speed"},
+      {{"analyze", task, "--force", "1"}, "--force"},
+      {{"frobnicate", task},
+       "unknown command 'frobnicate': solve, refine, analyze, show or bench"},
       {{"solve", task, "--jobs"}, "--jobs: 1 required INT missing"},
   };
   for (const auto& [args, expected] : cases) {

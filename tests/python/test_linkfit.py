@@ -233,3 +233,32 @@ def test_a_six_bar_task_without_a_chain_gets_one_chosen(tmp_path):
     path = tmp_path / "no_chain.json"
     path.write_text(json.dumps(task))
     assert untimed(dict(result)) == untimed(cli_solve(path))
+
+
+def test_analyze_gives_the_cli_analysis(tmp_path):
+    """linkfit.analyze equals `linkfit analyze` (issue 37), the load's torque included; the
+    power balance holds at every step; bad arguments raise InputError."""
+    path = DATA / "slider_crank_5_poses.json"
+    result = linkfit.solve(json.loads(path.read_text()))
+    result_path = tmp_path / "result.json"
+    result_path.write_text(json.dumps(result))
+    load = {"coupler_force": [1.5, -2.0], "slider_force": -3.0}
+    ours = linkfit.analyze(result, mechanism=0, input_speed=2.0, steps=48, load=load)
+    completed = subprocess.run(
+        [CLI, "analyze", str(result_path), "--mechanism", "1", "--input-speed", "2",
+         "--steps", "48", "--force", "1.5,-2", "--slider-force", "-3"],
+        capture_output=True, text=True, check=True)
+    assert ours == json.loads(completed.stdout)
+    assert len(ours["input_deg"]) == 48 and "slider" in ours["links"]
+    # Input power + load power = 0 at every step.
+    for k in range(48):
+        v = ours["coupler_point_velocity"][k]
+        power = (2.0 * ours["input_torque"][k] + 1.5 * v[0] - 2.0 * v[1]
+                 - 3.0 * ours["links"]["slider"]["velocity"][k])
+        assert abs(power) < 1e-9 * (1.0 + abs(ours["input_torque"][k]))
+    with pytest.raises(linkfit.InputError, match="no mechanism ranked 100"):
+        linkfit.analyze(result, mechanism=99)
+    with pytest.raises(linkfit.InputError, match="input_speed"):
+        linkfit.analyze(result, input_speed=0)
+    with pytest.raises(linkfit.InputError, match="load: unknown field"):
+        linkfit.analyze(result, load={"torque": 1})

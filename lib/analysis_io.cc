@@ -1,0 +1,274 @@
+#include "lib/analysis_io.h"
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "lib/task_io.h"
+
+namespace linkfit {
+namespace {
+
+using Json = nlohmann::ordered_json;  // written in the order built
+
+constexpr double kDegree = 180.0 / M_PI;
+constexpr int kMaxSteps = 1000000;
+
+// A number for JSON: null where it is not finite (never written as NaN).
+Json Number(double value) { return std::isfinite(value) ? Json(value) : Json(nullptr); }
+Json Point(const Eigen::Vector2d& point) {
+  return Json::array({Number(point.x()), Number(point.y())});
+}
+
+// [x, y] at `key` of `object`, named `item` in messages.
+Eigen::Vector2d ReadPoint(const Json& object, const char* key, const std::string& item) {
+  const auto found = object.find(key);
+  if (found == object.end() || !found->is_array() || found->size() != 2 ||
+      !(*found)[0].is_number() || !(*found)[1].is_number()) {
+    throw InputError(item + "." + key + ": expected [x, y]");
+  }
+  return Eigen::Vector2d((*found)[0].get<double>(), (*found)[1].get<double>());
+}
+
+// The four-bar's joints from a result's mechanism (its "linkage": "joints"), named `item`.
+FourBarJoints ReadJoints(const Json& mechanism, const std::string& item) {
+  const std::string type = mechanism.value("type", std::string());
+  const auto linkage = mechanism.find("linkage");
+  if (linkage == mechanism.end() || !linkage->is_object() || !linkage->contains("joints") ||
+      !(*linkage)["joints"].is_object()) {
+    throw InputError(item + ".linkage.joints: missing (a result file of `linkfit solve` has it)");
+  }
+  const Json& joints = (*linkage)["joints"];
+  const std::string at = item + ".linkage.joints";
+  if (type != "4R" && type != "slider-crank") {
+    throw InputError(item + ": analysis of " + (type.empty() ? "this mechanism" : type) +
+                     " four-bars is not available yet (4R and slider-crank are)");
+  }
+  if (!joints.contains("input_pivot")) {
+    throw InputError(item +
+                     ": analysis of a four-bar driven by a slider is not available yet "
+                     "(one driven by a crank is)");
+  }
+  FourBarJoints read;
+  read.input_pivot = ReadPoint(joints, "input_pivot", at);
+  read.input_pin = ReadPoint(joints, "input_pin", at);
+  read.output_pin = ReadPoint(joints, "output_pin", at);
+  if (joints.contains("coupler_point")) read.coupler_point = ReadPoint(joints, "coupler_point", at);
+  if (type == "4R") {
+    read.output_pivot = ReadPoint(joints, "output_pivot", at);
+    return read;
+  }
+  const auto line = joints.find("output_slider_line");
+  if (line == joints.end() || !line->is_object()) {
+    throw InputError(at + ".output_slider_line: missing");
+  }
+  if (line->value("on", std::string("ground")) != "ground") {
+    throw InputError(item +
+                     ": analysis of a slider-crank whose line turns with the coupler is "
+                     "not available yet");
+  }
+  const auto angle = line->find("angle_deg");
+  if (angle == line->end() || !angle->is_number()) {
+    throw InputError(at + ".output_slider_line.angle_deg: expected a number");
+  }
+  read.slider = true;
+  read.slider_point = ReadPoint(*line, "point", at + ".output_slider_line");
+  const double radians = angle->get<double>() / kDegree;
+  read.slider_direction = Eigen::Vector2d(std::cos(radians), std::sin(radians));
+  return read;
+}
+
+std::string CsvNumber(const std::optional<double>& value) {
+  if (!value || !std::isfinite(*value)) return "";
+  char text[40];
+  std::snprintf(text, sizeof(text), "%.17g", *value);
+  return text;
+}
+
+}  // namespace
+
+std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
+                              const AnalysisRequest& request) {
+  if (!(request.input_speed != 0.0) || !std::isfinite(request.input_speed)) {
+    throw InputError("--input-speed: expected a number other than 0 (rad/s)");
+  }
+  if (request.steps < 1 || request.steps > kMaxSteps) {
+    throw InputError("--steps: expected a whole number from 1 to " + std::to_string(kMaxSteps));
+  }
+  Json result;
+  try {
+    result = Json::parse(result_text);
+  } catch (const Json::parse_error& error) {
+    throw InputError(source + ": not a JSON result file (" + std::string(error.what()) + ")");
+  }
+  if (!result.is_object()) throw InputError(source + ": expected a JSON object (a result file)");
+  const auto six_bars = result.find("six_bars");
+  if (six_bars != result.end() && six_bars->is_array() && !six_bars->empty()) {
+    throw InputError(source +
+                     ": analysis of six-bars is not available yet (planar four-bars "
+                     "driven by a crank are)");
+  }
+  const std::string space = result.value("space", std::string("planar"));
+  if (space != "planar") {
+    throw InputError(source + ": analysis of " + space +
+                     " mechanisms is not available yet (planar four-bars driven by a crank are)");
+  }
+  const char* list = "mechanisms";
+  const auto mechanisms = result.find(list);
+  if (mechanisms == result.end() || !mechanisms->is_array()) {
+    throw InputError(source + ": no \"mechanisms\" (a result file of `linkfit solve` lists them)");
+  }
+  if (request.mechanism < 0 || request.mechanism >= static_cast<int>(mechanisms->size())) {
+    throw InputError(source + ": no mechanism ranked " + std::to_string(request.mechanism + 1) +
+                     " (counted from 1): the result lists " + std::to_string(mechanisms->size()));
+  }
+  const std::string item = source + ": " + list + "[" + std::to_string(request.mechanism) + "]";
+  const Json& mechanism = (*mechanisms)[request.mechanism];
+  if (!mechanism.is_object()) throw InputError(item + ": expected an object");
+  const FourBarJoints joints = ReadJoints(mechanism, item);
+  const double length =
+      std::max({1e-300, (joints.input_pin - joints.input_pivot).norm(),
+                (joints.output_pin - joints.input_pin).norm(), result.value("scale", 0.0)});
+  FourBarKinematicsOptions options;
+  options.input_speed = request.input_speed;
+  options.steps = request.steps;
+  options.load = request.load;
+  const FourBarKinematics kinematics = AnalyzeFourBarKinematics(joints, options, length);
+  const bool loaded = request.load.coupler_force.norm() > 0.0 ||
+                      request.load.output_torque != 0.0 || request.load.slider_force != 0.0;
+  const bool point = joints.coupler_point.has_value();
+  const char* output_name = joints.slider ? "slider" : "output";
+
+  if (request.csv) {
+    std::string csv =
+        "input_deg,coupler_angle_deg,coupler_angular_velocity,"
+        "coupler_angular_acceleration";
+    csv += joints.slider ? ",slider_position,slider_velocity,slider_acceleration"
+                         : ",output_angle_deg,output_angular_velocity,output_angular_acceleration";
+    if (point) {
+      csv +=
+          ",coupler_point_x,coupler_point_y,coupler_point_velocity_x,coupler_point_velocity_y,"
+          "coupler_point_acceleration_x,coupler_point_acceleration_y";
+    }
+    csv += ",transmission_angle_deg,mechanical_advantage,input_torque\n";
+    for (const FourBarState& state : kinematics.states) {
+      std::vector<std::optional<double>> row = {
+          state.input_angle * kDegree,
+          state.coupler_angle * kDegree,
+          state.coupler_velocity,
+          state.coupler_acceleration,
+          joints.slider ? state.output : state.output * kDegree,
+          state.output_velocity,
+          state.output_acceleration};
+      if (point) {
+        for (const Eigen::Vector2d* v : {&state.coupler_point, &state.coupler_point_velocity,
+                                         &state.coupler_point_acceleration}) {
+          row.push_back(v->x());
+          row.push_back(v->y());
+        }
+      }
+      row.push_back(state.transmission_angle_deg);
+      row.push_back(state.mechanical_advantage);
+      row.push_back(state.input_torque);
+      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
+      csv += "\n";
+    }
+    return csv;
+  }
+
+  Json out;
+  out["mechanism"] = request.mechanism + 1;
+  out["type"] = mechanism.value("type", std::string());
+  out["input_speed_rad_s"] = request.input_speed;
+  out["input_rotates_fully"] = kinematics.input_rotates_fully;
+  out["input_range_deg"] = Json::array(
+      {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
+  Json torque = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
+  Json links = {
+      {"input", Json::object()}, {"coupler", Json::object()}, {output_name, Json::object()}};
+  Json angles[3] = {Json::array(), Json::array(), Json::array()};
+  Json rates[3] = {Json::array(), Json::array(), Json::array()};
+  Json accelerations[3] = {Json::array(), Json::array(), Json::array()};
+  for (const FourBarState& state : kinematics.states) {
+    input_deg.push_back(Number(state.input_angle * kDegree));
+    angles[0].push_back(Number(state.input_angle * kDegree));
+    rates[0].push_back(Number(request.input_speed));
+    accelerations[0].push_back(0.0);
+    angles[1].push_back(Number(state.coupler_angle * kDegree));
+    rates[1].push_back(Number(state.coupler_velocity));
+    accelerations[1].push_back(Number(state.coupler_acceleration));
+    angles[2].push_back(Number(joints.slider ? state.output : state.output * kDegree));
+    rates[2].push_back(Number(state.output_velocity));
+    accelerations[2].push_back(Number(state.output_acceleration));
+    if (point) {
+      p.push_back(Point(state.coupler_point));
+      v.push_back(Point(state.coupler_point_velocity));
+      a.push_back(Point(state.coupler_point_acceleration));
+    }
+    transmission.push_back(Number(state.transmission_angle_deg));
+    advantage.push_back(state.mechanical_advantage ? Number(*state.mechanical_advantage)
+                                                   : Json(nullptr));
+    torque.push_back(Number(state.input_torque));
+  }
+  out["input_deg"] = input_deg;
+  const char* names[3] = {"input", "coupler", output_name};
+  for (int l = 0; l < 3; ++l) {
+    Json& link = links[names[l]];
+    if (l == 2 && joints.slider) {
+      link["position"] = angles[l];
+      link["velocity"] = rates[l];
+      link["acceleration"] = accelerations[l];
+    } else {
+      link["angle_deg"] = angles[l];
+      link["angular_velocity"] = rates[l];
+      link["angular_acceleration"] = accelerations[l];
+    }
+  }
+  out["links"] = links;
+  if (point) {
+    out["coupler_point"] = p;
+    out["coupler_point_velocity"] = v;
+    out["coupler_point_acceleration"] = a;
+  }
+  out["transmission_angle_deg"] = transmission;
+  out["mechanical_advantage"] = advantage;
+  if (loaded) {
+    out["load"] = {{"coupler_force", Point(request.load.coupler_force)},
+                   {"output_torque", Number(request.load.output_torque)},
+                   {"slider_force", Number(request.load.slider_force)}};
+    out["input_torque"] = torque;
+    out["peak_input_torque"] = Number(kinematics.peak_input_torque);
+  }
+  Json dead = Json::array();
+  for (const FourBarState& state : kinematics.dead_points) {
+    Json at = {{"input_deg", Number(state.input_angle * kDegree)},
+               {"transmission_angle_deg", Number(state.transmission_angle_deg)},
+               {"input_pin", Point(state.input_pin)},
+               {"output_pin", Point(state.output_pin)}};
+    if (point) at["coupler_point"] = Point(state.coupler_point);
+    dead.push_back(at);
+  }
+  out["dead_points"] = dead;
+  Json notes = Json::array();
+  if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  if (!kinematics.input_rotates_fully) {
+    notes.push_back(
+        "the input is a rocker: its range runs between its two dead points (listed), "
+        "sampled inside them");
+  }
+  if (!point) notes.push_back("no coupler point in the result: its arrays are left out");
+  out["units"] = {{"angles", "degrees"},
+                  {"angular_velocity", "rad/s"},
+                  {"angular_acceleration", "rad/s^2"},
+                  {"lengths", "the result's"},
+                  {"mechanical_advantage", joints.slider ? "output force / input torque (1/length)"
+                                                         : "output torque / input torque"}};
+  out["notes"] = notes;
+  return out.dump(2) + "\n";
+}
+
+}  // namespace linkfit

@@ -1,0 +1,36 @@
+// `linkfit analyze`: the kinematic and static analysis (lib/four_bar_kinematics.h) of one
+// mechanism of a result file, written as JSON or CSV.
+#ifndef LINKFIT_LIB_ANALYSIS_IO_H_
+#define LINKFIT_LIB_ANALYSIS_IO_H_
+
+#include <string>
+
+#include "lib/four_bar_kinematics.h"
+
+namespace linkfit {
+
+struct AnalysisRequest {
+  int mechanism = 0;         // its index in the result's "mechanisms" (0: the first listed)
+  double input_speed = 1.0;  // rad/s, not 0
+  int steps = 360;           // samples over the input's range (1 to 1000000)
+  FourBarLoad load;          // the load the input holds
+  bool csv = false;          // CSV (one row per step) instead of JSON
+};
+
+// The analysis of mechanism `request.mechanism` of the result `result_text` (a result file's
+// JSON: planar four-bars of motion, path and function results whose input is a crank: 4Rs and
+// slider-cranks with the slider's line on ground). JSON: the input's range and whether it turns
+// fully, per step "input_deg", per link ("input", "coupler", "output"; a slider's "slider") its
+// angle (deg; a slider: its position along its line), angular velocity (rad/s) and angular
+// acceleration (rad/s^2; a slider: velocity and acceleration), "coupler_point",
+// "coupler_point_velocity", "coupler_point_acceleration" ([x, y] each; none without a coupler
+// point), "transmission_angle_deg", "mechanical_advantage" (null where the output stands still),
+// "input_torque" and "peak_input_torque" (with a load), and the "dead_points". Throws InputError
+// (naming `source` and the item) for a result that is not JSON, has no such mechanism, or one
+// of a kind not analyzed (yet), and for a bad request.
+std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
+                              const AnalysisRequest& request);
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_LIB_ANALYSIS_IO_H_

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/dxf_export.h"
 #include "apps/output_file.h"
 #include "apps/picture.h"
 #include "bench/trade_bench.h"
@@ -480,6 +481,28 @@ int Analyze(const std::string& result_path, const std::string& output_path, Anal
   return kExitOk;
 }
 
+// `linkfit export --dxf`: one mechanism of a result file as a DXF drawing (apps/dxf_export.h),
+// the task's poses or points on it when given.
+int Export(const std::string& result_path, const std::string& dxf_path,
+           const std::string& task_path, DxfExportRequest request) {
+  OutputSet outputs;
+  outputs.AddInput(result_path);
+  if (!task_path.empty()) outputs.AddInput(task_path);
+  OutputFile& output = outputs.Add(dxf_path, "--dxf");
+  std::ifstream in(result_path, std::ios::binary);
+  if (!in) throw InputError(result_path + ": cannot read the file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<Task> tasks;
+  if (!task_path.empty()) {
+    tasks = ReadTaskFile(task_path);
+    if (tasks.size() != 1) throw InputError(task_path + ": export takes one task, not a batch");
+    request.task = &tasks[0];
+  }
+  output.Write(ResultDxf(text, result_path, request));
+  outputs.CommitAll();
+  return kExitOk;
+}
+
 int Run(int argc, char** argv) {
   CLI::App app(kDescription, "linkfit");
   app.footer(kFooter);
@@ -608,6 +631,29 @@ int Run(int argc, char** argv) {
   analyze->add_flag("--csv", analysis.csv, "CSV, one row per step, instead of JSON");
   analyze->add_option("-o,--output", analyze_output, "write to this file (default: stdout)");
 
+  std::string export_result, export_dxf, export_task;
+  DxfExportRequest export_request;
+  int export_index = 1;
+  double export_input_deg = 0.0;
+  CLI::App* export_command = app.add_subcommand(
+      "export",
+      "Write a listed four-bar as a DXF drawing for CAD: each link on its own layer with its "
+      "pivots as circles, the coupler body, the coupler curve, the task's poses or points, "
+      "dimensions of the link lengths.");
+  export_command->add_option("RESULT", export_result, "result file of `linkfit solve` (.json)")
+      ->required();
+  export_command
+      ->add_option("--mechanism", export_index,
+                   "which listed mechanism: its rank, counted from 1 as in --summary")
+      ->check(WholeNumber(1, kMaxIndex));
+  export_command->add_option("--dxf", export_dxf, "the DXF file to write")->required();
+  CLI::Option* input_deg_option = export_command->add_option(
+      "--input-deg", export_input_deg,
+      "draw the four-bar with its crank at this angle, degrees in the fixed frame (default: at "
+      "the first pose)");
+  export_command->add_option("--task", export_task,
+                             "the result's task file: its poses or points drawn too");
+
   BenchOptions bench_options;
   bool trade_only = false, extremes_only = false, constrained_only = false;
   CLI::App* bench = app.add_subcommand(
@@ -646,9 +692,10 @@ int Run(int argc, char** argv) {
   // A first word that is no command (CLI11 would say "A subcommand is required").
   const std::string first = argc > 1 ? argv[1] : "";
   if (!first.empty() && first[0] != '-' && first != "solve" && first != "refine" &&
-      first != "bench" && first != "show" && first != "analyze") {
+      first != "bench" && first != "show" && first != "analyze" && first != "export") {
     PrintError("error", std::string("unknown command '") + argv[1] +
-                            "': solve, refine, analyze, show or bench (see 'linkfit --help')");
+                            "': solve, refine, analyze, export, show or bench (see 'linkfit "
+                            "--help')");
     return kExitBadInput;
   }
   try {
@@ -665,6 +712,11 @@ int Run(int argc, char** argv) {
     return Refine(refine_task, design_path, refine_output, refine_index, refine_summary);
   }
   if (show->parsed()) return Show(show_path);
+  if (export_command->parsed()) {
+    export_request.mechanism = export_index - 1;
+    if (input_deg_option->count() > 0) export_request.input_deg = export_input_deg;
+    return Export(export_result, export_dxf, export_task, export_request);
+  }
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
     return Analyze(analyze_result, analyze_output, analysis, analyze_force);

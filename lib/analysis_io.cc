@@ -90,14 +90,8 @@ std::string CsvNumber(const std::optional<double>& value) {
 
 }  // namespace
 
-std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
-                              const AnalysisRequest& request) {
-  if (!(request.input_speed != 0.0) || !std::isfinite(request.input_speed)) {
-    throw InputError("--input-speed: expected a number other than 0 (rad/s)");
-  }
-  if (request.steps < 1 || request.steps > kMaxSteps) {
-    throw InputError("--steps: expected a whole number from 1 to " + std::to_string(kMaxSteps));
-  }
+ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
+                                int mechanism_index) {
   Json result;
   try {
     result = Json::parse(result_text);
@@ -116,22 +110,37 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     throw InputError(source + ": analysis of " + space +
                      " mechanisms is not available yet (planar four-bars driven by a crank are)");
   }
-  const char* list = "mechanisms";
-  const auto mechanisms = result.find(list);
+  const auto mechanisms = result.find("mechanisms");
   if (mechanisms == result.end() || !mechanisms->is_array()) {
     throw InputError(source + ": no \"mechanisms\" (a result file of `linkfit solve` lists them)");
   }
-  if (request.mechanism < 0 || request.mechanism >= static_cast<int>(mechanisms->size())) {
-    throw InputError(source + ": no mechanism ranked " + std::to_string(request.mechanism + 1) +
+  if (mechanism_index < 0 || mechanism_index >= static_cast<int>(mechanisms->size())) {
+    throw InputError(source + ": no mechanism ranked " + std::to_string(mechanism_index + 1) +
                      " (counted from 1): the result lists " + std::to_string(mechanisms->size()));
   }
-  const std::string item = source + ": " + list + "[" + std::to_string(request.mechanism) + "]";
-  const Json& mechanism = (*mechanisms)[request.mechanism];
+  const std::string item = source + ": mechanisms[" + std::to_string(mechanism_index) + "]";
+  const Json& mechanism = (*mechanisms)[mechanism_index];
   if (!mechanism.is_object()) throw InputError(item + ": expected an object");
-  const FourBarJoints joints = ReadJoints(mechanism, item);
-  const double length =
-      std::max({1e-300, (joints.input_pin - joints.input_pivot).norm(),
-                (joints.output_pin - joints.input_pin).norm(), result.value("scale", 0.0)});
+  ResultFourBar read;
+  read.joints = ReadJoints(mechanism, item);
+  read.type = mechanism.value("type", std::string());
+  read.length = std::max({1e-300, (read.joints.input_pin - read.joints.input_pivot).norm(),
+                          (read.joints.output_pin - read.joints.input_pin).norm(),
+                          result.value("scale", 0.0)});
+  return read;
+}
+
+std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
+                              const AnalysisRequest& request) {
+  if (!(request.input_speed != 0.0) || !std::isfinite(request.input_speed)) {
+    throw InputError("--input-speed: expected a number other than 0 (rad/s)");
+  }
+  if (request.steps < 1 || request.steps > kMaxSteps) {
+    throw InputError("--steps: expected a whole number from 1 to " + std::to_string(kMaxSteps));
+  }
+  const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
+  const FourBarJoints& joints = four_bar.joints;
+  const double length = four_bar.length;
   FourBarKinematicsOptions options;
   options.input_speed = request.input_speed;
   options.steps = request.steps;
@@ -181,7 +190,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
 
   Json out;
   out["mechanism"] = request.mechanism + 1;
-  out["type"] = mechanism.value("type", std::string());
+  out["type"] = four_bar.type;
   out["input_speed_rad_s"] = request.input_speed;
   out["input_rotates_fully"] = kinematics.input_rotates_fully;
   out["input_range_deg"] = Json::array(

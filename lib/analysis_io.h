@@ -17,6 +17,19 @@ struct AnalysisRequest {
   bool csv = false;          // CSV (one row per step) instead of JSON
 };
 
+// A four-bar of a result file: its joints at the first pose, its type ("4R", "slider-crank") and
+// a length for tolerances (its crank's, its coupler's or the result's scale, the largest).
+struct ResultFourBar {
+  FourBarJoints joints;
+  std::string type;
+  double length = 1.0;
+};
+
+// Mechanism `mechanism_index` (0: the first listed) of the result `result_text`; InputError
+// (naming `source` and the item) as AnalyzeResultText.
+ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
+                                int mechanism_index);
+
 // The analysis of mechanism `request.mechanism` of the result `result_text` (a result file's
 // JSON: planar four-bars of motion, path and function results whose input is a crank: 4Rs and
 // slider-cranks with the slider's line on ground). JSON: the input's range and whether it turns

@@ -4,6 +4,8 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <string>
 #include <vector>
 
 namespace linkfit {
@@ -99,35 +101,32 @@ double Continued(double angle, double previous) {
   return previous + std::remainder(angle - previous, 2.0 * M_PI);
 }
 
-}  // namespace
-
-FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
-                                           const FourBarKinematicsOptions& options, double length) {
-  FourBarKinematics kinematics;
+// The loop of `joints` (its dimensions and the assembly of its reference configuration), or
+// none with the reason in *note.
+std::optional<Loop> MakeLoop(const FourBarJoints& joints, double length, std::string* note) {
   Loop loop;
   loop.joints = joints;
   loop.crank = (joints.input_pin - joints.input_pivot).norm();
   loop.coupler = (joints.output_pin - joints.input_pin).norm();
   const double shortest = 1e-9 * length;
   if (!(loop.crank > shortest) || !(loop.coupler > shortest)) {
-    kinematics.note = "the input crank or the coupler has no length";
-    return kinematics;
+    *note = "the input crank or the coupler has no length";
+    return std::nullopt;
   }
-  const double w2 = options.input_speed;
   if (joints.slider) {
     const Eigen::Vector2d& u = joints.slider_direction;
     const Eigen::Vector2d w = joints.input_pin - joints.slider_point;
     if (std::abs(Cross(u, joints.output_pin - joints.slider_point)) > 1e-6 * length) {
-      kinematics.note = "the output pin is off its slider line";
-      return kinematics;
+      *note = "the output pin is off its slider line";
+      return std::nullopt;
     }
     const double s = u.dot(joints.output_pin - joints.slider_point);
     loop.side = s - u.dot(w) >= 0.0 ? 1 : -1;
   } else {
     loop.rocker = (joints.output_pin - joints.output_pivot).norm();
     if (!(loop.rocker > shortest)) {
-      kinematics.note = "the output rocker has no length";
-      return kinematics;
+      *note = "the output rocker has no length";
+      return std::nullopt;
     }
     loop.side =
         Cross(joints.output_pivot - joints.input_pin, joints.output_pin - joints.input_pin) >= 0.0
@@ -136,12 +135,51 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
   }
   const Eigen::Vector2d r3_reference = joints.output_pin - joints.input_pin;
   loop.coupler_reference_angle = std::atan2(r3_reference.y(), r3_reference.x());
-  if (joints.coupler_point)
+  if (joints.coupler_point) {
     loop.coupler_point_on_coupler = *joints.coupler_point - joints.input_pin;
+  }
+  return loop;
+}
 
-  // The input's range about the reference crank angle: to the nearest critical angle each way,
-  // or a whole turn.
-  const Eigen::Vector2d r2_reference = joints.input_pin - joints.input_pivot;
+// The positions at a crank angle (clamped at a dead point just past it with `clamp`), the
+// coupler's angle continued from `previous_coupler` and the rocker's from `previous_output`
+// (where given); false where the loop does not close.
+bool PlaceOnLoop(const Loop& loop, double input_angle, bool clamp, double previous_coupler,
+                 const std::optional<double>& previous_output, FourBarState* state) {
+  const FourBarJoints& joints = loop.joints;
+  Eigen::Vector2d a, b;
+  double s = 0.0;
+  if (!loop.Close(input_angle, clamp, &a, &b, &s)) return false;
+  state->input_angle = input_angle;
+  state->input_pin = a;
+  state->output_pin = b;
+  const Eigen::Vector2d r3 = b - a;
+  state->coupler_angle = Continued(std::atan2(r3.y(), r3.x()), previous_coupler);
+  if (joints.slider) {
+    state->output = s;
+    const Eigen::Vector2d normal = Perp(joints.slider_direction);
+    state->transmission_angle_deg =
+        std::acos(std::clamp(r3.dot(normal) / r3.norm(), -1.0, 1.0)) * 180.0 / M_PI;
+  } else {
+    const Eigen::Vector2d r4 = b - joints.output_pivot;
+    const double angle = std::atan2(r4.y(), r4.x());
+    state->output = previous_output ? Continued(angle, *previous_output) : angle;
+    // The angle at B between the coupler (toward A) and the rocker (toward B0).
+    state->transmission_angle_deg =
+        std::acos(std::clamp((-r3).dot(-r4) / (r3.norm() * r4.norm()), -1.0, 1.0)) * 180.0 / M_PI;
+  }
+  if (joints.coupler_point) {
+    const double turn = state->coupler_angle - loop.coupler_reference_angle;
+    state->coupler_point =
+        a + Eigen::Rotation2Dd(turn).toRotationMatrix() * loop.coupler_point_on_coupler;
+  }
+  return true;
+}
+
+// The input's range about the reference crank angle: to the nearest critical angle each way, or
+// a whole turn from it.
+void InputRange(const Loop& loop, double* start, double* end, bool* full) {
+  const Eigen::Vector2d r2_reference = loop.joints.input_pin - loop.joints.input_pivot;
   const double reference = std::atan2(r2_reference.y(), r2_reference.x());
   double ahead = 2.0 * M_PI, behind = 2.0 * M_PI;
   for (const double critical : loop.CriticalAngles()) {
@@ -155,43 +193,46 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
     ahead = std::min(ahead, offset);
     behind = std::min(behind, 2.0 * M_PI - offset);
   }
-  kinematics.input_rotates_fully = ahead == 2.0 * M_PI && behind == 2.0 * M_PI;
-  kinematics.range_start = reference - (kinematics.input_rotates_fully ? 0.0 : behind);
-  kinematics.range_end = reference + ahead;
+  *full = ahead == 2.0 * M_PI && behind == 2.0 * M_PI;
+  *start = reference - (*full ? 0.0 : behind);
+  *end = reference + ahead;
+}
+
+}  // namespace
+
+bool PlaceFourBar(const FourBarJoints& joints, double input_angle, double length,
+                  FourBarState* state) {
+  std::string note;
+  const std::optional<Loop> loop = MakeLoop(joints, length, &note);
+  if (!loop) return false;
+  // On the reference's circuit: a rocker's angle within its range about the reference.
+  double start = 0.0, end = 0.0;
+  bool full = false;
+  InputRange(*loop, &start, &end, &full);
+  double offset = std::fmod(input_angle - start, 2.0 * M_PI);
+  if (offset < 0.0) offset += 2.0 * M_PI;
+  if (!full && offset > end - start) return false;
+  return PlaceOnLoop(*loop, start + offset, false, loop->coupler_reference_angle, std::nullopt,
+                     state);
+}
+
+FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
+                                           const FourBarKinematicsOptions& options, double length) {
+  FourBarKinematics kinematics;
+  const std::optional<Loop> made = MakeLoop(joints, length, &kinematics.note);
+  if (!made) return kinematics;
+  const Loop& loop = *made;
+  const double w2 = options.input_speed;
+
+  InputRange(loop, &kinematics.range_start, &kinematics.range_end, &kinematics.input_rotates_fully);
   const int steps = std::max(1, options.steps);
   const double span = kinematics.range_end - kinematics.range_start;
 
-  // Positions at a crank angle (clamped at the range's ends), the coupler angle continued.
-  double previous_coupler = loop.coupler_reference_angle, previous_output = 0.0;
-  bool first = true;
+  // Positions at a crank angle (clamped at the range's ends), the angles continued.
+  double previous_coupler = loop.coupler_reference_angle;
+  std::optional<double> previous_output;
   const auto place = [&](double input_angle, bool clamp, FourBarState* state) {
-    Eigen::Vector2d a, b;
-    double s = 0.0;
-    if (!loop.Close(input_angle, clamp, &a, &b, &s)) return false;
-    state->input_angle = input_angle;
-    state->input_pin = a;
-    state->output_pin = b;
-    const Eigen::Vector2d r3 = b - a;
-    state->coupler_angle = Continued(std::atan2(r3.y(), r3.x()), previous_coupler);
-    if (joints.slider) {
-      state->output = s;
-      const Eigen::Vector2d normal = Perp(joints.slider_direction);
-      state->transmission_angle_deg =
-          std::acos(std::clamp(r3.dot(normal) / r3.norm(), -1.0, 1.0)) * 180.0 / M_PI;
-    } else {
-      const Eigen::Vector2d r4 = b - joints.output_pivot;
-      const double angle = std::atan2(r4.y(), r4.x());
-      state->output = first ? angle : Continued(angle, previous_output);
-      // The angle at B between the coupler (toward A) and the rocker (toward B0).
-      state->transmission_angle_deg =
-          std::acos(std::clamp((-r3).dot(-r4) / (r3.norm() * r4.norm()), -1.0, 1.0)) * 180.0 / M_PI;
-    }
-    if (joints.coupler_point) {
-      const double turn = state->coupler_angle - loop.coupler_reference_angle;
-      state->coupler_point =
-          a + Eigen::Rotation2Dd(turn).toRotationMatrix() * loop.coupler_point_on_coupler;
-    }
-    return true;
+    return PlaceOnLoop(loop, input_angle, clamp, previous_coupler, previous_output, state);
   };
   // The rates at a placed state: false at a dead point.
   const auto rates = [&](FourBarState* state) {
@@ -274,7 +315,6 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
     if (!place(input_angle, false, &state)) continue;
     previous_coupler = state.coupler_angle;
     previous_output = state.output;
-    first = false;
     if (!rates(&state)) {
       kinematics.dead_points.push_back(state);  // a change point on a turning crank
       continue;

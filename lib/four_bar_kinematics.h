@@ -94,6 +94,13 @@ struct FourBarKinematics {
 FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
                                            const FourBarKinematicsOptions& options, double length);
 
+// The four-bar at the crank angle `input_angle` (radians), on the circuit of its reference
+// configuration: its pins, coupler point, the coupler's and the output's angles and the
+// transmission angle (no rates). False outside the input's range about the reference (where the
+// loop does not close, or closes only on another circuit).
+bool PlaceFourBar(const FourBarJoints& joints, double input_angle, double length,
+                  FourBarState* state);
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_LIB_FOUR_BAR_KINEMATICS_H_

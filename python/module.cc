@@ -12,11 +12,13 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include "apps/dxf_export.h"
 #include "apps/picture.h"
 #include "lib/analysis_io.h"
 #include "lib/parallel.h"
@@ -199,6 +201,24 @@ PYBIND11_MODULE(_linkfit, m) {
       py::arg("steps") = 360, py::arg("force_x") = 0.0, py::arg("force_y") = 0.0,
       py::arg("output_torque") = 0.0, py::arg("slider_force") = 0.0,
       "The kinematics of one mechanism of a result (JSON text), as `linkfit analyze` writes it.");
+  m.def(
+      "export_dxf_json",
+      [](const std::string& result, int mechanism, std::optional<double> input_deg,
+         const std::string& task) {
+        linkfit::DxfExportRequest request;
+        request.mechanism = mechanism;
+        request.input_deg = input_deg;
+        std::optional<linkfit::Task> parsed;
+        if (!task.empty()) {
+          parsed = linkfit::ParseTask(task, "task");
+          request.task = &*parsed;
+        }
+        py::gil_scoped_release release;
+        return py::bytes(linkfit::ResultDxf(result, "result", request));
+      },
+      py::arg("result"), py::arg("mechanism") = 0, py::arg("input_deg") = std::nullopt,
+      py::arg("task") = "",
+      "One mechanism of a result (JSON text) as DXF text, as `linkfit export --dxf` writes it.");
   m.def(
       "summary_json",
       [](const std::string& result, const std::string& title) {

@@ -18,10 +18,11 @@ Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses
 import json
 import math
 
-from ._linkfit import (InputError, __version__, analyze_json, refine_drawn_json,
-                       solve_drawn_json, solve_many_json, summary_json)
+from ._linkfit import (InputError, __version__, analyze_json, export_dxf_json,
+                       refine_drawn_json, solve_drawn_json, solve_many_json, summary_json)
 
-__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "analyze", "plot", "summary",
+__all__ = ["InputError", "Result", "solve", "refine", "solve_many", "analyze", "export_dxf",
+           "plot", "summary",
            "planar_poses", "spatial_poses", "path_points", "__version__"]
 
 InputError.__doc__ = """Bad input: a task, design or argument that linkfit refuses.
@@ -417,6 +418,47 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None):
     return json.loads(analyze_json(text, mechanism, speed, steps, force[0], force[1],
                                    number(load.get("output_torque", 0.0), "load.output_torque"),
                                    number(load.get("slider_force", 0.0), "load.slider_force")))
+
+
+def export_dxf(result, path, mechanism=0, input_deg=None, task=None):
+    """Writes a listed four-bar as a DXF drawing, as ``linkfit export --dxf``.
+
+    Each link on its own layer (``GROUND``, ``INPUT``, ``COUPLER``, ``OUTPUT``) with its pivots
+    as circles, the coupler body, the coupler curve (``CURVE``), the task's poses or points
+    (``TASK``, when ``task`` is given) and aligned dimensions of the link lengths
+    (``DIMENSIONS``), in the result's coordinates. 4Rs and slider-cranks driven by a crank.
+
+    Args:
+        result: a result (dict or JSON text).
+        path: the DXF file to write (str or path-like).
+        mechanism (int): a list index (0, the first listed).
+        input_deg (float or None): draw the crank at this angle (degrees, fixed frame); None:
+            at the first pose.
+        task: the result's task (dict or JSON text), to draw its poses or points.
+
+    Returns:
+        None: the drawing is in ``path`` (AutoCAD 2000 DXF, readable by CAD programs and
+        ezdxf).
+
+    Raises:
+        InputError: for a result without such a mechanism, one not drawn (yet), or an angle
+            where the four-bar does not assemble.
+
+    Example:
+        >>> linkfit.export_dxf(linkfit.solve(task), "four_bar.dxf", task=task)
+    """
+    mechanism = _whole_number(mechanism, "mechanism", 0, 10**9)
+    if input_deg is not None:
+        input_deg = _plain(input_deg)
+        if not _is_number(input_deg) or not math.isfinite(input_deg):
+            raise InputError("input_deg: expected a finite number, got %r" % (input_deg,))
+        input_deg = float(input_deg)
+    text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))
+    task_text = "" if task is None else (task if isinstance(task, str)
+                                         else json.dumps(_plain(dict(task))))
+    drawing = export_dxf_json(text, mechanism, input_deg, task_text)
+    with open(path, "wb") as out:
+        out.write(drawing)
 
 
 def plot(result, ax=None, mechanism=None, task=None):

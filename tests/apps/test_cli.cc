@@ -13,6 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "lib/spherical_dyad.h"
 
@@ -92,6 +94,30 @@ class CliTest : public ::testing::Test {
     for (const auto& entry : std::filesystem::directory_iterator(dir_)) {
       const std::string name = entry.path().filename().string();
       EXPECT_TRUE(name == "task.json" || name == "stdout" || name == "stderr") << name;
+    }
+  }
+
+  // The result of `linkfit solve` on the bundled example `name`, written in the temporary
+  // directory; its path.
+  std::string Solved(const std::string& name) const {
+    const std::string path = Path("solved_" + name);
+    const RunResult run =
+        Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/" + name + "' -o '" + path + "'");
+    EXPECT_EQ(run.status, 0) << name << ": " << run.err;
+    return path;
+  }
+
+  // Each `linkfit COMMAND ARGS -o/--dxf OUTPUT` of `refused` (arguments, start of the message)
+  // exits 2 with one line holding the message and writes no `output`.
+  void ExpectRefused(const std::string& command, const std::string& output_option,
+                     const std::vector<std::pair<std::string, std::string>>& refused) const {
+    for (const auto& [args, message] : refused) {
+      const RunResult run =
+          Run(command + " " + args + " " + output_option + " '" + Path("refused.out") + "'");
+      EXPECT_EQ(run.status, 2) << args;
+      EXPECT_EQ(run.err.find('\n'), run.err.size() - 1) << run.err;
+      EXPECT_NE(run.err.find(message), std::string::npos) << run.err;
+      EXPECT_FALSE(std::filesystem::exists(Path("refused.out")));
     }
   }
 
@@ -241,11 +267,7 @@ TEST_F(CliTest, SummaryAndShowPrintTheTable) {
 // the load's torque, CSV with a row per step; path and function results (the latter without a
 // coupler point); bad requests exit 2 with one line and write nothing.
 TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
-  const std::string result_path = Path("result.json");
-  ASSERT_EQ(Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json' -o '" +
-                result_path + "'")
-                .status,
-            0);
+  const std::string result_path = Solved("four_bar_5_poses.json");
   const nlohmann::json result = nlohmann::json::parse(ReadFile(result_path));
   const RunResult run =
       Run("analyze '" + result_path + "' --steps 36 --input-speed 2 --force 0,-10 -o '" +
@@ -283,11 +305,7 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
   EXPECT_EQ(csv.out.rfind("input_deg,coupler_angle_deg,", 0), 0u);
   // A path result and a function result.
   for (const char* task : {"path_5_points.json", "function_log10.json"}) {
-    const std::string solved = Path(std::string("solved_") + task);
-    ASSERT_EQ(
-        Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/" + task + "' -o '" + solved + "'")
-            .status,
-        0);
+    const std::string solved = Solved(task);
     const RunResult analyzed = Run("analyze '" + solved + "' --steps 10");
     ASSERT_EQ(analyzed.status, 0) << task << ": " << analyzed.err;
     const nlohmann::json parsed = nlohmann::json::parse(analyzed.out);
@@ -295,26 +313,40 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
     EXPECT_FALSE(parsed["input_deg"].empty()) << task;
   }
   // Bad requests: one line, exit 2, no output file.
-  const std::string six_bar = Path("six_bar.json");
-  ASSERT_EQ(Run("solve '" + std::string(LINKFIT_SOURCE_DIR) + "/data/six_bar_5_poses.json' -o '" +
-                six_bar + "'")
-                .status,
-            0);
-  const struct {
-    std::string args, message;
-  } bad[] = {
-      {"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
-      {"'" + six_bar + "'", "analysis of six-bars is not available yet"},
-      {"'" + result_path + "' --input-speed 0", "--input-speed: expected a number other than 0"},
-      {"'" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json'", "no \"mechanisms\""},
-  };
-  for (const auto& request : bad) {
-    const RunResult refused = Run("analyze " + request.args + " -o '" + Path("out.json") + "'");
-    EXPECT_EQ(refused.status, 2) << request.args;
-    EXPECT_EQ(refused.err.find('\n'), refused.err.size() - 1) << refused.err;
-    EXPECT_NE(refused.err.find(request.message), std::string::npos) << refused.err;
-    EXPECT_FALSE(std::filesystem::exists(Path("out.json")));
+  ExpectRefused(
+      "analyze", "-o",
+      {{"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
+       {"'" + Solved("six_bar_5_poses.json") + "'", "analysis of six-bars is not available yet"},
+       {"'" + result_path + "' --input-speed 0", "--input-speed: expected a number other than 0"},
+       {"'" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json'",
+        "no \"mechanisms\""}});
+}
+
+// `linkfit export --dxf` (issue 37): a DXF file (its content is read back by ezdxf in
+// tests/python/test_linkfit.py), at a chosen crank angle too; bad requests exit 2 with one line
+// and write nothing, an angle where a rocker does not assemble among them.
+TEST_F(CliTest, ExportWritesADxfDrawing) {
+  const std::string result_path = Solved("four_bar_5_poses.json");
+  const RunResult run = Run("export '" + result_path + "' --dxf '" + Path("a.dxf") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.out, "");
+  const std::string dxf = ReadFile(Path("a.dxf"));
+  EXPECT_NE(dxf.find("SECTION\n  2\nENTITIES"), std::string::npos);
+  EXPECT_EQ(dxf.substr(dxf.size() - 4), "EOF\n");
+  for (const char* layer : {"GROUND", "INPUT", "COUPLER", "OUTPUT", "CURVE", "DIMENSIONS"}) {
+    EXPECT_NE(dxf.find(std::string("\n") + layer + "\n"), std::string::npos) << layer;
   }
+  // Another crank angle draws another configuration.
+  ASSERT_EQ(
+      Run("export '" + result_path + "' --input-deg 200 --dxf '" + Path("b.dxf") + "'").status, 0);
+  EXPECT_NE(ReadFile(Path("b.dxf")), dxf);
+  // A function generator whose crank is a rocker: an angle outside its range is refused.
+  ExpectRefused("export", "--dxf",
+                {{"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
+                 {"'" + Solved("function_log10.json") + "' --input-deg 270",
+                  "--input-deg 270: the four-bar does not reach it on its circuit"},
+                 {"'" + result_path + "' --task '" + Path("missing.json") + "'", "missing.json"}});
+  EXPECT_EQ(Run("export '" + result_path + "'").status, 2);  // no --dxf
 }
 
 // A six-bar result's table (issue 36): one row per six-bar listed, in the result's order, with its

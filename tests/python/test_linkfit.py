@@ -5,6 +5,7 @@ built `linkfit`.
 """
 
 import json
+import math
 import os
 import pathlib
 import subprocess
@@ -262,3 +263,68 @@ def test_analyze_gives_the_cli_analysis(tmp_path):
         linkfit.analyze(result, input_speed=0)
     with pytest.raises(linkfit.InputError, match="load: unknown field"):
         linkfit.analyze(result, load={"torque": 1})
+
+
+def test_export_dxf_reads_back_with_ezdxf(tmp_path):
+    """`linkfit export --dxf` and linkfit.export_dxf (issue 37) write the same drawing; read back
+    with ezdxf (Debian's python3-ezdxf) its layers hold the pivots as circles where the result
+    puts the joints, the aligned dimensions measure the result's link lengths, the coupler curve
+    starts at the coupler point and the task's poses or points are drawn."""
+    ezdxf = pytest.importorskip("ezdxf")
+    for name in ["four_bar_5_poses.json", "slider_crank_5_poses.json", "path_5_points.json"]:
+        task_path = DATA / name
+        task = json.loads(task_path.read_text())
+        result = linkfit.solve(task)
+        result_path = tmp_path / ("result_" + name)
+        result_path.write_text(json.dumps(result))
+        ours = tmp_path / ("python_" + name + ".dxf")
+        linkfit.export_dxf(result, ours, task=task)
+        cli = tmp_path / ("cli_" + name + ".dxf")
+        subprocess.run([CLI, "export", str(result_path), "--dxf", str(cli), "--task",
+                        str(task_path)], check=True)
+        assert ours.read_bytes() == cli.read_bytes(), name
+        doc = ezdxf.readfile(str(ours))
+        layers = {layer.dxf.name for layer in doc.layers}
+        assert {"GROUND", "INPUT", "COUPLER", "OUTPUT", "CURVE", "TASK", "DIMENSIONS"} <= layers
+        msp = doc.modelspace()
+        mechanism = result["mechanisms"][0]
+        joints = mechanism["linkage"]["joints"]
+        slider = mechanism["type"] == "slider-crank"
+
+        def circles(layer):
+            return [(c.dxf.center.x, c.dxf.center.y)
+                    for c in msp.query('CIRCLE[layer=="%s"]' % layer)]
+
+        def near(point, among):
+            return any(math.dist(point, other) < 1e-9 * result["scale"] + 1e-9 for other in among)
+
+        expected = {"GROUND": ["input_pivot"] + ([] if slider else ["output_pivot"]),
+                    "INPUT": ["input_pivot", "input_pin"],
+                    "COUPLER": ["input_pin", "output_pin"],
+                    "OUTPUT": ["output_pin"] + ([] if slider else ["output_pivot"])}
+        for layer, names in expected.items():
+            for joint in names:
+                assert near(joints[joint], circles(layer)), (name, layer, joint)
+        # The dimensions measure the link lengths the result gives.
+        lengths = sorted(math.dist((d.dxf.defpoint2.x, d.dxf.defpoint2.y),
+                                   (d.dxf.defpoint3.x, d.dxf.defpoint3.y))
+                         for d in msp.query("DIMENSION"))
+        links = mechanism["linkage"]["links"]
+        named = sorted(links[k] for k in ("ground", "input", "coupler", "output") if k in links)
+        assert len(lengths) == len(named)
+        for got, want in zip(lengths, named):
+            assert abs(got - want) < 1e-9 * max(1.0, want), name
+        # The coupler curve starts at the coupler point (the first pose's configuration).
+        curve = list(msp.query('LWPOLYLINE[layer=="CURVE"]'))
+        assert len(curve) == 1
+        first = curve[0].get_points("xy")[0]
+        assert math.dist(first, joints["coupler_point"]) < 1e-9 * result["scale"] + 1e-9
+        # The task: a frame (two lines) per pose, a circle per point.
+        task_lines = len(msp.query('LINE[layer=="TASK"]'))
+        task_circles = len(msp.query('CIRCLE[layer=="TASK"]'))
+        assert (task_lines, task_circles) == (2 * len(task.get("poses", [])),
+                                              len(task.get("points", []))), name
+    # Bad requests raise InputError.
+    with pytest.raises(linkfit.InputError, match="no mechanism ranked"):
+        linkfit.export_dxf(result, tmp_path / "x.dxf", mechanism=99)
+    assert not (tmp_path / "x.dxf").exists()

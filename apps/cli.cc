@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "apps/analysis_svg.h"
 #include "apps/dxf_export.h"
 #include "apps/output_file.h"
 #include "apps/picture.h"
@@ -467,16 +468,26 @@ int Refine(const std::string& task_path, const std::string& design_path,
 
 // `linkfit analyze`: the kinematics (and statics, with a load) of one mechanism of a result file
 // (lib/analysis_io.h), JSON or CSV to -o or stdout.
-int Analyze(const std::string& result_path, const std::string& output_path, AnalysisRequest request,
+int Analyze(const std::string& result_path, const std::string& output_path,
+            const std::string& svg_path, AnalysisRequest request,
             const std::vector<double>& force) {
   OutputSet outputs;
   outputs.AddInput(result_path);
-  OutputFile& output = outputs.Add(output_path.empty() ? "-" : output_path, "-o");
+  // With --svg and no -o, only the chart is written.
+  OutputFile* output = output_path.empty() && !svg_path.empty()
+                           ? nullptr
+                           : &outputs.Add(output_path.empty() ? "-" : output_path, "-o");
+  OutputFile* svg = svg_path.empty() ? nullptr : &outputs.Add(svg_path, "--svg");
   if (!force.empty()) request.load.coupler_force = Eigen::Vector2d(force[0], force[1]);
   std::ifstream in(result_path, std::ios::binary);
   if (!in) throw InputError(result_path + ": cannot read the file");
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  output.Write(AnalyzeResultText(text, result_path, request));
+  if (output != nullptr) output->Write(AnalyzeResultText(text, result_path, request));
+  if (svg != nullptr) {
+    AnalysisRequest as_json = request;
+    as_json.csv = false;
+    svg->Write(AnalysisSvg(AnalyzeResultText(text, result_path, as_json)));
+  }
   outputs.CommitAll();
   return kExitOk;
 }
@@ -595,7 +606,7 @@ int Run(int argc, char** argv) {
   show->add_option("RESULT", show_path, "result file: .json (one result) or .jsonl (one per line)")
       ->required();
 
-  std::string analyze_result, analyze_output;
+  std::string analyze_result, analyze_output, analyze_svg;
   AnalysisRequest analysis;
   int analyze_index = 1;
   std::vector<double> analyze_force;
@@ -629,7 +640,12 @@ int Run(int argc, char** argv) {
   analyze->add_option("--slider-force", analysis.load.slider_force,
                       "a load force on the slider, along its line's direction");
   analyze->add_flag("--csv", analysis.csv, "CSV, one row per step, instead of JSON");
-  analyze->add_option("-o,--output", analyze_output, "write to this file (default: stdout)");
+  analyze->add_option("-o,--output", analyze_output,
+                      "write to this file (default: stdout, unless --svg alone is given)");
+  analyze->add_option("--svg", analyze_svg,
+                      "chart the analysis in this SVG file: angles, angular velocities and "
+                      "accelerations, the input torque (or the transmission angle) against the "
+                      "input angle, dead points dashed");
 
   std::string export_result, export_dxf, export_task;
   DxfExportRequest export_request;
@@ -719,7 +735,7 @@ int Run(int argc, char** argv) {
   }
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
-    return Analyze(analyze_result, analyze_output, analysis, analyze_force);
+    return Analyze(analyze_result, analyze_output, analyze_svg, analysis, analyze_force);
   }
   if (bench->parsed()) {
     bench_options.trade = !extremes_only && !constrained_only;

@@ -22,7 +22,7 @@ from ._linkfit import (InputError, __version__, analyze_json, export_dxf_json,
                        refine_drawn_json, solve_drawn_json, solve_many_json, summary_json)
 
 __all__ = ["InputError", "Result", "solve", "refine", "solve_many", "analyze", "export_dxf",
-           "plot", "summary",
+           "plot", "plot_analysis", "summary",
            "planar_poses", "spatial_poses", "path_points", "__version__"]
 
 InputError.__doc__ = """Bad input: a task, design or argument that linkfit refuses.
@@ -459,6 +459,33 @@ def export_dxf(result, path, mechanism=0, input_deg=None, task=None):
     drawing = export_dxf_json(text, mechanism, input_deg, task_text)
     with open(path, "wb") as out:
         out.write(drawing)
+
+
+def plot_analysis(analysis, fig=None):
+    """Plots an analysis of :func:`analyze` with matplotlib, as ``linkfit analyze --svg``.
+
+    Four panels against the input angle: every link's angle, angular velocity and angular
+    acceleration (a slider's position, velocity, acceleration), and the input torque holding
+    the load (without a load: the transmission angle); the dead points of a rocker marked on
+    each by dashed lines.
+
+    Args:
+        analysis (dict): from :func:`analyze`.
+        fig: a matplotlib Figure to draw on, or None for a new one.
+
+    Returns:
+        the matplotlib Figure.
+
+    Raises:
+        ValueError: ``analysis`` is not one.
+        ImportError: matplotlib is missing.
+
+    Example:
+        >>> kin = linkfit.analyze(result, steps=90, load={"coupler_force": [0, -10]})
+        >>> linkfit.plot_analysis(kin).savefig("kinematics.png")
+    """
+    from .drawing import plot_analysis as draw
+    return draw(analysis, fig=fig)
 
 
 def plot(result, ax=None, mechanism=None, task=None):

@@ -448,3 +448,58 @@ def plot(result, ax=None, mechanism=None, task=None):
         figure.suptitle(heading)
     figure.tight_layout()
     return figure
+
+
+# The analysis plot's series: (panel title, unit, key of a link's arrays or None for a top-level
+# array), one panel each.
+_ANALYSIS_PANELS = [("link angles", "deg", "angle_deg"),
+                    ("angular velocities", "rad/s", "angular_velocity"),
+                    ("angular accelerations", "rad/s²", "angular_acceleration")]
+_LINK_COLOURS = {"input": "#d62728", "coupler": "#1f77b4", "output": "#2ca02c",
+                 "slider": "#2ca02c"}
+DEAD_POINT = "#7f7f7f"
+
+
+def plot_analysis(analysis, fig=None):
+    """Plots an analysis of :func:`linkfit.analyze` with matplotlib, as ``linkfit analyze --svg``.
+
+    Four panels against the input angle: each link's angle (a slider's position), angular
+    velocity (its velocity) and angular acceleration (its acceleration), and the input torque
+    that holds the load (with a load; else the transmission angle). The input's dead points (a
+    rocker's range ends) are marked by dashed vertical lines on every panel. Returns the figure.
+    """
+    pyplot = _pyplot()
+    if not isinstance(analysis, dict) or "input_deg" not in analysis or "links" not in analysis:
+        raise ValueError("linkfit.plot_analysis: expected an analysis of linkfit.analyze")
+    if fig is None:
+        fig = pyplot.figure(figsize=(8, 9))
+    axes = fig.subplots(4, 1, sharex=True)
+    x = analysis["input_deg"]
+    for ax, (title, unit, key) in zip(axes, _ANALYSIS_PANELS):
+        for name, link in analysis["links"].items():
+            values = link.get(key)
+            label = name
+            if values is None:  # a slider: its position, velocity, acceleration
+                values = link[{"angle_deg": "position", "angular_velocity": "velocity",
+                               "angular_acceleration": "acceleration"}[key]]
+                label = name + " (length units)"
+            ax.plot(x, values, color=_LINK_COLOURS.get(name, LINK), label=label, linewidth=1.2)
+        ax.set_title(title, fontsize=9, loc="left")
+        ax.set_ylabel(unit)
+        ax.legend(fontsize=7, loc="upper right")
+    last = axes[3]
+    if "input_torque" in analysis:
+        last.plot(x, analysis["input_torque"], color=LINK, linewidth=1.2)
+        last.set_title("input torque holding the load (peak %.4g)"
+                       % analysis["peak_input_torque"], fontsize=9, loc="left")
+        last.set_ylabel("force × length")
+    else:
+        last.plot(x, analysis["transmission_angle_deg"], color=LINK, linewidth=1.2)
+        last.set_title("transmission angle", fontsize=9, loc="left")
+        last.set_ylabel("deg")
+    last.set_xlabel("input angle, deg")
+    for dead in analysis.get("dead_points", []):
+        for ax in axes:
+            ax.axvline(dead["input_deg"], color=DEAD_POINT, linestyle="--", linewidth=0.8)
+    fig.tight_layout()
+    return fig

@@ -322,6 +322,32 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
         "no \"mechanisms\""}});
 }
 
+// `linkfit analyze --svg` (issue 37): a chart of four panels with a series per link (and the
+// torque), a rocker's two dead points dashed on each panel; the JSON still goes to -o.
+TEST_F(CliTest, AnalyzeChartsTheAnalysis) {
+  const std::string result_path = Solved("function_log10.json");
+  const RunResult run = Run("analyze '" + result_path + "' --output-torque 1 --svg '" +
+                            Path("chart.svg") + "' -o '" + Path("kinematics.json") + "'");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json kinematics = nlohmann::json::parse(ReadFile(Path("kinematics.json")));
+  ASSERT_EQ(kinematics["dead_points"].size(), 2u);  // its crank is a rocker
+  const std::string svg = ReadFile(Path("chart.svg"));
+  const auto count = [&](const std::string& what) {
+    size_t n = 0;
+    for (size_t at = svg.find(what); at != std::string::npos; at = svg.find(what, at + 1)) ++n;
+    return n;
+  };
+  EXPECT_EQ(count("class=\"series\""), 3u * 3u + 1u);  // three links in three panels, the torque
+  EXPECT_EQ(count("class=\"dead-point\""), 2u * 4u);
+  EXPECT_NE(svg.find("peak "), std::string::npos);
+  EXPECT_EQ(svg.find("nan"), std::string::npos);
+  // --svg alone writes no JSON on stdout.
+  const RunResult alone = Run("analyze '" + result_path + "' --svg '" + Path("chart2.svg") + "'");
+  ASSERT_EQ(alone.status, 0) << alone.err;
+  EXPECT_EQ(alone.out, "");
+  EXPECT_NE(ReadFile(Path("chart2.svg")).find("transmission angle"), std::string::npos);
+}
+
 // `linkfit export --dxf` (issue 37): a DXF file (its content is read back by ezdxf in
 // tests/python/test_linkfit.py), at a chosen crank angle too; bad requests exit 2 with one line
 // and write nothing, an angle where a rocker does not assemble among them.

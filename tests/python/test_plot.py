@@ -236,3 +236,26 @@ def test_plot_draws_the_tasks_pivot_box():
                     for patch in axis.patches if hasattr(patch, "get_xy")]
         assert any(corners <= outline for outline in outlines), axis.get_title(loc="left")
     matplotlib.pyplot.close(figure)
+
+
+def test_plot_analysis_draws_four_panels_with_the_dead_points():
+    """linkfit.plot_analysis (issue 37): four panels against the input angle, a line per link in
+    the first three and the torque in the last, a rocker's dead points marked on each."""
+    result = linkfit.solve(json.loads((DATA / "function_log10.json").read_text()))
+    analysis = linkfit.analyze(result, steps=60, load={"output_torque": 1.0})
+    figure = linkfit.plot_analysis(analysis)
+    axes = figure.get_axes()
+    assert len(axes) == 4
+    dead = [point["input_deg"] for point in analysis["dead_points"]]
+    assert len(dead) == 2
+    for k, ax in enumerate(axes):
+        lines = ax.get_lines()
+        series = [line for line in lines if line.get_linestyle() == "-"]
+        marks = [line for line in lines if line.get_linestyle() == "--"]
+        assert len(series) == (3 if k < 3 else 1)
+        assert sorted(mark.get_xdata()[0] for mark in marks) == sorted(dead)
+        for line in series:
+            assert list(line.get_xdata()) == analysis["input_deg"]
+    assert list(axes[3].get_lines()[0].get_ydata()) == analysis["input_torque"]
+    with pytest.raises(ValueError):
+        linkfit.plot_analysis({"mechanisms": []})

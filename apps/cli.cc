@@ -609,7 +609,7 @@ int Run(int argc, char** argv) {
   std::string analyze_result, analyze_output, analyze_svg;
   AnalysisRequest analysis;
   int analyze_index = 1;
-  std::vector<double> analyze_force;
+  std::vector<double> analyze_force, analyze_range;
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Kinematics of a listed four-bar over its input's range: every link's angle, angular "
@@ -639,6 +639,13 @@ int Run(int argc, char** argv) {
                       "a load torque on the output rocker, counter-clockwise");
   analyze->add_option("--slider-force", analysis.load.slider_force,
                       "a load force on the slider, along its line's direction");
+  analyze
+      ->add_option("--range", analyze_range,
+                   "sample only this part of the input's range: FROM,TO crank angles in "
+                   "degrees (e.g. between the first and the last task pose; a rocker's rates "
+                   "grow without bound toward its dead points)")
+      ->delimiter(',')
+      ->expected(2);
   analyze->add_flag("--csv", analysis.csv, "CSV, one row per step, instead of JSON");
   analyze->add_option("-o,--output", analyze_output,
                       "write to this file (default: stdout, unless --svg alone is given)");
@@ -735,6 +742,7 @@ int Run(int argc, char** argv) {
   }
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
+    if (!analyze_range.empty()) analysis.range_deg = std::pair{analyze_range[0], analyze_range[1]};
     return Analyze(analyze_result, analyze_output, analyze_svg, analysis, analyze_force);
   }
   if (bench->parsed()) {

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -63,10 +64,13 @@ class Drawing {
     const Eigen::Vector2d normal = Eigen::Vector2d(-along.y(), along.x()).normalized();
     const Eigen::Vector2d line = b + offset * normal;
     const Eigen::Vector2d middle = 0.5 * (a + b) + offset * normal;
+    // Its text the length itself (a program that does not measure the dimension shows it).
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.6g", along.norm());
     DL_DimensionData dimension(line.x(), line.y(), 0.0, middle.x(), middle.y(), 0.0,
                                0x1,  // aligned
                                5,    // attachment: middle centre
-                               1, 1.0, "", "Standard", 0.0);
+                               1, 1.0, text, "Standard", 0.0);
     // Its constructor leaves the arrows' flags unset (written as whatever the memory held).
     dimension.arrow1Flipped = false;
     dimension.arrow2Flipped = false;
@@ -126,7 +130,13 @@ std::string ResultDxf(const std::string& result_text, const std::string& source,
                      shown(kinematics.range_end * kDegree) + " degrees)");
   }
   const double links = crank.norm() + (joints.output_pin - joints.input_pin).norm();
-  const double pivot_radius = 0.03 * links;
+  // Pivots a thirtieth of crank and coupler together, at most a sixth of the shortest link.
+  double shortest = std::min(crank.norm(), (joints.output_pin - joints.input_pin).norm());
+  if (!joints.slider) {
+    shortest = std::min({shortest, (joints.output_pin - joints.output_pivot).norm(),
+                         (joints.output_pivot - joints.input_pivot).norm()});
+  }
+  const double pivot_radius = std::min(links / 30.0, shortest / 6.0);
 
   TemporaryPath file;
   DL_Dxf dxf;

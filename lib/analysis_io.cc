@@ -44,13 +44,13 @@ FourBarJoints ReadJoints(const Json& mechanism, const std::string& item) {
   const Json& joints = (*linkage)["joints"];
   const std::string at = item + ".linkage.joints";
   if (type != "4R" && type != "slider-crank") {
-    throw InputError(item + ": analysis of " + (type.empty() ? "this mechanism" : type) +
-                     " four-bars is not available yet (4R and slider-crank are)");
+    throw InputError(item + ": " + (type.empty() ? "this mechanism" : type) +
+                     " four-bars are not analyzed or drawn yet (4Rs and slider-cranks are)");
   }
   if (!joints.contains("input_pivot")) {
     throw InputError(item +
-                     ": analysis of a four-bar driven by a slider is not available yet "
-                     "(one driven by a crank is)");
+                     ": a four-bar driven by a slider is not analyzed or drawn yet (one "
+                     "driven by a crank is)");
   }
   FourBarJoints read;
   read.input_pivot = ReadPoint(joints, "input_pivot", at);
@@ -67,8 +67,8 @@ FourBarJoints ReadJoints(const Json& mechanism, const std::string& item) {
   }
   if (line->value("on", std::string("ground")) != "ground") {
     throw InputError(item +
-                     ": analysis of a slider-crank whose line turns with the coupler is "
-                     "not available yet");
+                     ": a slider-crank whose line turns with the coupler is not analyzed "
+                     "or drawn yet");
   }
   const auto angle = line->find("angle_deg");
   if (angle == line->end() || !angle->is_number()) {
@@ -79,6 +79,13 @@ FourBarJoints ReadJoints(const Json& mechanism, const std::string& item) {
   const double radians = angle->get<double>() / kDegree;
   read.slider_direction = Eigen::Vector2d(std::cos(radians), std::sin(radians));
   return read;
+}
+
+// A number in a message: six significant digits.
+std::string Short(double value) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", value);
+  return text;
 }
 
 std::string CsvNumber(const std::optional<double>& value) {
@@ -102,13 +109,16 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
   const auto six_bars = result.find("six_bars");
   if (six_bars != result.end() && six_bars->is_array() && !six_bars->empty()) {
     throw InputError(source +
-                     ": analysis of six-bars is not available yet (planar four-bars "
+                     ": six-bars are not analyzed or drawn yet (planar four-bars "
                      "driven by a crank are)");
   }
   const std::string space = result.value("space", std::string("planar"));
   if (space != "planar") {
-    throw InputError(source + ": analysis of " + space +
-                     " mechanisms is not available yet (planar four-bars driven by a crank are)");
+    const std::string what = result.value("model", std::string()) == "spherical"
+                                 ? "spherical four-bars"
+                                 : space + " mechanisms";
+    throw InputError(source + ": " + what +
+                     " are not analyzed or drawn yet (planar four-bars driven by a crank are)");
   }
   const auto mechanisms = result.find("mechanisms");
   if (mechanisms == result.end() || !mechanisms->is_array()) {
@@ -133,7 +143,12 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
 std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
                               const AnalysisRequest& request) {
   if (!(request.input_speed != 0.0) || !std::isfinite(request.input_speed)) {
-    throw InputError("--input-speed: expected a number other than 0 (rad/s)");
+    throw InputError("--input-speed: expected a finite number other than 0 (rad/s)");
+  }
+  if (request.range_deg &&
+      !(std::isfinite(request.range_deg->first) && std::isfinite(request.range_deg->second) &&
+        request.range_deg->first < request.range_deg->second)) {
+    throw InputError("--range: expected two crank angles FROM,TO in degrees, FROM below TO");
   }
   if (request.steps < 1 || request.steps > kMaxSteps) {
     throw InputError("--steps: expected a whole number from 1 to " + std::to_string(kMaxSteps));
@@ -145,7 +160,22 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   options.input_speed = request.input_speed;
   options.steps = request.steps;
   options.load = request.load;
+  if (request.range_deg) {
+    options.range =
+        std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
+  }
+  if (!joints.coupler_point && request.load.coupler_force.norm() > 0.0) {
+    throw InputError(source +
+                     ": --force: the four-bar has no coupler point (a function "
+                     "generator): load its output with --output-torque");
+  }
   const FourBarKinematics kinematics = AnalyzeFourBarKinematics(joints, options, length);
+  if (request.range_deg && kinematics.states.empty()) {
+    throw InputError("--range " + Short(request.range_deg->first) + "," +
+                     Short(request.range_deg->second) + ": " + kinematics.note +
+                     " (its crank turns from " + Short(kinematics.range_start * kDegree) + " to " +
+                     Short(kinematics.range_end * kDegree) + " degrees)");
+  }
   const bool loaded = request.load.coupler_force.norm() > 0.0 ||
                       request.load.output_torque != 0.0 || request.load.slider_force != 0.0;
   const bool point = joints.coupler_point.has_value();
@@ -244,6 +274,12 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     out["coupler_point_acceleration"] = a;
   }
   out["transmission_angle_deg"] = transmission;
+  // The worst over the steps: the least distance from a dead point, min(mu, 180 - mu).
+  double worst = 90.0;
+  for (const FourBarState& state : kinematics.states) {
+    worst = std::min({worst, state.transmission_angle_deg, 180.0 - state.transmission_angle_deg});
+  }
+  out["transmission_angle_worst_deg"] = Number(worst);
   out["mechanical_advantage"] = advantage;
   if (loaded) {
     out["load"] = {{"coupler_force", Point(request.load.coupler_force)},
@@ -264,10 +300,12 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
-  if (!kinematics.input_rotates_fully) {
+  if (!kinematics.input_rotates_fully && !request.range_deg) {
     notes.push_back(
         "the input is a rocker: its range runs between its two dead points (listed), "
-        "sampled inside them");
+        "sampled inside them; toward them the rates and the torque grow without "
+        "bound, so their peaks depend on --steps: give --range FROM,TO for the part "
+        "the machine uses");
   }
   if (!point) notes.push_back("no coupler point in the result: its arrays are left out");
   out["units"] = {{"angles", "degrees"},

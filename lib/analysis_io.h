@@ -3,7 +3,9 @@
 #ifndef LINKFIT_LIB_ANALYSIS_IO_H_
 #define LINKFIT_LIB_ANALYSIS_IO_H_
 
+#include <optional>
 #include <string>
+#include <utility>
 
 #include "lib/four_bar_kinematics.h"
 
@@ -15,6 +17,8 @@ struct AnalysisRequest {
   int steps = 360;           // samples over the input's range (1 to 1000000)
   FourBarLoad load;          // the load the input holds
   bool csv = false;          // CSV (one row per step) instead of JSON
+  // Crank angles in degrees (from below to): sample this part of the input's range instead.
+  std::optional<std::pair<double, double>> range_deg;
 };
 
 // A four-bar of a result file: its joints at the first pose, its type ("4R", "slider-crank") and

@@ -226,7 +226,19 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
 
   InputRange(loop, &kinematics.range_start, &kinematics.range_end, &kinematics.input_rotates_fully);
   const int steps = std::max(1, options.steps);
-  const double span = kinematics.range_end - kinematics.range_start;
+  double first = kinematics.range_start, span = kinematics.range_end - kinematics.range_start;
+  if (options.range) {
+    // The part asked for, on the circuit: its start within the range, its end too.
+    double offset = std::fmod(options.range->first - kinematics.range_start, 2.0 * M_PI);
+    if (offset < 0.0) offset += 2.0 * M_PI;
+    const double part = options.range->second - options.range->first;
+    if (!(part > 0.0) || offset + part > span + 1e-12) {
+      kinematics.note = "the range asked for leaves the input's range on its circuit";
+      return kinematics;
+    }
+    first = kinematics.range_start + offset;
+    span = part;
+  }
 
   // Positions at a crank angle (clamped at the range's ends), the angles continued.
   double previous_coupler = loop.coupler_reference_angle;
@@ -307,10 +319,11 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
     if (place(kinematics.range_start, true, &dead)) kinematics.dead_points.push_back(dead);
   }
   for (int k = 0; k < steps; ++k) {
-    // A crank from the reference through a whole turn; a rocker's range inside its dead points.
-    const double input_angle = kinematics.input_rotates_fully
-                                   ? kinematics.range_start + span * k / steps
-                                   : kinematics.range_start + span * (k + 0.5) / steps;
+    // A crank from the reference through a whole turn; a rocker's range inside its dead points;
+    // a part asked for from end to end.
+    const double input_angle = options.range ? first + (steps > 1 ? span * k / (steps - 1) : 0.0)
+                               : kinematics.input_rotates_fully ? first + span * k / steps
+                                                                : first + span * (k + 0.5) / steps;
     FourBarState state;
     if (!place(input_angle, false, &state)) continue;
     previous_coupler = state.coupler_angle;

@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace linkfit {
@@ -54,6 +55,10 @@ struct FourBarLoad {
 struct FourBarKinematicsOptions {
   double input_speed = 1.0;  // the input crank's constant angular velocity (rad/s, not 0)
   int steps = 360;           // samples over the input's range
+  // A part of the input's range to sample instead (crank angles in radians, from < to, both
+  // ends sampled), on the reference's circuit: the task's motion, away from a rocker's dead
+  // points where the rates grow without bound.
+  std::optional<std::pair<double, double>> range;
   FourBarLoad load;
 };
 

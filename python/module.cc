@@ -186,7 +186,8 @@ PYBIND11_MODULE(_linkfit, m) {
   m.def(
       "analyze_json",
       [](const std::string& result, int mechanism, double input_speed, int steps, double force_x,
-         double force_y, double output_torque, double slider_force) {
+         double force_y, double output_torque, double slider_force,
+         std::optional<std::pair<double, double>> range_deg) {
         linkfit::AnalysisRequest request;
         request.mechanism = mechanism;
         request.input_speed = input_speed;
@@ -194,12 +195,14 @@ PYBIND11_MODULE(_linkfit, m) {
         request.load.coupler_force = Eigen::Vector2d(force_x, force_y);
         request.load.output_torque = output_torque;
         request.load.slider_force = slider_force;
+        request.range_deg = range_deg;
         py::gil_scoped_release release;
         return linkfit::AnalyzeResultText(result, "result", request);
       },
       py::arg("result"), py::arg("mechanism") = 0, py::arg("input_speed") = 1.0,
       py::arg("steps") = 360, py::arg("force_x") = 0.0, py::arg("force_y") = 0.0,
       py::arg("output_torque") = 0.0, py::arg("slider_force") = 0.0,
+      py::arg("range_deg") = std::nullopt,
       "The kinematics of one mechanism of a result (JSON text), as `linkfit analyze` writes it.");
   m.def(
       "export_dxf_json",

@@ -356,7 +356,7 @@ def summary(result, title=""):
                         title)
 
 
-def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None):
+def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_range_deg=None):
     """The kinematics of a listed four-bar over its input's range, as ``linkfit analyze``.
 
     Closed form from the loop equation and its derivatives: per step the input angle, every
@@ -376,6 +376,9 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None):
             points for a rocker).
         load (dict or None): ``{"coupler_force": [fx, fy], "output_torque": t,
             "slider_force": f}``, each optional.
+        input_range_deg (tuple or None): sample only this part of the input's range (crank
+            angles in degrees, from below to; both ends sampled), e.g. the task's motion; a
+            rocker's rates grow without bound toward its dead points.
 
     Returns:
         dict: the analysis (the JSON ``linkfit analyze`` writes): ``input_deg``, ``links``
@@ -414,10 +417,16 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None):
         raise InputError("input_speed: expected a number other than 0 (rad/s)")
     steps = _whole_number(steps, "steps", 1, 1000000)
     mechanism = _whole_number(mechanism, "mechanism", 0, 10**9)
+    if input_range_deg is not None:
+        bounds = _plain(input_range_deg)
+        if not isinstance(bounds, (list, tuple)) or len(bounds) != 2:
+            raise InputError("input_range_deg: expected (from, to) in degrees")
+        input_range_deg = tuple(number(v, "input_range_deg") for v in bounds)
     text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))
     return json.loads(analyze_json(text, mechanism, speed, steps, force[0], force[1],
                                    number(load.get("output_torque", 0.0), "load.output_torque"),
-                                   number(load.get("slider_force", 0.0), "load.slider_force")))
+                                   number(load.get("slider_force", 0.0), "load.slider_force"),
+                                   input_range_deg))
 
 
 def export_dxf(result, path, mechanism=0, input_deg=None, task=None):

@@ -316,10 +316,28 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
   ExpectRefused(
       "analyze", "-o",
       {{"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
-       {"'" + Solved("six_bar_5_poses.json") + "'", "analysis of six-bars is not available yet"},
-       {"'" + result_path + "' --input-speed 0", "--input-speed: expected a number other than 0"},
+       {"'" + Solved("six_bar_5_poses.json") + "'", "six-bars are not analyzed or drawn yet"},
+       {"'" + result_path + "' --input-speed 0",
+        "--input-speed: expected a finite number other than 0"},
        {"'" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json'",
-        "no \"mechanisms\""}});
+        "no \"mechanisms\""},
+       {"'" + Solved("function_log10.json") + "' --force 0,-1",
+        "--force: the four-bar has no "
+        "coupler point"},
+       {"'" + Solved("function_log10.json") + "' --range 30,100",
+        "--range 30,100: the range asked for leaves the input's range on its circuit"}});
+  // A part of the range: sampled from end to end; the worst transmission angle folded.
+  const RunResult part = Run("analyze '" + result_path + "' --range 70,130 --steps 7");
+  ASSERT_EQ(part.status, 0) << part.err;
+  const nlohmann::json sampled = nlohmann::json::parse(part.out);
+  ASSERT_EQ(sampled["input_deg"].size(), 7u);
+  EXPECT_NEAR(sampled["input_deg"][0].get<double>(), 70.0, 1e-9);
+  EXPECT_NEAR(sampled["input_deg"][6].get<double>(), 130.0, 1e-9);
+  double worst = 90.0;
+  for (const auto& mu : sampled["transmission_angle_deg"]) {
+    worst = std::min({worst, mu.get<double>(), 180.0 - mu.get<double>()});
+  }
+  EXPECT_EQ(sampled["transmission_angle_worst_deg"].get<double>(), worst);
 }
 
 // `linkfit analyze --svg` (issue 37): a chart of four panels with a series per link (and the

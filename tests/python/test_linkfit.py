@@ -328,3 +328,17 @@ def test_export_dxf_reads_back_with_ezdxf(tmp_path):
     with pytest.raises(linkfit.InputError, match="no mechanism ranked"):
         linkfit.export_dxf(result, tmp_path / "x.dxf", mechanism=99)
     assert not (tmp_path / "x.dxf").exists()
+
+
+def test_analyze_a_part_of_the_range():
+    """input_range_deg samples that part from end to end; outside the circuit: InputError."""
+    result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))
+    part = linkfit.analyze(result, steps=5, input_range_deg=(70, 130))
+    assert part["input_deg"][0] == pytest.approx(70) and part["input_deg"][-1] == pytest.approx(130)
+    worst = min(min(mu, 180 - mu) for mu in part["transmission_angle_deg"])
+    assert part["transmission_angle_worst_deg"] == worst
+    rocker = linkfit.solve(json.loads((DATA / "function_log10.json").read_text()))
+    with pytest.raises(linkfit.InputError, match="leaves the input's range"):
+        linkfit.analyze(rocker, input_range_deg=(30, 100))
+    with pytest.raises(linkfit.InputError, match="no coupler point"):
+        linkfit.analyze(rocker, load={"coupler_force": [0, -1]})

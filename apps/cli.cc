@@ -479,14 +479,14 @@ int Analyze(const std::string& result_path, const std::string& output_path,
                            : &outputs.Add(output_path.empty() ? "-" : output_path, "-o");
   OutputFile* svg = svg_path.empty() ? nullptr : &outputs.Add(svg_path, "--svg");
   if (!force.empty()) request.load.coupler_force = Eigen::Vector2d(force[0], force[1]);
-  std::ifstream in(result_path, std::ios::binary);
-  if (!in) throw InputError(result_path + ": cannot read the file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (output != nullptr) output->Write(AnalyzeResultText(text, result_path, request));
+  const std::string text = ReadText(result_path, "result");
+  const std::string analysis = AnalyzeResultText(text, result_path, request);
+  if (output != nullptr) output->Write(analysis);
   if (svg != nullptr) {
+    // The chart is drawn from the JSON (analyzed again only when -o takes CSV).
     AnalysisRequest as_json = request;
     as_json.csv = false;
-    svg->Write(AnalysisSvg(AnalyzeResultText(text, result_path, as_json)));
+    svg->Write(AnalysisSvg(request.csv ? AnalyzeResultText(text, result_path, as_json) : analysis));
   }
   outputs.CommitAll();
   return kExitOk;
@@ -500,9 +500,7 @@ int Export(const std::string& result_path, const std::string& dxf_path,
   outputs.AddInput(result_path);
   if (!task_path.empty()) outputs.AddInput(task_path);
   OutputFile& output = outputs.Add(dxf_path, "--dxf");
-  std::ifstream in(result_path, std::ios::binary);
-  if (!in) throw InputError(result_path + ": cannot read the file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = ReadText(result_path, "result");
   std::vector<Task> tasks;
   if (!task_path.empty()) {
     tasks = ReadTaskFile(task_path);
@@ -512,6 +510,14 @@ int Export(const std::string& result_path, const std::string& dxf_path,
   output.Write(ResultDxf(text, result_path, request));
   outputs.CommitAll();
   return kExitOk;
+}
+
+// `--mechanism N` of a command that reads one listed mechanism of a result file.
+void AddRankOption(CLI::App* command, int* index) {
+  command
+      ->add_option("--mechanism", *index,
+                   "which listed mechanism: its rank, counted from 1 as in --summary")
+      ->check(WholeNumber(1, kMaxIndex));
 }
 
 int Run(int argc, char** argv) {
@@ -618,10 +624,7 @@ int Run(int argc, char** argv) {
       "torque that holds it.");
   analyze->add_option("RESULT", analyze_result, "result file of `linkfit solve` (.json)")
       ->required();
-  analyze
-      ->add_option("--mechanism", analyze_index,
-                   "which listed mechanism: its rank, counted from 1 as in --summary")
-      ->check(WholeNumber(1, kMaxIndex));
+  AddRankOption(analyze, &analyze_index);
   analyze->add_option("--input-speed", analysis.input_speed,
                       "the input crank's constant angular velocity, rad/s (default 1)");
   analyze
@@ -665,10 +668,7 @@ int Run(int argc, char** argv) {
       "dimensions of the link lengths.");
   export_command->add_option("RESULT", export_result, "result file of `linkfit solve` (.json)")
       ->required();
-  export_command
-      ->add_option("--mechanism", export_index,
-                   "which listed mechanism: its rank, counted from 1 as in --summary")
-      ->check(WholeNumber(1, kMaxIndex));
+  AddRankOption(export_command, &export_index);
   export_command->add_option("--dxf", export_dxf, "the DXF file to write")->required();
   CLI::Option* input_deg_option = export_command->add_option(
       "--input-deg", export_input_deg,

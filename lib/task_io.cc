@@ -1938,12 +1938,6 @@ PlanarDesign ParseDesign(const std::string& json_text, const std::string& source
   return TaskParser(source, TaskReadOptions()).ParseDesignText(json_text);
 }
 
-namespace {
-
-// The whole file. A regular file larger than the limit is refused unread (its size is known); a
-// stream (a FIFO, a device such as /dev/zero) is read in chunks and refused as soon as it
-// passes the limit. The chunks are joined once at the end, so memory peaks at the text's size
-// plus one chunk, not at the doubled capacity of a growing string.
 std::string ReadText(const std::string& path, const char* what) {
   const std::string limit =
       "file too large (more than " + std::to_string(kMaxFileBytes >> 20) + " MiB)";
@@ -1982,7 +1976,6 @@ std::string ReadText(const std::string& path, const char* what) {
   return text;
 }
 
-}  // namespace
 
 PlanarDesign ReadDesignFile(const std::string& path) {
   return ParseDesign(ReadText(path, "design"), path);

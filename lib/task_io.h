@@ -36,6 +36,12 @@ struct TaskReadOptions {
 Task ParseTask(const std::string& json_text, const std::string& source,
                const TaskReadOptions& options = {});
 
+// The whole text of the file at `path` (a `what`, e.g. "result", named in messages). A regular
+// file larger than the limit (256 MiB) is refused unread; a stream (a FIFO, a device such as
+// /dev/zero) is read in chunks and refused as soon as it passes the limit; a directory, an
+// unreadable or an empty file is refused too (InputError).
+std::string ReadText(const std::string& path, const char* what);
+
 // Reads a file: a .jsonl file gives one task per non-empty line, anything else one task.
 // Every task is validated before any is returned, so a bad line leaves nothing done.
 std::vector<Task> ReadTaskFile(const std::string& path, const TaskReadOptions& options = {});

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <random>
 #include <string>
@@ -165,15 +166,12 @@ TEST(SixBarSynthesis, ASixBarThatComesTwiceIsListedOnce) {
   EXPECT_EQ(RemoveRepeatedSixBars(tolerance, &synthesized), 0);
 }
 
-// The analysis's four-degree continuation steps (kSixBarDriveStep) against half-degree ones, on
-// every six-bar of random tasks of each layout and each of its grounded inputs: the same defects
-// and whole turns, and without defects the least transmission angles within 0.1 degrees (measured:
-// 0.025; against the former acceptance rule at steps of 0.025 degrees, the same defects too).
-TEST(SixBarAnalysis, FourDegreeStepsJudgeAsHalfDegreeSteps) {
-  std::mt19937_64 rng(3604);
-  const double half_degree = 0.5 * M_PI / 180.0;
-  int analyses = 0, defective = 0, whole_turns = 0;
-  double worst = 0.0;
+// Every six-bar of three random tasks of each layout (tests/support/random_six_bar.h), under each
+// of its grounded inputs, with its turns at the task's poses: `judge(six_bar, at_poses, input)`.
+void ForEachGroundedInput(
+    uint64_t seed,
+    const std::function<void(const SixBar&, const std::vector<SixBarAngles>&, int)>& judge) {
+  std::mt19937_64 rng(seed);
   for (const testing::SixBarLayout& layout : testing::SixBarLayouts()) {
     for (int trial = 0; trial < 3; ++trial) {
       const testing::GeneratedSixBarTask task = testing::RandomSixBarTask(rng, layout);
@@ -185,25 +183,42 @@ TEST(SixBarAnalysis, FourDegreeStepsJudgeAsHalfDegreeSteps) {
       for (const SixBar& six_bar : six_bars) {
         const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, task.poses, elbows);
         for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
-          if (!SixBarGroundedLink(six_bar, input)) continue;
-          const SixBarAnalysis coarse = AnalyzeSixBar(six_bar, at_poses, input, 1.0);
-          const SixBarAnalysis fine = AnalyzeSixBar(six_bar, at_poses, input, 1.0, half_degree);
-          EXPECT_EQ(coarse.defects, fine.defects);
-          EXPECT_EQ(coarse.input_rotates_fully, fine.input_rotates_fully);
-          // Where the six-bar is driven through the poses on one assembly (where a circuit
-          // defect restarts it, the angles depend on the path).
-          for (int l = 0; l < 2 && fine.defects.empty(); ++l) {
-            worst = std::max(
-                worst, std::abs(coarse.transmission_min_deg[l] - fine.transmission_min_deg[l]));
-            EXPECT_NEAR(coarse.transmission_min_deg[l], fine.transmission_min_deg[l], 0.1);
-          }
-          ++analyses;
-          defective += !fine.defects.empty();
-          whole_turns += fine.input_rotates_fully;
+          if (SixBarGroundedLink(six_bar, input)) judge(six_bar, at_poses, input);
         }
       }
     }
   }
+}
+
+// Two analyses of one six-bar judge it alike: the same defects and whole turn, and where it is
+// driven through the poses on one assembly (where a circuit defect restarts it, the angles depend
+// on the path) the least transmission angles within 0.1 degrees; *worst keeps the largest gap.
+void ExpectSameJudgement(const SixBarAnalysis& a, const SixBarAnalysis& b, double* worst) {
+  EXPECT_EQ(a.defects, b.defects);
+  EXPECT_EQ(a.input_rotates_fully, b.input_rotates_fully);
+  for (int l = 0; l < 2 && b.defects.empty(); ++l) {
+    *worst = std::max(*worst, std::abs(a.transmission_min_deg[l] - b.transmission_min_deg[l]));
+    EXPECT_NEAR(a.transmission_min_deg[l], b.transmission_min_deg[l], 0.1);
+  }
+}
+
+// The analysis's four-degree continuation steps (kSixBarDriveStep) against half-degree ones, on
+// every six-bar of random tasks of each layout and each of its grounded inputs: the same defects
+// and whole turns, and without defects the least transmission angles within 0.1 degrees (measured:
+// 0.025; against the former acceptance rule at steps of 0.025 degrees, the same defects too).
+TEST(SixBarAnalysis, FourDegreeStepsJudgeAsHalfDegreeSteps) {
+  const double half_degree = 0.5 * M_PI / 180.0;
+  int analyses = 0, defective = 0, whole_turns = 0;
+  double worst = 0.0;
+  ForEachGroundedInput(
+      3604, [&](const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses, int input) {
+        const SixBarAnalysis coarse = AnalyzeSixBar(six_bar, at_poses, input, 1.0);
+        const SixBarAnalysis fine = AnalyzeSixBar(six_bar, at_poses, input, 1.0, half_degree);
+        ExpectSameJudgement(coarse, fine, &worst);
+        ++analyses;
+        defective += !fine.defects.empty();
+        whole_turns += fine.input_rotates_fully;
+      });
   // Both kinds are among them.
   EXPECT_GT(defective, analyses / 10);
   EXPECT_GT(whole_turns, 0);
@@ -218,59 +233,38 @@ TEST(SixBarAnalysis, FourDegreeStepsJudgeAsHalfDegreeSteps) {
 // angles within 0.1 degrees. The topologies the closed form takes: Watt I under every input,
 // Stephenson I and II under the upper and first links, never Stephenson III (a triad).
 TEST(SixBarAnalysis, ClosedFormJudgesAsContinuation) {
-  std::mt19937_64 rng(3605);
   int analyses = 0, closed = 0, defective = 0, whole_turns = 0;
   double worst_angle = 0.0, worst_place = 0.0;
-  for (const testing::SixBarLayout& layout : testing::SixBarLayouts()) {
-    for (int trial = 0; trial < 3; ++trial) {
-      const testing::GeneratedSixBarTask task = testing::RandomSixBarTask(rng, layout);
-      std::vector<SixBar> six_bars;
-      SynthesizeSixBars(task.poses, task.chain, {}, &six_bars);
-      std::vector<Eigen::Vector2d> elbows;
-      int unreachable = -1;
-      ASSERT_TRUE(ChainElbows(task.poses, task.chain, &elbows, &unreachable));
-      for (const SixBar& six_bar : six_bars) {
-        const std::vector<SixBarAngles> at_poses = SixBarAnglesAtPoses(six_bar, task.poses, elbows);
-        for (const int input : {kSixBarUpperLink, kSixBarFirstLink, kSixBarSecondLink}) {
-          if (!SixBarGroundedLink(six_bar, input)) continue;
-          const SixBarDriver driver(six_bar, input, 1.0);
-          const bool triad =
-              six_bar.topology == SixBarTopology::kStephensonIII ||
-              (six_bar.topology == SixBarTopology::kStephensonII && input == kSixBarSecondLink);
-          EXPECT_EQ(driver.closed_form(), !triad)
-              << SixBarTopologyName(six_bar.topology) << " under body " << input;
-          closed += driver.closed_form();
-          for (const SixBarAngles& at_pose : at_poses) {
-            if (!driver.closed_form()) break;
-            SixBarAssembly assembly;
-            ASSERT_TRUE(driver.AssemblyOf(at_pose, &assembly));
-            SixBarAngles placed = SixBarAngles::Zero();
-            ASSERT_TRUE(driver.Place(assembly, at_pose[input - 1], &placed));
-            for (int j = 0; j < 5; ++j) {
-              worst_place = std::max(worst_place,
-                                     std::abs(std::remainder(placed[j] - at_pose[j], 2.0 * M_PI)));
-            }
-            EXPECT_LT(SixBarClosure(six_bar, placed).norm(), 1e-12);
+  ForEachGroundedInput(
+      3605, [&](const SixBar& six_bar, const std::vector<SixBarAngles>& at_poses, int input) {
+        const SixBarDriver driver(six_bar, input, 1.0);
+        const bool triad =
+            six_bar.topology == SixBarTopology::kStephensonIII ||
+            (six_bar.topology == SixBarTopology::kStephensonII && input == kSixBarSecondLink);
+        EXPECT_EQ(driver.closed_form(), !triad)
+            << SixBarTopologyName(six_bar.topology) << " under body " << input;
+        closed += driver.closed_form();
+        for (const SixBarAngles& at_pose : at_poses) {
+          if (!driver.closed_form()) break;
+          SixBarAssembly assembly;
+          ASSERT_TRUE(driver.AssemblyOf(at_pose, &assembly));
+          SixBarAngles placed = SixBarAngles::Zero();
+          ASSERT_TRUE(driver.Place(assembly, at_pose[input - 1], &placed));
+          for (int j = 0; j < 5; ++j) {
+            worst_place =
+                std::max(worst_place, std::abs(std::remainder(placed[j] - at_pose[j], 2.0 * M_PI)));
           }
-          const SixBarAnalysis closed_form = AnalyzeSixBar(six_bar, at_poses, input, 1.0);
-          const SixBarAnalysis continuation =
-              AnalyzeSixBar(six_bar, at_poses, input, 1.0, kSixBarDriveStep, true, true,
-                            SixBarPositions::kContinuation);
-          EXPECT_EQ(closed_form.defects, continuation.defects);
-          EXPECT_EQ(closed_form.input_rotates_fully, continuation.input_rotates_fully);
-          for (int l = 0; l < 2 && continuation.defects.empty(); ++l) {
-            worst_angle = std::max(worst_angle, std::abs(closed_form.transmission_min_deg[l] -
-                                                         continuation.transmission_min_deg[l]));
-            EXPECT_NEAR(closed_form.transmission_min_deg[l], continuation.transmission_min_deg[l],
-                        0.1);
-          }
-          ++analyses;
-          defective += !continuation.defects.empty();
-          whole_turns += continuation.input_rotates_fully;
+          EXPECT_LT(SixBarClosure(six_bar, placed).norm(), 1e-12);
         }
-      }
-    }
-  }
+        const SixBarAnalysis closed_form = AnalyzeSixBar(six_bar, at_poses, input, 1.0);
+        const SixBarAnalysis continuation =
+            AnalyzeSixBar(six_bar, at_poses, input, 1.0, kSixBarDriveStep, true, true,
+                          SixBarPositions::kContinuation);
+        ExpectSameJudgement(closed_form, continuation, &worst_angle);
+        ++analyses;
+        defective += !continuation.defects.empty();
+        whole_turns += continuation.input_rotates_fully;
+      });
   EXPECT_LT(worst_place, 1e-9);
   EXPECT_GT(closed, analyses / 3);
   EXPECT_GT(defective, analyses / 10);

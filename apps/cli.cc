@@ -615,7 +615,7 @@ int Run(int argc, char** argv) {
   std::string analyze_result, analyze_output, analyze_svg;
   AnalysisRequest analysis;
   int analyze_index = 1;
-  std::vector<double> analyze_force, analyze_range;
+  std::vector<double> analyze_force, analyze_range, analyze_mass;
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Kinematics of a listed four-bar over its input's range: every link's angle, angular "
@@ -649,6 +649,18 @@ int Run(int argc, char** argv) {
                    "grow without bound toward its dead points)")
       ->delimiter(',')
       ->expected(2);
+  analyze
+      ->add_option("--mass", analyze_mass,
+                   "the links' masses INPUT,COUPLER,OUTPUT in kg (OUTPUT: the rocker or the "
+                   "slider), for the torque that drives them at the input speed (uniform bars, "
+                   "the coupler a plate); needs --length-unit")
+      ->delimiter(',')
+      ->expected(3);
+  analyze->add_option("--length-unit", analysis.length_unit,
+                      "the result's length unit: m, cm, mm, in or ft (torques then in N times "
+                      "it)");
+  analyze->add_flag("--gravity", analysis.masses.gravity,
+                    "the links' weight too, gravity along -y of the result's frame");
   analyze->add_flag("--csv", analysis.csv, "CSV, one row per step, instead of JSON");
   analyze->add_option("-o,--output", analyze_output,
                       "write to this file (default: stdout, unless --svg alone is given)");
@@ -743,6 +755,11 @@ int Run(int argc, char** argv) {
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
     if (!analyze_range.empty()) analysis.range_deg = std::pair{analyze_range[0], analyze_range[1]};
+    if (!analyze_mass.empty()) {
+      analysis.masses.input = analyze_mass[0];
+      analysis.masses.coupler = analyze_mass[1];
+      analysis.masses.output = analyze_mass[2];
+    }
     return Analyze(analyze_result, analyze_output, analyze_svg, analysis, analyze_force);
   }
   if (bench->parsed()) {

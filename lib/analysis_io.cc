@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -153,6 +154,28 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   if (request.steps < 1 || request.steps > kMaxSteps) {
     throw InputError("--steps: expected a whole number from 1 to " + std::to_string(kMaxSteps));
   }
+  FourBarMasses masses = request.masses;
+  const bool massive = masses.Any();
+  for (const double mass : {masses.input, masses.coupler, masses.output}) {
+    if (!(std::isfinite(mass) && mass >= 0.0)) {
+      throw InputError("--mass: expected three masses INPUT,COUPLER,OUTPUT in kg, none negative");
+    }
+  }
+  if (masses.gravity && !massive) {
+    throw InputError("--gravity: give the links' masses with --mass INPUT,COUPLER,OUTPUT (kg)");
+  }
+  if (massive || !request.length_unit.empty()) {
+    const std::map<std::string, double> metres = {
+        {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}, {"ft", 0.3048}};
+    const auto unit = metres.find(request.length_unit);
+    if (unit == metres.end()) {
+      throw InputError(
+          "--length-unit: expected m, cm, mm, in or ft (the result's lengths' unit; with "
+          "--mass it makes kg and those lengths give the torque in N times that unit)" +
+          (request.length_unit.empty() ? std::string() : ", got '" + request.length_unit + "'"));
+    }
+    masses.length_unit_m = unit->second;
+  }
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;
   const double length = four_bar.length;
@@ -160,6 +183,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   options.input_speed = request.input_speed;
   options.steps = request.steps;
   options.load = request.load;
+  options.masses = masses;
   if (request.range_deg) {
     options.range =
         std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
@@ -177,7 +201,8 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
                      Short(kinematics.range_end * kDegree) + " degrees)");
   }
   const bool loaded = request.load.coupler_force.norm() > 0.0 ||
-                      request.load.output_torque != 0.0 || request.load.slider_force != 0.0;
+                      request.load.output_torque != 0.0 || request.load.slider_force != 0.0 ||
+                      massive;
   const bool point = joints.coupler_point.has_value();
   const char* output_name = joints.slider ? "slider" : "output";
 
@@ -192,7 +217,10 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
           ",coupler_point_x,coupler_point_y,coupler_point_velocity_x,coupler_point_velocity_y,"
           "coupler_point_acceleration_x,coupler_point_acceleration_y";
     }
-    csv += ",transmission_angle_deg,mechanical_advantage,input_torque\n";
+    csv += ",transmission_angle_deg,mechanical_advantage,input_torque";
+    if (massive) csv += ",inertial_torque";
+    if (masses.gravity) csv += ",weight_torque";
+    csv += "\n";
     for (const FourBarState& state : kinematics.states) {
       std::vector<std::optional<double>> row = {
           state.input_angle * kDegree,
@@ -212,6 +240,8 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       row.push_back(state.transmission_angle_deg);
       row.push_back(state.mechanical_advantage);
       row.push_back(state.input_torque);
+      if (massive) row.push_back(state.inertial_torque);
+      if (masses.gravity) row.push_back(state.weight_torque);
       for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
       csv += "\n";
     }
@@ -227,6 +257,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
   Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
   Json torque = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
+  Json inertial = Json::array(), weight = Json::array();
   Json links = {
       {"input", Json::object()}, {"coupler", Json::object()}, {output_name, Json::object()}};
   Json angles[3] = {Json::array(), Json::array(), Json::array()};
@@ -252,6 +283,8 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     advantage.push_back(state.mechanical_advantage ? Number(*state.mechanical_advantage)
                                                    : Json(nullptr));
     torque.push_back(Number(state.input_torque));
+    inertial.push_back(Number(state.inertial_torque));
+    weight.push_back(Number(state.weight_torque));
   }
   out["input_deg"] = input_deg;
   const char* names[3] = {"input", "coupler", output_name};
@@ -288,6 +321,14 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     out["input_torque"] = torque;
     out["peak_input_torque"] = Number(kinematics.peak_input_torque);
   }
+  if (massive) {
+    out["masses"] = {{"input", Number(masses.input)},
+                     {"coupler", Number(masses.coupler)},
+                     {joints.slider ? "slider" : "output", Number(masses.output)},
+                     {"gravity", masses.gravity}};
+    out["inertial_torque"] = inertial;
+    if (masses.gravity) out["weight_torque"] = weight;
+  }
   Json dead = Json::array();
   for (const FourBarState& state : kinematics.dead_points) {
     Json at = {{"input_deg", Number(state.input_angle * kDegree)},
@@ -308,12 +349,24 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
         "the machine uses");
   }
   if (!point) notes.push_back("no coupler point in the result: its arrays are left out");
-  out["units"] = {{"angles", "degrees"},
-                  {"angular_velocity", "rad/s"},
-                  {"angular_acceleration", "rad/s^2"},
-                  {"lengths", "the result's"},
-                  {"mechanical_advantage", joints.slider ? "output force / input torque (1/length)"
-                                                         : "output torque / input torque"}};
+  if (massive) {
+    notes.push_back(
+        std::string("the links are taken as uniform bodies: the crank") +
+        (joints.slider ? " a bar" : " and the rocker bars") +
+        " between their joints, the coupler " +
+        (point ? "a plate on its pins and the coupler point" : "a bar between its pins") +
+        (joints.slider ? ", the slider a block" : "") +
+        (masses.gravity ? "; gravity along -y" : ""));
+  }
+  out["units"] = {
+      {"angles", "degrees"},
+      {"angular_velocity", "rad/s"},
+      {"angular_acceleration", "rad/s^2"},
+      {"lengths", request.length_unit.empty() ? std::string("the result's") : request.length_unit},
+      {"torque", request.length_unit.empty() ? std::string("N times the result's length unit")
+                                             : "N " + request.length_unit},
+      {"mechanical_advantage",
+       joints.slider ? "output force / input torque (1/length)" : "output torque / input torque"}};
   out["notes"] = notes;
   return out.dump(2) + "\n";
 }

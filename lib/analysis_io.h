@@ -16,7 +16,12 @@ struct AnalysisRequest {
   double input_speed = 1.0;  // rad/s, not 0
   int steps = 360;           // samples over the input's range (1 to 1000000)
   FourBarLoad load;          // the load the input holds
-  bool csv = false;          // CSV (one row per step) instead of JSON
+  // The links' masses (kg; masses.length_unit_m is set from length_unit) for the inertial torque
+  // at the constant input speed and, with masses.gravity, their weight's.
+  FourBarMasses masses;
+  // The result's length unit: "m", "cm", "mm", "in" or "ft" (needed with masses).
+  std::string length_unit;
+  bool csv = false;  // CSV (one row per step) instead of JSON
   // Crank angles in degrees (from below to): sample this part of the input's range instead.
   std::optional<std::pair<double, double>> range_deg;
 };
@@ -42,9 +47,10 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
 // acceleration (rad/s^2; a slider: velocity and acceleration), "coupler_point",
 // "coupler_point_velocity", "coupler_point_acceleration" ([x, y] each; none without a coupler
 // point), "transmission_angle_deg", "mechanical_advantage" (null where the output stands still),
-// "input_torque" and "peak_input_torque" (with a load), and the "dead_points". Throws InputError
-// (naming `source` and the item) for a result that is not JSON, has no such mechanism, or one
-// of a kind not analyzed (yet), and for a bad request.
+// "input_torque" and "peak_input_torque" (with a load or masses; with masses also
+// "inertial_torque" and, with gravity, "weight_torque", its parts), and the "dead_points". Throws
+// InputError (naming `source` and the item) for a result that is not JSON, has no such mechanism,
+// or one of a kind not analyzed (yet), and for a bad request.
 std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
                               const AnalysisRequest& request);
 

@@ -198,6 +198,54 @@ void InputRange(const Loop& loop, double* start, double* end, bool* full) {
   *end = reference + ahead;
 }
 
+// The links' inertia and weight at a state whose rates are known: each link's centre of mass G
+// moves with v_G and a_G, and T_in w2 = dT/dt - P_weight with the kinetic energy's rate
+// dT/dt = sum m a_G . v_G + I alpha omega (constant w2: the crank's own a_G . v_G is 0).
+void AddMassTorques(const Loop& loop, const FourBarMasses& masses, double w2, FourBarState* state) {
+  const FourBarJoints& joints = loop.joints;
+  const double unit = masses.length_unit_m;
+  const Eigen::Vector2d weight(0.0, masses.gravity ? -kStandardGravity : 0.0);  // N per kg
+  double energy_rate = 0.0, weight_power = 0.0;  // kg L^2 / s^3 and N L / s
+  const auto body = [&](double mass, double inertia, const Eigen::Vector2d& velocity,
+                        const Eigen::Vector2d& acceleration, double omega, double alpha) {
+    energy_rate += mass * acceleration.dot(velocity) + inertia * alpha * omega;
+    weight_power += mass * weight.dot(velocity);
+  };
+  // The crank: a bar about A0 (G its middle), turning at w2.
+  const Eigen::Vector2d r2 = state->input_pin - joints.input_pivot;
+  body(masses.input, masses.input * loop.crank * loop.crank / 12.0, 0.5 * w2 * Perp(r2),
+       -0.5 * w2 * w2 * r2, w2, 0.0);
+  // The coupler: G = A + g, the centroid of A, B (and P); a uniform triangle's polar moment
+  // about its centroid is m (a^2 + b^2 + c^2) / 36, a bar's m b^2 / 12.
+  const Eigen::Vector2d r3 = state->output_pin - state->input_pin;
+  const double w3 = state->coupler_velocity, a3 = state->coupler_acceleration;
+  Eigen::Vector2d g = 0.5 * r3;
+  double coupler_inertia = masses.coupler * r3.squaredNorm() / 12.0;
+  if (joints.coupler_point) {
+    const Eigen::Vector2d rho = state->coupler_point - state->input_pin;
+    g = (r3 + rho) / 3.0;
+    coupler_inertia =
+        masses.coupler * (r3.squaredNorm() + rho.squaredNorm() + (rho - r3).squaredNorm()) / 36.0;
+  }
+  body(masses.coupler, coupler_inertia, w2 * Perp(r2) + w3 * Perp(g),
+       -w2 * w2 * r2 + a3 * Perp(g) - w3 * w3 * g, w3, a3);
+  if (joints.slider) {
+    // The slider: a block moving with B along the line.
+    const Eigen::Vector2d& u = joints.slider_direction;
+    body(masses.output, 0.0, state->output_velocity * u, state->output_acceleration * u, 0.0, 0.0);
+  } else {
+    // The rocker: a bar about B0.
+    const Eigen::Vector2d r4 = state->output_pin - joints.output_pivot;
+    const double w4 = state->output_velocity, a4 = state->output_acceleration;
+    body(masses.output, masses.output * loop.rocker * loop.rocker / 12.0, 0.5 * w4 * Perp(r4),
+         0.5 * (a4 * Perp(r4) - w4 * w4 * r4), w4, a4);
+  }
+  // kg L^2 / s^3 is `unit` N L / s.
+  state->inertial_torque = energy_rate * unit / w2;
+  state->weight_torque = -weight_power / w2;
+  state->input_torque += state->inertial_torque + state->weight_torque;
+}
+
 }  // namespace
 
 bool PlaceFourBar(const FourBarJoints& joints, double input_angle, double length,
@@ -305,6 +353,7 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
     const double load_power = load.coupler_force.dot(state->coupler_point_velocity) +
                               (joints.slider ? load.slider_force : load.output_torque) * out;
     state->input_torque = -load_power / w2;
+    if (options.masses.Any()) AddMassTorques(loop, options.masses, w2, state);
     const double still = joints.slider ? 1e-12 * std::abs(w2) * length : 1e-12 * std::abs(w2);
     if (std::abs(out) > still) state->mechanical_advantage = w2 / out;
     return true;

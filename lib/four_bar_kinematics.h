@@ -52,6 +52,21 @@ struct FourBarLoad {
   double slider_force = 0.0;   // on the slider along slider_direction (N)
 };
 
+// The links' masses, for the torque that drives them at the constant input speed (their
+// inertia) and, with `gravity`, holds their weight. Each link a uniform body: the crank and the
+// rocker bars between their joints, the coupler a plate on A, B and the coupler point (a bar
+// from A to B without one), a slider a block moving with B. Masses in kg; the result's lengths
+// are `length_unit_m` metres each, so that the torques come out in newtons times that length.
+struct FourBarMasses {
+  double input = 0.0, coupler = 0.0, output = 0.0;  // kg (output: the rocker, or the slider)
+  double length_unit_m = 1.0;                       // metres per length unit of the result
+  bool gravity = false;                             // weight along -y of Sigma, g = 9.80665
+  bool Any() const { return input > 0.0 || coupler > 0.0 || output > 0.0; }
+};
+
+// Standard gravity (m/s^2).
+inline constexpr double kStandardGravity = 9.80665;
+
 struct FourBarKinematicsOptions {
   double input_speed = 1.0;  // the input crank's constant angular velocity (rad/s, not 0)
   int steps = 360;           // samples over the input's range
@@ -60,6 +75,7 @@ struct FourBarKinematicsOptions {
   // points where the rates grow without bound.
   std::optional<std::pair<double, double>> range;
   FourBarLoad load;
+  FourBarMasses masses;
 };
 
 // One configuration: angles in Sigma (radians, continued along the range), rates per second.
@@ -80,7 +96,12 @@ struct FourBarState {
   // Output torque over input torque (a slider: output force over input torque, per length),
   // from the power balance w2 / w4; none where the output stands still (its own limits).
   std::optional<double> mechanical_advantage;
-  double input_torque = 0.0;  // holding the load (virtual work), N m
+  // The input torque that drives the mechanism at the constant input speed against the load:
+  // the load's part (virtual work), plus with masses the links' inertia (the rate of their
+  // kinetic energy over the input speed) and, with gravity, their weight. N times the length.
+  double input_torque = 0.0;
+  double inertial_torque = 0.0;  // the links' inertia's part of it
+  double weight_torque = 0.0;    // their weight's part
 };
 
 struct FourBarKinematics {

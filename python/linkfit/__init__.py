@@ -356,7 +356,8 @@ def summary(result, title=""):
                         title)
 
 
-def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_range_deg=None):
+def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_range_deg=None,
+            masses=None, length_unit=None, gravity=False):
     """The kinematics of a listed four-bar over its input's range, as ``linkfit analyze``.
 
     Closed form from the loop equation and its derivatives: per step the input angle, every
@@ -379,14 +380,24 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
         input_range_deg (tuple or None): sample only this part of the input's range (crank
             angles in degrees, from below to; both ends sampled), e.g. the task's motion; a
             rocker's rates grow without bound toward its dead points.
+        masses (dict or None): the links' masses in kg, ``{"input": m, "coupler": m,
+            "output": m}`` (each optional; ``output`` is the rocker or the slider), for the
+            torque that drives them at the constant input speed: the crank and the rocker as
+            uniform bars, the coupler as a plate on its pins and the coupler point, the slider
+            as a block. Needs ``length_unit``.
+        length_unit (str or None): the result's length unit, ``"m"``, ``"cm"``, ``"mm"``,
+            ``"in"`` or ``"ft"``: torques are then in newtons times it.
+        gravity (bool): with masses, their weight too (gravity along -y of the result's
+            frame).
 
     Returns:
         dict: the analysis (the JSON ``linkfit analyze`` writes): ``input_deg``, ``links``
         (``input``, ``coupler``, ``output`` or ``slider``: ``angle_deg``, ``angular_velocity``,
         ``angular_acceleration``), ``coupler_point``, ``coupler_point_velocity``,
         ``coupler_point_acceleration``, ``transmission_angle_deg``, ``mechanical_advantage``
-        (None where the output stands still), ``dead_points``, with a load ``input_torque`` and
-        ``peak_input_torque``.
+        (None where the output stands still), ``dead_points``, with a load or masses
+        ``input_torque`` and ``peak_input_torque``, with masses ``inertial_torque`` (and, with
+        gravity, ``weight_torque``), the parts of ``input_torque`` they make.
 
     Raises:
         InputError: for a result without such a mechanism, one not analyzed (yet), or a bad
@@ -422,11 +433,20 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
         if not isinstance(bounds, (list, tuple)) or len(bounds) != 2:
             raise InputError("input_range_deg: expected (from, to) in degrees")
         input_range_deg = tuple(number(v, "input_range_deg") for v in bounds)
+    masses = dict(_plain(masses) or {})
+    unknown = set(masses) - {"input", "coupler", "output"}
+    if unknown:
+        raise InputError("masses: unknown link " + sorted(unknown)[0] + " (input, coupler, output)")
+    link_masses = [number(masses.get(link, 0.0), "masses." + link)
+                   for link in ("input", "coupler", "output")]
+    if length_unit is not None and not isinstance(length_unit, str):
+        raise InputError("length_unit: expected m, cm, mm, in or ft, got %r" % (length_unit,))
     text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))
     return json.loads(analyze_json(text, mechanism, speed, steps, force[0], force[1],
                                    number(load.get("output_torque", 0.0), "load.output_torque"),
                                    number(load.get("slider_force", 0.0), "load.slider_force"),
-                                   input_range_deg))
+                                   input_range_deg, link_masses, length_unit or "",
+                                   bool(gravity)))
 
 
 def export_dxf(result, path, mechanism=0, input_deg=None, task=None):

@@ -325,7 +325,27 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
         "--force: the four-bar has no "
         "coupler point"},
        {"'" + Solved("function_log10.json") + "' --range 30,100",
-        "--range 30,100: the range asked for leaves the input's range on its circuit"}});
+        "--range 30,100: the range asked for leaves the input's range on its circuit"},
+       {"'" + result_path + "' --mass 1,2,3", "--length-unit: expected m, cm, mm, in or ft"},
+       {"'" + result_path + "' --mass 1,-2,3 --length-unit mm", "--mass: expected three masses"},
+       {"'" + result_path + "' --gravity", "--gravity: give the links' masses"},
+       {"'" + result_path + "' --mass 1,2,3 --length-unit yd", "got 'yd'"}});
+  // With masses: the inertial torque (and the weight's) as columns and arrays, in N mm.
+  const RunResult massive =
+      Run("analyze '" + result_path + "' --steps 4 --mass 0.2,0.5,0.3 --length-unit mm --gravity");
+  ASSERT_EQ(massive.status, 0) << massive.err;
+  const nlohmann::json heavy = nlohmann::json::parse(massive.out);
+  EXPECT_EQ(heavy["units"]["torque"], "N mm");
+  ASSERT_EQ(heavy["inertial_torque"].size(), 4u);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(heavy["input_torque"][k].get<double>(),
+                heavy["inertial_torque"][k].get<double>() + heavy["weight_torque"][k].get<double>(),
+                1e-9 * (1.0 + std::abs(heavy["input_torque"][k].get<double>())));
+  }
+  const RunResult massive_csv =
+      Run("analyze '" + result_path + "' --steps 4 --mass 0.2,0.5,0.3 --length-unit mm --csv");
+  ASSERT_EQ(massive_csv.status, 0) << massive_csv.err;
+  EXPECT_NE(massive_csv.out.find(",input_torque,inertial_torque\n"), std::string::npos);
   // A part of the range: sampled from end to end; the worst transmission angle folded.
   const RunResult part = Run("analyze '" + result_path + "' --range 70,130 --steps 7");
   ASSERT_EQ(part.status, 0) << part.err;

@@ -231,6 +231,123 @@ TEST(FourBarKinematics, InputTorqueBalancesTheLoadAsTheJointForcesDo) {
   EXPECT_GT(checked, 2000);
 }
 
+// With the links' masses, the input torque at constant speed is the one the joint forces give
+// when each link also carries its d'Alembert force -m a_G at its centre of mass G, its couple
+// -I alpha and its weight (Newton-Euler): the same 5x5 solve as above with those loads. The same
+// mechanism drawn in millimetres (length_unit_m = 0.001) needs the same torque in N mm.
+TEST(FourBarKinematics, InputTorqueDrivesTheLinksMassesAsNewtonEulerDoes) {
+  std::mt19937_64 rng(kSeed + 3);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), mass(0.1, 2.0);
+  int checked = 0;
+  for (const bool slider : {false, true}) {
+    for (int trial = 0; trial < 60; ++trial) {
+      const FourBarJoints joints = RandomFourBar(rng, slider);
+      FourBarKinematicsOptions options;
+      options.steps = 24;
+      options.input_speed = unit(rng) > 0.0 ? 12.0 : -7.0;
+      options.load.coupler_force = Eigen::Vector2d(5.0 * unit(rng), 5.0 * unit(rng));
+      options.load.output_torque = 2.0 * unit(rng);
+      options.load.slider_force = 3.0 * unit(rng);
+      options.masses.input = mass(rng);
+      options.masses.coupler = mass(rng);
+      options.masses.output = mass(rng);
+      options.masses.gravity = trial % 2 == 0;
+      const FourBarKinematics kinematics = AnalyzeFourBarKinematics(joints, options, 1.0);
+      const double g = options.masses.gravity ? 9.80665 : 0.0;
+      const double w2 = options.input_speed;
+      double largest_inertial = 0.0;
+      for (const FourBarState& state : kinematics.states) {
+        if (state.transmission_angle_deg < 5.0 || state.transmission_angle_deg > 175.0) continue;
+        const Eigen::Vector2d a = state.input_pin, b = state.output_pin, p = state.coupler_point;
+        const Eigen::Vector2d r2 = a - joints.input_pivot, r3 = b - a, rho = p - a;
+        const double w3 = state.coupler_velocity, a3 = state.coupler_acceleration;
+        // Each link's effective load at G: -m a_G + m (0, -g), and couple -I alpha.
+        const auto effective = [&](double m, const Eigen::Vector2d& acceleration) {
+          return Eigen::Vector2d(-m * acceleration.x(), -m * acceleration.y() - m * g);
+        };
+        const Eigen::Vector2d g2 = 0.5 * r2;  // from A0
+        const Eigen::Vector2d load2 = effective(options.masses.input, -w2 * w2 * g2);
+        const Eigen::Vector2d g3 = (r3 + rho) / 3.0;  // from A
+        const Eigen::Vector2d acc3 = -w2 * w2 * r2 + a3 * Perp(g3) - w3 * w3 * g3;
+        const Eigen::Vector2d load3 = effective(options.masses.coupler, acc3);
+        const double inertia3 = options.masses.coupler *
+                                (r3.squaredNorm() + rho.squaredNorm() + (rho - r3).squaredNorm()) /
+                                36.0;
+        const Eigen::Vector2d& force = options.load.coupler_force;
+        Eigen::Matrix<double, 5, 5> system = Eigen::Matrix<double, 5, 5>::Zero();
+        Eigen::Matrix<double, 5, 1> rhs = Eigen::Matrix<double, 5, 1>::Zero();
+        // Coupler: F_A + F_B + F + load3 = 0, moments about A.
+        system(0, 0) = system(0, 2) = 1.0;
+        rhs(0) = -force.x() - load3.x();
+        system(1, 1) = system(1, 3) = 1.0;
+        rhs(1) = -force.y() - load3.y();
+        system(2, 2) = -r3.y();
+        system(2, 3) = r3.x();
+        rhs(2) = -(rho.x() * force.y() - rho.y() * force.x()) -
+                 (g3.x() * load3.y() - g3.y() * load3.x()) + inertia3 * a3;
+        // Crank about A0: T_in - cross(r2, F_A) + cross(g2, load2) = 0.
+        system(3, 4) = 1.0;
+        system(3, 0) = r2.y();
+        system(3, 1) = -r2.x();
+        rhs(3) = -(g2.x() * load2.y() - g2.y() * load2.x());
+        if (slider) {
+          const Eigen::Vector2d& u = joints.slider_direction;
+          const Eigen::Vector2d load4 =
+              effective(options.masses.output, state.output_acceleration * u);
+          system(4, 2) = -u.x();
+          system(4, 3) = -u.y();
+          rhs(4) = -options.load.slider_force - load4.dot(u);
+        } else {
+          const Eigen::Vector2d r4 = b - joints.output_pivot, g4 = 0.5 * r4;
+          const double w4 = state.output_velocity, a4 = state.output_acceleration;
+          const Eigen::Vector2d load4 =
+              effective(options.masses.output, a4 * Perp(g4) - w4 * w4 * g4);
+          const double inertia4 = options.masses.output * r4.squaredNorm() / 12.0;
+          system(4, 2) = r4.y();
+          system(4, 3) = -r4.x();
+          rhs(4) = -options.load.output_torque - (g4.x() * load4.y() - g4.y() * load4.x()) +
+                   inertia4 * a4;
+        }
+        const Eigen::Matrix<double, 5, 1> solved = system.fullPivLu().solve(rhs);
+        EXPECT_NEAR(state.input_torque, solved(4), 1e-9 * (1.0 + std::abs(solved(4))));
+        EXPECT_NEAR(state.input_torque - state.inertial_torque - state.weight_torque,
+                    -(force.dot(state.coupler_point_velocity) +
+                      (slider ? options.load.slider_force : options.load.output_torque) *
+                          state.output_velocity) /
+                        w2,
+                    1e-9 * (1.0 + std::abs(solved(4))));
+        if (!options.masses.gravity) {
+          EXPECT_EQ(state.weight_torque, 0.0);
+        }
+        largest_inertial = std::max(largest_inertial, std::abs(state.inertial_torque));
+        ++checked;
+      }
+      // At these speeds the inertia is no rounding error: the check above weighs it.
+      if (!kinematics.states.empty()) {
+        EXPECT_GT(largest_inertial, 1.0);
+      }
+
+      // The same mechanism in millimetres: every torque times 1000 (N mm).
+      FourBarJoints millimetres = joints;
+      for (Eigen::Vector2d* point :
+           {&millimetres.input_pivot, &millimetres.input_pin, &millimetres.output_pin,
+            &millimetres.output_pivot, &millimetres.slider_point, &*millimetres.coupler_point}) {
+        *point *= 1000.0;
+      }
+      FourBarKinematicsOptions in_mm = options;
+      in_mm.masses.length_unit_m = 0.001;
+      in_mm.load.output_torque *= 1000.0;
+      const FourBarKinematics scaled = AnalyzeFourBarKinematics(millimetres, in_mm, 1000.0);
+      ASSERT_EQ(scaled.states.size(), kinematics.states.size());
+      for (size_t k = 0; k < scaled.states.size(); ++k) {
+        const double expected = 1000.0 * kinematics.states[k].input_torque;
+        EXPECT_NEAR(scaled.states[k].input_torque, expected, 1e-7 * (1.0 + std::abs(expected)));
+      }
+    }
+  }
+  EXPECT_GT(checked, 1500);
+}
+
 // A rocker's range ends at its dead points: the loop closes up to them and not beyond, the
 // transmission angle there is 0 or 180 degrees, and the states lie between them.
 TEST(FourBarKinematics, ARockersRangeEndsAtItsDeadPoints) {

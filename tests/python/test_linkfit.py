@@ -265,6 +265,80 @@ def test_analyze_gives_the_cli_analysis(tmp_path):
         linkfit.analyze(result, load={"torque": 1})
 
 
+def test_analyze_with_masses_balances_the_links_energy(tmp_path):
+    """With the links' masses (issue 37), the inertial torque at constant input speed is the
+    rate of the links' kinetic energy over the crank angle, and the weight's is the rate of
+    their potential energy: both from central differences of energies computed here from the
+    analysis' own angles and rates and the result's joints (uniform bars, the coupler a plate on
+    A, B and P). The input torque is the load's part plus both; the CLI says the same."""
+    result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))
+    result_path = tmp_path / "result.json"
+    result_path.write_text(json.dumps(result))
+    masses = {"input": 0.4, "coupler": 1.1, "output": 0.7}
+    steps, speed = 3600, 6.0
+    kin = linkfit.analyze(result, steps=steps, input_speed=speed, masses=masses,
+                          length_unit="mm", gravity=True, load={"output_torque": 0.5})
+    completed = subprocess.run(
+        [CLI, "analyze", str(result_path), "--steps", str(steps), "--input-speed", "6",
+         "--mass", "0.4,1.1,0.7", "--length-unit", "mm", "--gravity", "--output-torque", "0.5"],
+        capture_output=True, text=True, check=True)
+    assert kin == json.loads(completed.stdout)
+    assert kin["input_rotates_fully"] and kin["units"]["torque"] == "N mm"
+    joints = result["mechanisms"][0]["linkage"]["joints"]
+    a0, a_ref, b_ref, b0, p_ref = (joints[k] for k in ("input_pivot", "input_pin", "output_pin",
+                                                      "output_pivot", "coupler_point"))
+    crank, rocker = math.dist(a0, a_ref), math.dist(b0, b_ref)
+    coupler = math.dist(a_ref, b_ref)
+    rho_ref = (p_ref[0] - a_ref[0], p_ref[1] - a_ref[1])
+    coupler_ref = math.atan2(b_ref[1] - a_ref[1], b_ref[0] - a_ref[0])
+    unit, g = 0.001, 9.80665  # metres per mm
+
+    def energies(k):
+        """Kinetic (J) and potential (J) energy at step k."""
+        t2 = math.radians(kin["links"]["input"]["angle_deg"][k])
+        t3 = math.radians(kin["links"]["coupler"]["angle_deg"][k])
+        t4 = math.radians(kin["links"]["output"]["angle_deg"][k])
+        w3 = kin["links"]["coupler"]["angular_velocity"][k]
+        w4 = kin["links"]["output"]["angular_velocity"][k]
+        r3 = (coupler * math.cos(t3), coupler * math.sin(t3))
+        turn = t3 - coupler_ref
+        rho = (rho_ref[0] * math.cos(turn) - rho_ref[1] * math.sin(turn),
+               rho_ref[0] * math.sin(turn) + rho_ref[1] * math.cos(turn))
+        gc = ((r3[0] + rho[0]) / 3, (r3[1] + rho[1]) / 3)  # the plate's centroid from A
+        v_a = (-speed * crank * math.sin(t2), speed * crank * math.cos(t2))
+        v_g = (v_a[0] - w3 * gc[1], v_a[1] + w3 * gc[0])
+        plate = (coupler ** 2 + math.hypot(*rho) ** 2 + math.dist(r3, rho) ** 2) / 36
+        kinetic = 0.5 * (masses["input"] * crank ** 2 / 3 * speed ** 2
+                         + masses["output"] * rocker ** 2 / 3 * w4 ** 2
+                         + masses["coupler"] * (v_g[0] ** 2 + v_g[1] ** 2 + plate * w3 ** 2))
+        y_a = a0[1] + crank * math.sin(t2)
+        potential = g * (masses["input"] * (a0[1] + 0.5 * crank * math.sin(t2))
+                         + masses["output"] * (b0[1] + 0.5 * rocker * math.sin(t4))
+                         + masses["coupler"] * (y_a + gc[1]))
+        return kinetic * unit ** 2, potential * unit
+
+    h = 2 * math.pi / steps
+    table = [energies(k) for k in range(steps)]
+    peak = max(abs(t) for t in kin["inertial_torque"])
+    assert peak > 1.0  # N mm: the inertia weighs
+    for k in range(steps):
+        before, after = table[k - 1], table[(k + 1) % steps]
+        # J per rad is N m: times 1000 for N mm.
+        inertial = (after[0] - before[0]) / (2 * h) * 1000
+        weight = (after[1] - before[1]) / (2 * h) * 1000
+        assert abs(kin["inertial_torque"][k] - inertial) < 1e-4 * peak, k
+        assert abs(kin["weight_torque"][k] - weight) < 1e-4 * peak, k
+        load_part = -0.5 * kin["links"]["output"]["angular_velocity"][k] / speed
+        total = load_part + kin["inertial_torque"][k] + kin["weight_torque"][k]
+        assert abs(kin["input_torque"][k] - total) < 1e-9 * peak
+    with pytest.raises(linkfit.InputError, match="--length-unit"):
+        linkfit.analyze(result, masses=masses)
+    with pytest.raises(linkfit.InputError, match="masses: unknown link"):
+        linkfit.analyze(result, masses={"rocker": 1}, length_unit="m")
+    with pytest.raises(linkfit.InputError, match="--gravity"):
+        linkfit.analyze(result, gravity=True, length_unit="m")
+
+
 def test_export_dxf_reads_back_with_ezdxf(tmp_path):
     """`linkfit export --dxf` and linkfit.export_dxf (issue 37) write the same drawing; read back
     with ezdxf (Debian's python3-ezdxf) its layers hold the pivots as circles where the result

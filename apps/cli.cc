@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "apps/analysis_svg.h"
-#include "apps/dxf_export.h"
+#include "apps/cad_export.h"
 #include "apps/output_file.h"
 #include "apps/picture.h"
 #include "bench/trade_bench.h"
@@ -492,14 +492,18 @@ int Analyze(const std::string& result_path, const std::string& output_path,
   return kExitOk;
 }
 
-// `linkfit export --dxf`: one mechanism of a result file as a DXF drawing (apps/dxf_export.h),
-// the task's poses or points on it when given.
-int Export(const std::string& result_path, const std::string& dxf_path,
-           const std::string& task_path, DxfExportRequest request) {
+// `linkfit export --dxf/--svg`: one mechanism of a result file as a DXF drawing and/or the same
+// drawing as SVG (apps/cad_export.h), the task's poses or points on it when given.
+int Export(const std::string& result_path, const std::string& dxf_path, const std::string& svg_path,
+           const std::string& task_path, CadExportRequest request) {
+  if (dxf_path.empty() && svg_path.empty()) {
+    throw InputError("export: give --dxf FILE, --svg FILE or both (the drawings to write)");
+  }
   OutputSet outputs;
   outputs.AddInput(result_path);
   if (!task_path.empty()) outputs.AddInput(task_path);
-  OutputFile& output = outputs.Add(dxf_path, "--dxf");
+  OutputFile* dxf = dxf_path.empty() ? nullptr : &outputs.Add(dxf_path, "--dxf");
+  OutputFile* svg = svg_path.empty() ? nullptr : &outputs.Add(svg_path, "--svg");
   const std::string text = ReadText(result_path, "result");
   std::vector<Task> tasks;
   if (!task_path.empty()) {
@@ -507,7 +511,8 @@ int Export(const std::string& result_path, const std::string& dxf_path,
     if (tasks.size() != 1) throw InputError(task_path + ": export takes one task, not a batch");
     request.task = &tasks[0];
   }
-  output.Write(ResultDxf(text, result_path, request));
+  if (dxf != nullptr) dxf->Write(ResultDxf(text, result_path, request));
+  if (svg != nullptr) svg->Write(ResultSvg(text, result_path, request));
   outputs.CommitAll();
   return kExitOk;
 }
@@ -669,19 +674,22 @@ int Run(int argc, char** argv) {
                       "accelerations, the input torque (or the transmission angle) against the "
                       "input angle, dead points dashed");
 
-  std::string export_result, export_dxf, export_task;
-  DxfExportRequest export_request;
+  std::string export_result, export_dxf, export_svg, export_task;
+  CadExportRequest export_request;
   int export_index = 1;
   double export_input_deg = 0.0;
   CLI::App* export_command = app.add_subcommand(
       "export",
-      "Write a listed four-bar as a DXF drawing for CAD: each link on its own layer with its "
-      "pivots as circles, the coupler body, the coupler curve, the task's poses or points, "
-      "dimensions of the link lengths.");
+      "Write a listed four-bar as a DXF drawing for CAD (--dxf) or as SVG (--svg): each link on "
+      "its own layer with its pivots as circles, the coupler body, the coupler curve, the task's "
+      "poses or points, dimensions of the link lengths.");
   export_command->add_option("RESULT", export_result, "result file of `linkfit solve` (.json)")
       ->required();
   AddRankOption(export_command, &export_index);
-  export_command->add_option("--dxf", export_dxf, "the DXF file to write")->required();
+  export_command->add_option("--dxf", export_dxf, "the DXF file to write");
+  export_command->add_option("--svg", export_svg,
+                             "the same drawing as an SVG file (a group per layer, the result's "
+                             "coordinates and units)");
   CLI::Option* input_deg_option = export_command->add_option(
       "--input-deg", export_input_deg,
       "draw the four-bar with its crank at this angle, degrees in the fixed frame (default: at "
@@ -750,7 +758,7 @@ int Run(int argc, char** argv) {
   if (export_command->parsed()) {
     export_request.mechanism = export_index - 1;
     if (input_deg_option->count() > 0) export_request.input_deg = export_input_deg;
-    return Export(export_result, export_dxf, export_task, export_request);
+    return Export(export_result, export_dxf, export_svg, export_task, export_request);
   }
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;

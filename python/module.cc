@@ -19,7 +19,7 @@
 #include <utility>
 #include <vector>
 
-#include "apps/dxf_export.h"
+#include "apps/cad_export.h"
 #include "apps/picture.h"
 #include "lib/analysis_io.h"
 #include "lib/parallel.h"
@@ -213,10 +213,10 @@ PYBIND11_MODULE(_linkfit, m) {
       py::arg("length_unit") = "", py::arg("gravity") = false,
       "The kinematics of one mechanism of a result (JSON text), as `linkfit analyze` writes it.");
   m.def(
-      "export_dxf_json",
+      "export_json",
       [](const std::string& result, int mechanism, std::optional<double> input_deg,
-         const std::string& task) {
-        linkfit::DxfExportRequest request;
+         const std::string& task, bool svg) {
+        linkfit::CadExportRequest request;
         request.mechanism = mechanism;
         request.input_deg = input_deg;
         std::optional<linkfit::Task> parsed;
@@ -225,11 +225,13 @@ PYBIND11_MODULE(_linkfit, m) {
           request.task = &*parsed;
         }
         py::gil_scoped_release release;
-        return py::bytes(linkfit::ResultDxf(result, "result", request));
+        return py::bytes(svg ? linkfit::ResultSvg(result, "result", request)
+                             : linkfit::ResultDxf(result, "result", request));
       },
       py::arg("result"), py::arg("mechanism") = 0, py::arg("input_deg") = std::nullopt,
-      py::arg("task") = "",
-      "One mechanism of a result (JSON text) as DXF text, as `linkfit export --dxf` writes it.");
+      py::arg("task") = "", py::arg("svg") = false,
+      "One mechanism of a result (JSON text) as DXF (or, with `svg`, SVG) text, as `linkfit "
+      "export` writes it.");
   m.def(
       "summary_json",
       [](const std::string& result, const std::string& title) {

@@ -18,7 +18,7 @@ Poses and points may be numpy arrays (:func:`planar_poses`, :func:`spatial_poses
 import json
 import math
 
-from ._linkfit import (InputError, __version__, analyze_json, export_dxf_json,
+from ._linkfit import (InputError, __version__, analyze_json, export_json,
                        refine_drawn_json, solve_drawn_json, solve_many_json, summary_json)
 
 __all__ = ["InputError", "Result", "solve", "refine", "solve_many", "analyze", "export_dxf",
@@ -476,6 +476,40 @@ def export_dxf(result, path, mechanism=0, input_deg=None, task=None):
     Example:
         >>> linkfit.export_dxf(linkfit.solve(task), "four_bar.dxf", task=task)
     """
+    _export(result, path, mechanism, input_deg, task, svg=False)
+
+
+def export_svg(result, path, mechanism=0, input_deg=None, task=None):
+    """Writes a listed four-bar as an SVG drawing, as ``linkfit export --svg``.
+
+    The drawing :func:`export_dxf` writes, as SVG: a group per layer (its ``id`` the layer's
+    name: ``GROUND``, ``INPUT``, ``COUPLER``, ``OUTPUT``, ``CURVE``, ``TASK``, ``DIMENSIONS``),
+    strokes in the layer's colour, in the result's coordinates and units (y up, through a
+    flipping group); each dimension as extension lines, a dimension line and the length as text.
+
+    Args:
+        result: a result (dict or JSON text).
+        path: the SVG file to write (str or path-like).
+        mechanism (int): a list index (0, the first listed).
+        input_deg (float or None): draw the crank at this angle (degrees, fixed frame); None:
+            at the first pose.
+        task: the result's task (dict or JSON text), to draw its poses or points.
+
+    Returns:
+        None: the drawing is in ``path``.
+
+    Raises:
+        InputError: for a result without such a mechanism, one not drawn (yet), or an angle
+            where the four-bar does not assemble.
+
+    Example:
+        >>> linkfit.export_svg(linkfit.solve(task), "four_bar.svg", task=task)
+    """
+    _export(result, path, mechanism, input_deg, task, svg=True)
+
+
+def _export(result, path, mechanism, input_deg, task, svg):
+    """Writes the drawing of export_dxf or export_svg."""
     mechanism = _whole_number(mechanism, "mechanism", 0, 10**9)
     if input_deg is not None:
         input_deg = _plain(input_deg)
@@ -485,7 +519,7 @@ def export_dxf(result, path, mechanism=0, input_deg=None, task=None):
     text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))
     task_text = "" if task is None else (task if isinstance(task, str)
                                          else json.dumps(_plain(dict(task))))
-    drawing = export_dxf_json(text, mechanism, input_deg, task_text)
+    drawing = export_json(text, mechanism, input_deg, task_text, svg)
     with open(path, "wb") as out:
         out.write(drawing)
 

@@ -386,7 +386,7 @@ TEST_F(CliTest, AnalyzeChartsTheAnalysis) {
   EXPECT_NE(ReadFile(Path("chart2.svg")).find("transmission angle"), std::string::npos);
 }
 
-// `linkfit export --dxf` (issue 37): a DXF file (its content is read back by ezdxf in
+// `linkfit export --dxf` and `--svg` (issue 37): a DXF file (its content is read back by ezdxf in
 // tests/python/test_linkfit.py), at a chosen crank angle too; bad requests exit 2 with one line
 // and write nothing, an angle where a rocker does not assemble among them.
 TEST_F(CliTest, ExportWritesADxfDrawing) {
@@ -410,7 +410,23 @@ TEST_F(CliTest, ExportWritesADxfDrawing) {
                  {"'" + Solved("function_log10.json") + "' --input-deg 270",
                   "--input-deg 270: the four-bar does not reach it on its circuit"},
                  {"'" + result_path + "' --task '" + Path("missing.json") + "'", "missing.json"}});
-  EXPECT_EQ(Run("export '" + result_path + "'").status, 2);  // no --dxf
+  const RunResult neither = Run("export '" + result_path + "'");
+  EXPECT_EQ(neither.status, 2);
+  EXPECT_NE(neither.err.find("give --dxf FILE, --svg FILE or both"), std::string::npos);
+  // --svg (its content is read back in tests/python/test_linkfit.py): alone, or with --dxf, the
+  // DXF then the same bytes; refused alike.
+  ASSERT_EQ(Run("export '" + result_path + "' --svg '" + Path("a.svg") + "' --dxf '" +
+                Path("c.dxf") + "'")
+                .status,
+            0);
+  EXPECT_EQ(ReadFile(Path("c.dxf")), dxf);
+  const std::string svg = ReadFile(Path("a.svg"));
+  EXPECT_EQ(svg.rfind("<?xml", 0), 0u);
+  EXPECT_NE(svg.find("<g id=\"COUPLER\""), std::string::npos);
+  ExpectRefused("export", "--svg",
+                {{"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
+                 {"'" + Solved("function_log10.json") + "' --input-deg 270",
+                  "--input-deg 270: the four-bar does not reach it on its circuit"}});
 }
 
 // A six-bar result's table (issue 36): one row per six-bar listed, in the result's order, with its

@@ -404,6 +404,59 @@ def test_export_dxf_reads_back_with_ezdxf(tmp_path):
     assert not (tmp_path / "x.dxf").exists()
 
 
+def test_export_svg_draws_the_pivots_where_the_result_says(tmp_path):
+    """`linkfit export --svg` and linkfit.export_svg (issue 37) write the same SVG: a group per
+    layer, the pivots as circles where the result's joints are (in its coordinates, y up), a
+    dimension text per link giving its length, the task's poses as frames."""
+    import xml.etree.ElementTree as ElementTree
+    ns = {"svg": "http://www.w3.org/2000/svg"}
+    for name in ["four_bar_5_poses.json", "slider_crank_5_poses.json", "path_5_points.json"]:
+        task_path = DATA / name
+        task = json.loads(task_path.read_text())
+        result = linkfit.solve(task)
+        result_path = tmp_path / ("result_" + name)
+        result_path.write_text(json.dumps(result))
+        ours = tmp_path / ("python_" + name + ".svg")
+        linkfit.export_svg(result, ours, task=task)
+        cli = tmp_path / ("cli_" + name + ".svg")
+        subprocess.run([CLI, "export", str(result_path), "--svg", str(cli), "--task",
+                        str(task_path)], check=True)
+        assert ours.read_bytes() == cli.read_bytes(), name
+        root = ElementTree.parse(ours).getroot()
+        flip = root.find("svg:g", ns)
+        assert flip.get("transform") == "scale(1,-1)"
+        layers = {g.get("id"): g for g in flip.findall("svg:g", ns)}
+        assert {"GROUND", "INPUT", "COUPLER", "OUTPUT", "CURVE", "TASK", "DIMENSIONS"} <= set(layers)
+        mechanism = result["mechanisms"][0]
+        joints = mechanism["linkage"]["joints"]
+        slider = mechanism["type"] == "slider-crank"
+
+        def circles(layer):
+            return [(float(c.get("cx")), float(c.get("cy")))
+                    for c in layers[layer].findall("svg:circle", ns)]
+
+        def near(point, among):
+            return any(math.dist(point, other) < 1e-7 * result["scale"] for other in among)
+
+        for layer, names in {"GROUND": ["input_pivot"] + ([] if slider else ["output_pivot"]),
+                             "INPUT": ["input_pivot", "input_pin"],
+                             "OUTPUT": ["output_pin"] + ([] if slider else ["output_pivot"])
+                             }.items():
+            for joint in names:
+                assert near(joints[joint], circles(layer)), (name, layer, joint)
+        links = mechanism["linkage"]["links"]
+        named = sorted(links[k] for k in ("ground", "input", "coupler", "output") if k in links)
+        texts = sorted(float(t.text) for t in layers["DIMENSIONS"].findall("svg:text", ns))
+        assert texts == pytest.approx(named, rel=1e-5), name
+        frames = len(layers["TASK"].findall("svg:line", ns))
+        points = len(layers["TASK"].findall("svg:circle", ns))
+        assert (frames, points) == (2 * len(task.get("poses", [])), len(task.get("points", [])))
+    with pytest.raises(linkfit.InputError, match="does not reach it"):
+        rocker = linkfit.solve(json.loads((DATA / "function_log10.json").read_text()))
+        linkfit.export_svg(rocker, tmp_path / "x.svg", input_deg=270)
+    assert not (tmp_path / "x.svg").exists()
+
+
 def test_analyze_a_part_of_the_range():
     """input_range_deg samples that part from end to end; outside the circuit: InputError."""
     result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))

@@ -1,0 +1,422 @@
+#include "apps/cad_export.h"
+
+#include <dl_dxf.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "lib/analysis_io.h"
+#include "lib/four_bar_kinematics.h"
+#include "lib/task_io.h"
+
+namespace linkfit {
+namespace {
+
+constexpr double kDegree = 180.0 / M_PI;
+
+// The drawing's layers, their colours (AutoCAD colour index) and the same colours in SVG (on
+// white: the index's yellow a darker one, its white black).
+struct Layer {
+  const char* name;
+  int color;
+  const char* svg_color;
+};
+constexpr Layer kLayers[] = {{"GROUND", 8, "#808080"},    {"INPUT", 1, "#d62728"},
+                             {"COUPLER", 5, "#1f5fbf"},   {"OUTPUT", 3, "#2ca02c"},
+                             {"CURVE", 6, "#b02cb0"},     {"TASK", 2, "#c08000"},
+                             {"DIMENSIONS", 7, "#000000"}};
+
+// What a drawing is made of, on the layers above; the DXF and the SVG write it.
+class Drawing {
+ public:
+  virtual ~Drawing() = default;
+  virtual void Line(const char* layer, const Eigen::Vector2d& a, const Eigen::Vector2d& b) = 0;
+  virtual void Circle(const char* layer, const Eigen::Vector2d& at, double radius) = 0;
+  virtual void Polyline(const char* layer, const std::vector<Eigen::Vector2d>& points,
+                        bool closed) = 0;
+  // An aligned dimension of the length from a to b, its line `offset` to the left of a -> b,
+  // its text the length.
+  virtual void Dimension(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double offset) = 0;
+};
+
+// The length as a dimension's text.
+std::string LengthText(double length) {
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.6g", length);
+  return text;
+}
+
+// Writes the entities through dxflib's writer.
+class DxfDrawing : public Drawing {
+ public:
+  DxfDrawing(DL_Dxf* dxf, DL_WriterA* writer) : dxf_(dxf), writer_(writer) {}
+
+  DL_Attributes On(const char* layer) const {
+    return DL_Attributes(layer, 256, -1, "BYLAYER", 1.0);
+  }
+
+  void Line(const char* layer, const Eigen::Vector2d& a, const Eigen::Vector2d& b) override {
+    dxf_->writeLine(*writer_, DL_LineData(a.x(), a.y(), 0.0, b.x(), b.y(), 0.0), On(layer));
+  }
+  void Circle(const char* layer, const Eigen::Vector2d& at, double radius) override {
+    dxf_->writeCircle(*writer_, DL_CircleData(at.x(), at.y(), 0.0, radius), On(layer));
+  }
+  void Polyline(const char* layer, const std::vector<Eigen::Vector2d>& points,
+                bool closed) override {
+    if (points.size() < 2) return;
+    dxf_->writePolyline(*writer_,
+                        DL_PolylineData(static_cast<int>(points.size()), 0, 0, closed ? 1 : 0),
+                        On(layer));
+    for (const Eigen::Vector2d& p : points) {
+      dxf_->writeVertex(*writer_, DL_VertexData(p.x(), p.y(), 0.0, 0.0));
+    }
+    dxf_->writePolylineEnd(*writer_);
+  }
+  void Dimension(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double offset) override {
+    const Eigen::Vector2d along = b - a;
+    if (!(along.norm() > 0.0)) return;
+    const Eigen::Vector2d normal = Eigen::Vector2d(-along.y(), along.x()).normalized();
+    const Eigen::Vector2d line = b + offset * normal;
+    const Eigen::Vector2d middle = 0.5 * (a + b) + offset * normal;
+    // Its text the length itself (a program that does not measure the dimension shows it).
+    DL_DimensionData dimension(line.x(), line.y(), 0.0, middle.x(), middle.y(), 0.0,
+                               0x1,  // aligned
+                               5,    // attachment: middle centre
+                               1, 1.0, LengthText(along.norm()), "Standard", 0.0);
+    // Its constructor leaves the arrows' flags unset (written as whatever the memory held).
+    dimension.arrow1Flipped = false;
+    dimension.arrow2Flipped = false;
+    dxf_->writeDimAligned(*writer_, dimension,
+                          DL_DimAlignedData(a.x(), a.y(), 0.0, b.x(), b.y(), 0.0),
+                          On("DIMENSIONS"));
+  }
+
+ private:
+  DL_Dxf* dxf_;
+  DL_WriterA* writer_;
+};
+
+// Writes the entities as SVG: a group per layer (its id the layer's name), strokes only, in
+// the result's coordinates (y up: the groups sit in one that flips y), numbers to 9 digits.
+class SvgDrawing : public Drawing {
+ public:
+  // `stroke` the lines' width; coordinates within `tiny` of 0 are written as 0.
+  SvgDrawing(double stroke, double tiny) : stroke_(stroke), tiny_(tiny) {}
+
+  void Line(const char* layer, const Eigen::Vector2d& a, const Eigen::Vector2d& b) override {
+    Extend(a);
+    Extend(b);
+    Add(layer, "<line x1=\"" + N(a.x()) + "\" y1=\"" + N(a.y()) + "\" x2=\"" + N(b.x()) +
+                   "\" y2=\"" + N(b.y()) + "\"/>");
+  }
+  void Circle(const char* layer, const Eigen::Vector2d& at, double radius) override {
+    Extend(at, radius);
+    Add(layer,
+        "<circle cx=\"" + N(at.x()) + "\" cy=\"" + N(at.y()) + "\" r=\"" + N(radius) + "\"/>");
+  }
+  void Polyline(const char* layer, const std::vector<Eigen::Vector2d>& points,
+                bool closed) override {
+    if (points.size() < 2) return;
+    std::string list;
+    for (const Eigen::Vector2d& p : points) {
+      Extend(p);
+      list += (list.empty() ? "" : " ") + N(p.x()) + "," + N(p.y());
+    }
+    Add(layer, std::string(closed ? "<polygon" : "<polyline") + " points=\"" + list + "\"/>");
+  }
+  void Dimension(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double offset) override {
+    const Eigen::Vector2d along = b - a;
+    if (!(along.norm() > 0.0)) return;
+    const Eigen::Vector2d normal = Eigen::Vector2d(-along.y(), along.x()).normalized();
+    // Extension lines, the dimension line and its text, upright along the line (read from
+    // below or from the right).
+    const Eigen::Vector2d from = a + offset * normal, to = b + offset * normal;
+    Line("DIMENSIONS", a + 0.2 * offset * normal, from + 0.2 * offset * normal);
+    Line("DIMENSIONS", b + 0.2 * offset * normal, to + 0.2 * offset * normal);
+    Line("DIMENSIONS", from, to);
+    double angle = std::atan2(along.y(), along.x()) * kDegree;
+    if (angle > 90.0) angle -= 180.0;
+    if (angle <= -90.0) angle += 180.0;
+    // The text (as high as the DXF's, a thirtieth of the links) centred beyond the line.
+    const double font = 10.0 * stroke_;
+    const Eigen::Vector2d middle = 0.5 * (from + to) + (offset > 0.0 ? 0.8 : -0.8) * font * normal;
+    // The text is drawn in a frame flipped back to y down.
+    Add("DIMENSIONS", "<text transform=\"translate(" + N(middle.x()) + "," + N(middle.y()) +
+                          ") scale(1,-1) rotate(" + N(-angle) +
+                          ")\" text-anchor=\"middle\" dominant-baseline=\"middle\" font-size=\"" +
+                          N(font) + "\" stroke=\"none\" fill=\"currentColor\">" +
+                          LengthText(along.norm()) + "</text>");
+  }
+
+  // The SVG document: the drawing's extent plus a margin, the layers in kLayers' order.
+  std::string Document() const {
+    Eigen::Vector2d low = low_, high = high_;
+    if (!(low.x() <= high.x())) low = high = Eigen::Vector2d::Zero();
+    const double margin = 0.08 * std::max((high - low).maxCoeff(), 1e-9);
+    low -= Eigen::Vector2d::Constant(margin);
+    high += Eigen::Vector2d::Constant(margin);
+    const Eigen::Vector2d size = high - low;
+    std::string svg = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    svg += "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"" + N(low.x()) + " " +
+           N(-high.y()) + " " + N(size.x()) + " " + N(size.y()) + "\" width=\"800\" height=\"" +
+           N(800.0 * size.y() / size.x()) + "\">\n";
+    svg += "<!-- linkfit export: the result's coordinates and units, y up -->\n";
+    svg += "<g transform=\"scale(1,-1)\" fill=\"none\" stroke-width=\"" + N(stroke_) +
+           "\" stroke-linecap=\"round\" stroke-linejoin=\"round\">\n";
+    for (const Layer& layer : kLayers) {
+      const auto found = groups_.find(layer.name);
+      if (found == groups_.end()) continue;
+      svg += "<g id=\"" + std::string(layer.name) + "\" stroke=\"" + layer.svg_color +
+             "\" color=\"" + layer.svg_color + "\">\n" + found->second + "</g>\n";
+    }
+    svg += "</g>\n</svg>\n";
+    return svg;
+  }
+
+ private:
+  std::string N(double value) const {
+    if (std::abs(value) < tiny_) value = 0.0;
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.9g", value);
+    return text;
+  }
+  void Add(const char* layer, const std::string& element) { groups_[layer] += element + "\n"; }
+  // Every point drawn widens the drawing's extent.
+  void Extend(const Eigen::Vector2d& p, double radius = 0.0) {
+    low_ = low_.cwiseMin(p - Eigen::Vector2d::Constant(radius));
+    high_ = high_.cwiseMax(p + Eigen::Vector2d::Constant(radius));
+  }
+
+  double stroke_, tiny_;
+  std::map<std::string, std::string> groups_;
+  Eigen::Vector2d low_ = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d high_ = Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity());
+};
+
+// A temporary file's name (dxflib writes to a path); removed by the destructor.
+class TemporaryPath {
+ public:
+  TemporaryPath() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "linkfit_dxf_XXXXXX").string();
+    const int descriptor = mkstemp(pattern.data());
+    if (descriptor < 0) throw std::runtime_error("cannot create a temporary file for the DXF");
+    close(descriptor);
+    path_ = pattern;
+  }
+  ~TemporaryPath() { std::remove(path_.c_str()); }
+  TemporaryPath(const TemporaryPath&) = delete;
+  TemporaryPath& operator=(const TemporaryPath&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
+
+// A four-bar of a result, in the configuration drawn, with its coupler curve.
+struct FourBarDrawing {
+  FourBarJoints joints;
+  FourBarState drawn;
+  FourBarKinematics kinematics;  // over the input's range: the curve, a slider's travel
+  double links = 1.0;            // crank and coupler together: the drawing's scale
+  double pivot_radius = 1.0;
+};
+
+FourBarDrawing PrepareFourBar(const std::string& result_text, const std::string& source,
+                              const CadExportRequest& request) {
+  const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
+  FourBarDrawing drawing;
+  const FourBarJoints& joints = drawing.joints = four_bar.joints;
+  // The configuration drawn: the first pose's, or the crank at the given angle.
+  const Eigen::Vector2d crank = joints.input_pin - joints.input_pivot;
+  const double reference = std::atan2(crank.y(), crank.x());
+  const double input_angle = request.input_deg ? *request.input_deg / kDegree : reference;
+  FourBarKinematicsOptions sweep;
+  sweep.steps = request.curve_steps;
+  drawing.kinematics = AnalyzeFourBarKinematics(joints, sweep, four_bar.length);
+  if (!PlaceFourBar(joints, input_angle, four_bar.length, &drawing.drawn)) {
+    const auto shown = [](double value) {
+      char text[32];
+      std::snprintf(text, sizeof(text), "%.6g", value);
+      return std::string(text);
+    };
+    throw InputError("--input-deg " + shown(input_angle * kDegree) +
+                     ": the four-bar does not reach it on its circuit (its crank turns from " +
+                     shown(drawing.kinematics.range_start * kDegree) + " to " +
+                     shown(drawing.kinematics.range_end * kDegree) + " degrees)");
+  }
+  drawing.links = crank.norm() + (joints.output_pin - joints.input_pin).norm();
+  // Pivots a thirtieth of crank and coupler together, at most a sixth of the shortest link.
+  double shortest = std::min(crank.norm(), (joints.output_pin - joints.input_pin).norm());
+  if (!joints.slider) {
+    shortest = std::min({shortest, (joints.output_pin - joints.output_pivot).norm(),
+                         (joints.output_pivot - joints.input_pivot).norm()});
+  }
+  drawing.pivot_radius = std::min(drawing.links / 30.0, shortest / 6.0);
+  return drawing;
+}
+
+// The four-bar's entities, on their layers.
+void DrawFourBar(const FourBarDrawing& four_bar, const Task* task, Drawing* drawing) {
+  const FourBarJoints& joints = four_bar.joints;
+  const FourBarState& drawn = four_bar.drawn;
+  const double links = four_bar.links, pivot_radius = four_bar.pivot_radius;
+  const auto pivot = [&](const char* layer, const Eigen::Vector2d& at) {
+    drawing->Circle(layer, at, pivot_radius);
+  };
+  const Eigen::Vector2d a0 = joints.input_pivot, a = drawn.input_pin, b = drawn.output_pin;
+  // Ground: its pivots (a slider's line over the output's travel).
+  pivot("GROUND", a0);
+  if (joints.slider) {
+    double low = drawn.output, high = drawn.output;
+    for (const FourBarState& state : four_bar.kinematics.states) {
+      low = std::min(low, state.output);
+      high = std::max(high, state.output);
+    }
+    const double margin = 0.1 * links;
+    drawing->Line("GROUND", joints.slider_point + (low - margin) * joints.slider_direction,
+                  joints.slider_point + (high + margin) * joints.slider_direction);
+  } else {
+    pivot("GROUND", joints.output_pivot);
+    drawing->Line("GROUND", a0, joints.output_pivot);
+  }
+  // The input crank, the coupler body, the output rocker or slider block.
+  drawing->Line("INPUT", a0, a);
+  pivot("INPUT", a0);
+  pivot("INPUT", a);
+  std::vector<Eigen::Vector2d> body = {a, b};
+  if (joints.coupler_point && (drawn.coupler_point - a).norm() > 1e-9 * links &&
+      (drawn.coupler_point - b).norm() > 1e-9 * links) {
+    body.push_back(drawn.coupler_point);
+  }
+  drawing->Polyline("COUPLER", body, body.size() > 2);
+  pivot("COUPLER", a);
+  pivot("COUPLER", b);
+  if (joints.coupler_point) pivot("COUPLER", drawn.coupler_point);
+  if (joints.slider) {
+    const Eigen::Vector2d u = joints.slider_direction, n(-u.y(), u.x());
+    const double half = 2.0 * pivot_radius;
+    drawing->Polyline("OUTPUT",
+                      {b - half * u - 0.6 * half * n, b + half * u - 0.6 * half * n,
+                       b + half * u + 0.6 * half * n, b - half * u + 0.6 * half * n},
+                      true);
+    pivot("OUTPUT", b);
+  } else {
+    drawing->Line("OUTPUT", joints.output_pivot, b);
+    pivot("OUTPUT", joints.output_pivot);
+    pivot("OUTPUT", b);
+  }
+  // The coupler curve over the input's range (closed for a crank).
+  if (joints.coupler_point) {
+    std::vector<Eigen::Vector2d> curve;
+    for (const FourBarState& state : four_bar.kinematics.states) {
+      curve.push_back(state.coupler_point);
+    }
+    drawing->Polyline("CURVE", curve, four_bar.kinematics.input_rotates_fully);
+  }
+  // The task: each pose as its frame (x axis twice as long as y), each point as a small circle.
+  if (task != nullptr) {
+    const double axis = 0.1 * links;
+    for (const PlanarPose& pose : task->planar_poses) {
+      const Eigen::Vector2d origin = pose.origin_in_fixed;
+      const Eigen::Vector2d x(std::cos(pose.theta), std::sin(pose.theta));
+      drawing->Line("TASK", origin, origin + axis * x);
+      drawing->Line("TASK", origin, origin + 0.5 * axis * Eigen::Vector2d(-x.y(), x.x()));
+    }
+    for (const TimedPoint& point : task->points) {
+      drawing->Circle("TASK", point.point_in_fixed, 0.5 * pivot_radius);
+    }
+  }
+  // The link lengths.
+  const double offset = 2.5 * pivot_radius;
+  drawing->Dimension(a0, a, offset);
+  drawing->Dimension(a, b, offset);
+  if (!joints.slider) {
+    drawing->Dimension(joints.output_pivot, b, -offset);
+    drawing->Dimension(a0, joints.output_pivot, -offset);
+  }
+}
+
+}  // namespace
+
+std::string ResultDxf(const std::string& result_text, const std::string& source,
+                      const CadExportRequest& request) {
+  const FourBarDrawing four_bar = PrepareFourBar(result_text, source, request);
+  TemporaryPath file;
+  DL_Dxf dxf;
+  DL_WriterA* writer = dxf.out(file.path().c_str(), DL_Codes::AC1015);
+  if (writer == nullptr) throw std::runtime_error("cannot write the DXF's temporary file");
+  // Header, tables (line types, layers, text style, dimension style), blocks: as dxflib's own
+  // examples order them.
+  dxf.writeHeader(*writer);
+  writer->sectionEnd();
+  writer->sectionTables();
+  dxf.writeVPort(*writer);
+  writer->tableLinetypes(3);
+  dxf.writeLinetype(*writer, DL_LinetypeData("CONTINUOUS", "Continuous", 0, 0, 0.0));
+  dxf.writeLinetype(*writer, DL_LinetypeData("BYLAYER", "", 0, 0, 0.0));
+  dxf.writeLinetype(*writer, DL_LinetypeData("BYBLOCK", "", 0, 0, 0.0));
+  writer->tableEnd();
+  writer->tableLayers(static_cast<int>(std::size(kLayers)) + 1);
+  dxf.writeLayer(*writer, DL_LayerData("0", 0), DL_Attributes("", 7, 0x00ffffff, 15, "CONTINUOUS"));
+  for (const Layer& layer : kLayers) {
+    dxf.writeLayer(*writer, DL_LayerData(layer.name, 0),
+                   DL_Attributes("", layer.color, -1, 15, "CONTINUOUS"));
+  }
+  writer->tableEnd();
+  writer->tableStyle(1);
+  DL_StyleData style("Standard", 0, 0.0, 1.0, 0.0, 0, 2.5, "txt", "");
+  style.bold = false;
+  style.italic = false;
+  dxf.writeStyle(*writer, style);
+  writer->tableEnd();
+  dxf.writeView(*writer);
+  dxf.writeUcs(*writer);
+  writer->tableAppid(1);
+  dxf.writeAppid(*writer, "ACAD");
+  writer->tableEnd();
+  // Dimension text about a thirtieth of the links' length.
+  const double text = four_bar.links / 30.0;
+  dxf.writeDimStyle(*writer, text, 0.25 * text, 0.25 * text, 0.25 * text, text);
+  dxf.writeBlockRecord(*writer);
+  writer->tableEnd();
+  writer->sectionEnd();
+  writer->sectionBlocks();
+  for (const char* block : {"*Model_Space", "*Paper_Space", "*Paper_Space0"}) {
+    dxf.writeBlock(*writer, DL_BlockData(block, 0, 0.0, 0.0, 0.0));
+    dxf.writeEndBlock(*writer, block);
+  }
+  writer->sectionEnd();
+
+  writer->sectionEntities();
+  DxfDrawing drawing(&dxf, writer);
+  DrawFourBar(four_bar, request.task, &drawing);
+  writer->sectionEnd();
+  dxf.writeObjects(*writer, "LINKFIT");
+  dxf.writeObjectsEnd(*writer);
+  writer->dxfEOF();
+  writer->close();
+  delete writer;
+  std::ifstream in(file.path(), std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::string ResultSvg(const std::string& result_text, const std::string& source,
+                      const CadExportRequest& request) {
+  const FourBarDrawing four_bar = PrepareFourBar(result_text, source, request);
+  SvgDrawing drawing(four_bar.links / 300.0, 1e-9 * four_bar.links);
+  DrawFourBar(four_bar, request.task, &drawing);
+  return drawing.Document();
+}
+
+}  // namespace linkfit

@@ -143,7 +143,7 @@ std::string AnalysisSvg(const std::string& analysis_json) {
     x_low -= 1.0;
     x_high += 1.0;
   }
-  const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c"};
+  const char* colours[] = {"#d62728", "#1f77b4", "#2ca02c", "#ff7f0e", "#9467bd"};
   struct Kind {
     const char* title;
     const char* unit;
@@ -162,7 +162,7 @@ std::string AnalysisSvg(const std::string& analysis_json) {
     int c = 0;
     for (const auto& [name, link] : analysis["links"].items()) {
       const char* key = link.contains(kind.angle_key) ? kind.angle_key : kind.slider_key;
-      series.push_back({name, colours[c++ % 3], Values(link[key])});
+      series.push_back({name, colours[c++ % 5], Values(link[key])});
     }
     body += Panel(top, kind.title, kind.unit, x, series, dead, x_low, x_high);
     top += kPanelHeight;

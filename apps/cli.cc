@@ -466,6 +466,30 @@ int Refine(const std::string& task_path, const std::string& design_path,
   return kExitOk;
 }
 
+// `--range FROM,TO | task | whole` of `linkfit analyze` into `request`.
+void SetAnalysisRange(const std::string& range, AnalysisRequest* request) {
+  if (range == "task" || range == "whole") {
+    (range == "task" ? request->task_range : request->whole_range) = true;
+    return;
+  }
+  const size_t comma = range.find(',');
+  double bounds[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string text = k == 0                       ? range.substr(0, comma)
+                             : comma == std::string::npos ? ""
+                                                          : range.substr(comma + 1);
+    char* end = nullptr;
+    bounds[k] = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || comma == std::string::npos) {
+      throw InputError(
+          "--range: expected FROM,TO (the input's angles in degrees), task or whole, "
+          "got '" +
+          range + "'");
+    }
+  }
+  request->range_deg = std::pair{bounds[0], bounds[1]};
+}
+
 // `linkfit analyze`: the kinematics (and statics, with a load) of one mechanism of a result file
 // (lib/analysis_io.h), JSON or CSV to -o or stdout.
 int Analyze(const std::string& result_path, const std::string& output_path,
@@ -620,7 +644,8 @@ int Run(int argc, char** argv) {
   std::string analyze_result, analyze_output, analyze_svg;
   AnalysisRequest analysis;
   int analyze_index = 1;
-  std::vector<double> analyze_force, analyze_range, analyze_mass;
+  std::vector<double> analyze_force, analyze_mass;
+  std::string analyze_range;
   CLI::App* analyze = app.add_subcommand(
       "analyze",
       "Kinematics of a listed four-bar over its input's range: every link's angle, angular "
@@ -647,13 +672,12 @@ int Run(int argc, char** argv) {
                       "a load torque on the output rocker, counter-clockwise");
   analyze->add_option("--slider-force", analysis.load.slider_force,
                       "a load force on the slider, along its line's direction");
-  analyze
-      ->add_option("--range", analyze_range,
-                   "sample only this part of the input's range: FROM,TO crank angles in "
-                   "degrees (e.g. between the first and the last task pose; a rocker's rates "
-                   "grow without bound toward its dead points)")
-      ->delimiter(',')
-      ->expected(2);
+  analyze->add_option(
+      "--range", analyze_range,
+      "the part of the input's range sampled: FROM,TO (the input's angles in degrees), task "
+      "(its angles from the first to the last task pose: a six-bar's result gives them) or "
+      "whole (a rocking input between its dead points, where its rates grow without bound); "
+      "default: a crank's whole turn, a rocking input's task range where known, else whole");
   analyze
       ->add_option("--mass", analyze_mass,
                    "the links' masses INPUT,COUPLER,OUTPUT in kg (OUTPUT: the rocker or the "
@@ -762,7 +786,7 @@ int Run(int argc, char** argv) {
   }
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
-    if (!analyze_range.empty()) analysis.range_deg = std::pair{analyze_range[0], analyze_range[1]};
+    if (!analyze_range.empty()) SetAnalysisRange(analyze_range, &analysis);
     if (!analyze_mass.empty()) {
       analysis.masses.input = analyze_mass[0];
       analysis.masses.coupler = analyze_mass[1];

@@ -1,5 +1,6 @@
 #include "lib/analysis_io.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -8,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "lib/six_bar.h"
+#include "lib/six_bar_kinematics.h"
+#include "lib/task.h"
 #include "lib/task_io.h"
 
 namespace linkfit {
@@ -96,6 +100,253 @@ std::string CsvNumber(const std::optional<double>& value) {
   return text;
 }
 
+// The six-bar's bodies as the analysis names them (lib/six_bar.h SixBarBody 1 to 5).
+constexpr const char* kSixBarLinkNames[] = {"upper_link", "forearm", "task_body", "first_link",
+                                            "second_link"};
+
+// Body k's direction in Sigma at the reference configuration: the line its angle follows (the
+// upper link from the ground pivot to the elbow, the forearm from the elbow to the wrist, the
+// task body its frame's x axis, an RR link from its first joint to its second).
+double SixBarBodyReferenceAngle(const SixBar& six_bar, int body) {
+  const auto direction = [](const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); };
+  switch (body) {
+    case kSixBarUpperLink:
+      return direction(six_bar.elbow - six_bar.ground_pivot);
+    case kSixBarForearm:
+      return direction(six_bar.wrist - six_bar.elbow);
+    case kSixBarTaskBody:
+      return six_bar.reference_pose.theta;
+    default: {
+      const SixBarRRLink& link = six_bar.links[body - kSixBarFirstLink];
+      return direction(link.to_joint - link.from_joint);
+    }
+  }
+}
+
+// `linkfit analyze` of six-bar `request.mechanism` of a result (its "six_bars").
+std::string SixBarAnalysisText(const Json& result, const std::string& result_text,
+                               const std::string& source, const AnalysisRequest& request) {
+  const Json& list = result["six_bars"];
+  const int index = request.mechanism;
+  if (index < 0 || index >= static_cast<int>(list.size())) {
+    throw InputError(source + ": no six-bar ranked " + std::to_string(index + 1) +
+                     " (counted from 1): the result lists " + std::to_string(list.size()));
+  }
+  const std::string item = source + ": six_bars[" + std::to_string(index) + "]";
+  if (request.masses.Any()) {
+    throw InputError("--mass: the links' masses are taken for four-bars only (yet), not six-bars");
+  }
+  if (request.load.slider_force != 0.0) throw InputError("--slider-force: a six-bar has no slider");
+  const Json& entry = list[index];
+  if (!entry.is_object() || !entry.contains("task_body_at_first_pose")) {
+    throw InputError(item +
+                     ".task_body_at_first_pose: missing (a result file of `linkfit solve` "
+                     "has it)");
+  }
+  // The parser places the task body at "task_body_at_first_pose" and reads the turns at as many
+  // poses as it is given.
+  const auto turns = entry.find("turns_at_poses_deg");
+  const size_t pose_count =
+      turns != entry.end() && turns->is_array() && !turns->empty() ? turns->size() : 1;
+  const SixBarDesign design =
+      ParseSixBarDesign(result_text, source, std::vector<PlanarPose>(pose_count));
+  const SixBar& six_bar = design.six_bars[index];
+  const int input = design.inputs[index];
+  const std::vector<SixBarAngles>& at_poses = design.at_poses[index];
+  double length = std::max(1e-300, result.value("scale", 0.0));
+  length = std::max({length, (six_bar.elbow - six_bar.ground_pivot).norm(),
+                     (six_bar.wrist - six_bar.elbow).norm(), six_bar.links[0].Length(),
+                     six_bar.links[1].Length()});
+  const double reference = SixBarInputReferenceAngle(six_bar, input);
+  // The task's range: the input's angles from the first pose to the last.
+  std::optional<std::pair<double, double>> task;
+  if (at_poses.size() >= 2) {
+    double low = 0.0, high = 0.0;
+    for (const SixBarAngles& at : at_poses) {
+      low = std::min(low, at[input - 1] - at_poses[0][input - 1]);
+      high = std::max(high, at[input - 1] - at_poses[0][input - 1]);
+    }
+    if (high - low > 1e-9) task = std::pair{reference + low, reference + high};
+  }
+  if (request.task_range && !task) {
+    throw InputError("--range task: the result gives no turns at the task's poses for " + item);
+  }
+
+  SixBarKinematicsOptions options;
+  options.input_speed = request.input_speed;
+  options.steps = request.steps;
+  options.load.tool_force = request.load.coupler_force;
+  options.load.task_body_torque = request.load.output_torque;
+  if (request.range_deg) {
+    options.range =
+        std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
+  } else if (request.task_range) {
+    options.range = task;
+  }
+  SixBarKinematics kinematics = AnalyzeSixBarKinematics(six_bar, input, options, length);
+  bool sampled_task = request.task_range;
+  if (!request.range_deg && !request.task_range && !request.whole_range &&
+      !kinematics.input_rotates_fully && task) {
+    // A rocking input: the part the task uses (its rates grow without bound toward its dead
+    // points), where it drives through it.
+    options.range = task;
+    SixBarKinematics on_task = AnalyzeSixBarKinematics(six_bar, input, options, length);
+    if (!on_task.states.empty()) {
+      kinematics = std::move(on_task);
+      sampled_task = true;
+    }
+  }
+  if (options.range && kinematics.states.empty()) {
+    const std::string asked = request.range_deg ? "--range " + Short(request.range_deg->first) +
+                                                      "," + Short(request.range_deg->second)
+                                                : std::string("--range task");
+    throw InputError(asked + ": " + kinematics.note + " (its input turns from " +
+                     Short(kinematics.range_start * kDegree) + " to " +
+                     Short(kinematics.range_end * kDegree) + " degrees)");
+  }
+  if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
+  const bool loaded = request.load.coupler_force.norm() > 0.0 || request.load.output_torque != 0.0;
+  // Each body's angle continued from the first step's, which is in (-180, 180].
+  double wraps[5];
+  for (int body = 1; body <= 5; ++body) {
+    const double first =
+        SixBarBodyReferenceAngle(six_bar, body) + kinematics.states[0].turns[body - 1];
+    wraps[body - 1] = 2.0 * M_PI * std::ceil((first - M_PI) / (2.0 * M_PI));
+  }
+  const auto angle_deg = [&](const SixBarState& state, int body) {
+    return (SixBarBodyReferenceAngle(six_bar, body) + state.turns[body - 1] - wraps[body - 1]) *
+           kDegree;
+  };
+  const auto worst_loop = [](const SixBarState& state) {
+    return std::min(state.transmission_deg[0], state.transmission_deg[1]);
+  };
+
+  if (request.csv) {
+    std::string csv = "input_deg";
+    for (const char* name : kSixBarLinkNames) {
+      csv += std::string(",") + name + "_angle_deg," + name + "_angular_velocity," + name +
+             "_angular_acceleration";
+    }
+    csv +=
+        ",coupler_point_x,coupler_point_y,coupler_point_velocity_x,coupler_point_velocity_y,"
+        "coupler_point_acceleration_x,coupler_point_acceleration_y,transmission_angle_deg,"
+        "transmission_angle_first_link_deg,transmission_angle_second_link_deg,"
+        "mechanical_advantage,input_torque\n";
+    for (const SixBarState& state : kinematics.states) {
+      std::vector<std::optional<double>> row = {state.input_angle * kDegree};
+      for (int body = 1; body <= 5; ++body) {
+        row.push_back(angle_deg(state, body));
+        row.push_back(state.angular_velocity[body - 1]);
+        row.push_back(state.angular_acceleration[body - 1]);
+      }
+      for (const Eigen::Vector2d* v :
+           {&state.tool_point, &state.tool_velocity, &state.tool_acceleration}) {
+        row.push_back(v->x());
+        row.push_back(v->y());
+      }
+      row.push_back(worst_loop(state));
+      row.push_back(state.transmission_deg[0]);
+      row.push_back(state.transmission_deg[1]);
+      row.push_back(state.mechanical_advantage);
+      row.push_back(state.input_torque);
+      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
+      csv += "\n";
+    }
+    return csv;
+  }
+
+  Json out;
+  out["mechanism"] = index + 1;
+  out["type"] = "six-bar";
+  out["topology"] = SixBarTopologyName(six_bar.topology);
+  out["input"] = kSixBarLinkNames[input - 1];
+  out["input_speed_rad_s"] = request.input_speed;
+  out["input_rotates_fully"] = kinematics.input_rotates_fully;
+  out["input_range_deg"] = Json::array(
+      {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  if (task) {
+    out["task_range_deg"] =
+        Json::array({Number(task->first * kDegree), Number(task->second * kDegree)});
+  }
+  Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
+  Json torque = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
+  Json loops[2] = {Json::array(), Json::array()};
+  Json links = Json::object();
+  double worst = 90.0;
+  for (int body = 1; body <= 5; ++body) {
+    Json angles = Json::array(), rates = Json::array(), accelerations = Json::array();
+    for (const SixBarState& state : kinematics.states) {
+      angles.push_back(Number(angle_deg(state, body)));
+      rates.push_back(Number(state.angular_velocity[body - 1]));
+      accelerations.push_back(Number(state.angular_acceleration[body - 1]));
+    }
+    links[kSixBarLinkNames[body - 1]] = {{"angle_deg", angles},
+                                         {"angular_velocity", rates},
+                                         {"angular_acceleration", accelerations}};
+  }
+  for (const SixBarState& state : kinematics.states) {
+    input_deg.push_back(Number(state.input_angle * kDegree));
+    p.push_back(Point(state.tool_point));
+    v.push_back(Point(state.tool_velocity));
+    a.push_back(Point(state.tool_acceleration));
+    transmission.push_back(Number(worst_loop(state)));
+    for (int l = 0; l < 2; ++l) loops[l].push_back(Number(state.transmission_deg[l]));
+    worst = std::min(worst, worst_loop(state));
+    advantage.push_back(state.mechanical_advantage ? Number(*state.mechanical_advantage)
+                                                   : Json(nullptr));
+    torque.push_back(Number(state.input_torque));
+  }
+  out["input_deg"] = input_deg;
+  out["links"] = links;
+  out["coupler_point"] = p;
+  out["coupler_point_velocity"] = v;
+  out["coupler_point_acceleration"] = a;
+  out["transmission_angle_deg"] = transmission;
+  out["transmission_angles_deg"] = {{"first_link", loops[0]}, {"second_link", loops[1]}};
+  out["transmission_angle_worst_deg"] = Number(worst);
+  out["mechanical_advantage"] = advantage;
+  if (loaded) {
+    out["load"] = {{"coupler_force", Point(request.load.coupler_force)},
+                   {"output_torque", Number(request.load.output_torque)}};
+    out["input_torque"] = torque;
+    out["peak_input_torque"] = Number(kinematics.peak_input_torque);
+  }
+  Json dead = Json::array();
+  for (const SixBarState& state : kinematics.dead_points) {
+    dead.push_back({{"input_deg", Number(state.input_angle * kDegree)},
+                    {"transmission_angles_deg", Json::array({Number(state.transmission_deg[0]),
+                                                             Number(state.transmission_deg[1])})},
+                    {"coupler_point", Point(state.tool_point)}});
+  }
+  out["dead_points"] = dead;
+  Json notes = Json::array();
+  if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  if (sampled_task && !request.task_range) {
+    notes.push_back(
+        "the input rocks: sampled over the task's range (the input's angles at the first and "
+        "the last pose); --range whole samples all of it between its dead points, where the "
+        "rates grow without bound");
+  } else if (!kinematics.input_rotates_fully && !options.range) {
+    notes.push_back(
+        "the input rocks: its range runs between its two dead points (listed), sampled inside "
+        "them; toward them the rates and the torque grow without bound, so their peaks depend "
+        "on --steps: give --range FROM,TO for the part the machine uses");
+  }
+  notes.push_back(
+      "the links' angles are the directions in the fixed frame of: the upper link from the "
+      "ground pivot to the elbow, the forearm from the elbow to the wrist, the task body's "
+      "frame's x axis, each RR link from its first joint to its second; the coupler point is "
+      "the tool frame's origin, the output the task body");
+  out["units"] = {{"angles", "degrees"},
+                  {"angular_velocity", "rad/s"},
+                  {"angular_acceleration", "rad/s^2"},
+                  {"lengths", "the result's"},
+                  {"transmission_angle", "each loop's, folded into 0-90 degrees"},
+                  {"mechanical_advantage", "task body torque / input torque"}};
+  out["notes"] = notes;
+  return out.dump(2) + "\n";
+}
+
 }  // namespace
 
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
@@ -175,6 +426,24 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
           (request.length_unit.empty() ? std::string() : ", got '" + request.length_unit + "'"));
     }
     masses.length_unit_m = unit->second;
+  }
+  {
+    Json result;
+    try {
+      result = Json::parse(result_text);
+    } catch (const Json::parse_error& error) {
+      throw InputError(source + ": not a JSON result file (" + std::string(error.what()) + ")");
+    }
+    const auto six_bars = result.find("six_bars");
+    if (result.is_object() && six_bars != result.end() && six_bars->is_array() &&
+        !six_bars->empty()) {
+      return SixBarAnalysisText(result, result_text, source, request);
+    }
+  }
+  if (request.task_range) {
+    throw InputError(
+        "--range task: a four-bar's result does not give its crank's angles at the task's "
+        "poses: give --range FROM,TO (degrees)");
   }
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;

@@ -22,8 +22,14 @@ struct AnalysisRequest {
   // The result's length unit: "m", "cm", "mm", "in" or "ft" (needed with masses).
   std::string length_unit;
   bool csv = false;  // CSV (one row per step) instead of JSON
-  // Crank angles in degrees (from below to): sample this part of the input's range instead.
+  // The part of the input's range sampled: by default a crank's whole turn, a rocking input's
+  // task range where the result gives it (a six-bar's turns at the poses), else its whole range
+  // between its dead points; `whole_range`: that whole range; `task_range`: the input's angles
+  // from the first task pose to the last (refused where the result does not give them);
+  // `range_deg`: the input's angles in degrees (from below to).
   std::optional<std::pair<double, double>> range_deg;
+  bool whole_range = false;
+  bool task_range = false;
 };
 
 // A four-bar of a result file: its joints at the first pose, its type ("4R", "slider-crank") and
@@ -41,14 +47,20 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
 
 // The analysis of mechanism `request.mechanism` of the result `result_text` (a result file's
 // JSON: planar four-bars of motion, path and function results whose input is a crank: 4Rs and
-// slider-cranks with the slider's line on ground). JSON: the input's range and whether it turns
-// fully, per step "input_deg", per link ("input", "coupler", "output"; a slider's "slider") its
-// angle (deg; a slider: its position along its line), angular velocity (rad/s) and angular
-// acceleration (rad/s^2; a slider: velocity and acceleration), "coupler_point",
+// slider-cranks with the slider's line on ground; six-bars, `request.mechanism` indexing its
+// "six_bars", driven by their input, lib/six_bar_kinematics.h). JSON: the input's range and whether
+// it turns fully, per step "input_deg", per link ("input", "coupler", "output"; a slider's
+// "slider") its angle (deg; a slider: its position along its line), angular velocity (rad/s) and
+// angular acceleration (rad/s^2; a slider: velocity and acceleration), "coupler_point",
 // "coupler_point_velocity", "coupler_point_acceleration" ([x, y] each; none without a coupler
 // point), "transmission_angle_deg", "mechanical_advantage" (null where the output stands still),
 // "input_torque" and "peak_input_torque" (with a load or masses; with masses also
-// "inertial_torque" and, with gravity, "weight_torque", its parts), and the "dead_points". Throws
+// "inertial_torque" and, with gravity, "weight_torque", its parts), and the "dead_points". A
+// six-bar's links are "upper_link", "forearm", "task_body", "first_link" and "second_link" (the
+// input among them), its coupler point the tool frame's origin, its "transmission_angle_deg" the
+// worse of its two loops' (0-90; each in "transmission_angles_deg"), its output the task body
+// (the mechanical advantage, --output-torque), and "task_range_deg" the input's angles at the
+// first and last poses. Throws
 // InputError (naming `source` and the item) for a result that is not JSON, has no such mechanism,
 // or one of a kind not analyzed (yet), and for a bad request.
 std::string AnalyzeResultText(const std::string& result_text, const std::string& source,

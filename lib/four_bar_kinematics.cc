@@ -352,7 +352,7 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
     const double out = state->output_velocity;
     const double load_power = load.coupler_force.dot(state->coupler_point_velocity) +
                               (joints.slider ? load.slider_force : load.output_torque) * out;
-    state->input_torque = -load_power / w2;
+    state->input_torque = -load_power / w2 + 0.0;  // (no load: 0, not -0)
     if (options.masses.Any()) AddMassTorques(loop, options.masses, w2, state);
     const double still = joints.slider ? 1e-12 * std::abs(w2) * length : 1e-12 * std::abs(w2);
     if (std::abs(out) > still) state->mechanical_advantage = w2 / out;

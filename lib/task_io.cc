@@ -1976,7 +1976,6 @@ std::string ReadText(const std::string& path, const char* what) {
   return text;
 }
 
-
 PlanarDesign ReadDesignFile(const std::string& path) {
   return ParseDesign(ReadText(path, "design"), path);
 }

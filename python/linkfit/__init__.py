@@ -358,14 +358,16 @@ def summary(result, title=""):
 
 def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_range_deg=None,
             masses=None, length_unit=None, gravity=False):
-    """The kinematics of a listed four-bar over its input's range, as ``linkfit analyze``.
+    """The kinematics of a listed four-bar or six-bar over its input's range, as ``linkfit analyze``.
 
-    Closed form from the loop equation and its derivatives: per step the input angle, every
+    Closed form from the loop equations and their derivatives: per step the input angle, every
     link's angle, angular velocity and angular acceleration, the coupler point's position,
     velocity and acceleration, the transmission angle and the mechanical advantage; the dead
     points where a rocker's range ends; with a load, the input torque that holds it (virtual
     work) and its peak. Planar 4Rs and slider-cranks driven by a crank (motion, path and
-    function results).
+    function results), and six-bars driven by their input (``mechanism`` indexes the
+    result's ``six_bars``; the coupler point is the tool frame's origin, the output the task
+    body).
 
     Args:
         result: a result (dict from :func:`solve` or :func:`refine`, or read from a file) or its
@@ -377,9 +379,11 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
             points for a rocker).
         load (dict or None): ``{"coupler_force": [fx, fy], "output_torque": t,
             "slider_force": f}``, each optional.
-        input_range_deg (tuple or None): sample only this part of the input's range (crank
-            angles in degrees, from below to; both ends sampled), e.g. the task's motion; a
-            rocker's rates grow without bound toward its dead points.
+        input_range_deg (tuple, str or None): the part of the input's range sampled: (from,
+            to), the input's angles in degrees (both ends sampled); ``"task"``, its angles from
+            the first to the last task pose (a six-bar's result gives them); ``"whole"``, a
+            rocking input between its dead points (its rates grow without bound toward them).
+            None: a crank's whole turn, a rocking input's task range where known, else whole.
         masses (dict or None): the links' masses in kg, ``{"input": m, "coupler": m,
             "output": m}`` (each optional; ``output`` is the rocker or the slider), for the
             torque that drives them at the constant input speed: the crank and the rocker as
@@ -428,10 +432,17 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
         raise InputError("input_speed: expected a number other than 0 (rad/s)")
     steps = _whole_number(steps, "steps", 1, 1000000)
     mechanism = _whole_number(mechanism, "mechanism", 0, 10**9)
+    range_kind = ""
+    if isinstance(input_range_deg, str):
+        if input_range_deg not in ("task", "whole"):
+            raise InputError("input_range_deg: expected (from, to) in degrees, 'task' or "
+                             "'whole', got %r" % (input_range_deg,))
+        range_kind, input_range_deg = input_range_deg, None
     if input_range_deg is not None:
         bounds = _plain(input_range_deg)
         if not isinstance(bounds, (list, tuple)) or len(bounds) != 2:
-            raise InputError("input_range_deg: expected (from, to) in degrees")
+            raise InputError("input_range_deg: expected (from, to) in degrees, 'task' or "
+                             "'whole'")
         input_range_deg = tuple(number(v, "input_range_deg") for v in bounds)
     masses = dict(_plain(masses) or {})
     unknown = set(masses) - {"input", "coupler", "output"}
@@ -446,7 +457,7 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
                                    number(load.get("output_torque", 0.0), "load.output_torque"),
                                    number(load.get("slider_force", 0.0), "load.slider_force"),
                                    input_range_deg, link_masses, length_unit or "",
-                                   bool(gravity)))
+                                   bool(gravity), range_kind))
 
 
 def export_dxf(result, path, mechanism=0, input_deg=None, task=None):

@@ -316,7 +316,6 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
   ExpectRefused(
       "analyze", "-o",
       {{"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
-       {"'" + Solved("six_bar_5_poses.json") + "'", "six-bars are not analyzed or drawn yet"},
        {"'" + result_path + "' --input-speed 0",
         "--input-speed: expected a finite number other than 0"},
        {"'" + std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json'",
@@ -358,6 +357,74 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
     worst = std::min({worst, mu.get<double>(), 180.0 - mu.get<double>()});
   }
   EXPECT_EQ(sampled["transmission_angle_worst_deg"].get<double>(), worst);
+}
+
+// `linkfit analyze` of a six-bar result (issue 37): its five moving links, the tool frame's
+// origin as the coupler point, both loops' transmission angles; a rocking input is sampled over
+// the task's range by default (the input's angles at the first and last poses, the first pose's
+// configuration at one end), over its whole range with --range whole; bad requests refused.
+TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASixBar) {
+  const std::string result_path = Solved("six_bar_5_poses.json");
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(result_path));
+  const nlohmann::json& six_bar = result["six_bars"][0];
+  ASSERT_FALSE(six_bar["input_rotates_fully"].get<bool>());  // the bundled first one rocks
+  const RunResult run = Run("analyze '" + result_path + "' --steps 41 --force 0,-10");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json kinematics = nlohmann::json::parse(run.out);
+  EXPECT_EQ(kinematics["type"], "six-bar");
+  EXPECT_EQ(kinematics["topology"], six_bar["topology"]);
+  for (const char* link : {"upper_link", "forearm", "task_body", "first_link", "second_link"}) {
+    for (const char* key : {"angle_deg", "angular_velocity", "angular_acceleration"}) {
+      EXPECT_EQ(kinematics["links"][link][key].size(), 41u) << link << " " << key;
+    }
+  }
+  for (const char* key :
+       {"input_deg", "coupler_point", "coupler_point_velocity", "coupler_point_acceleration",
+        "transmission_angle_deg", "mechanical_advantage", "input_torque"}) {
+    EXPECT_EQ(kinematics[key].size(), 41u) << key;
+  }
+  // The task's range, from the result's input angles at the poses; the first pose at one end.
+  const nlohmann::json& range = kinematics["task_range_deg"];
+  EXPECT_NEAR(kinematics["input_deg"][0].get<double>(), range[0].get<double>(), 1e-9);
+  EXPECT_NEAR(kinematics["input_deg"][40].get<double>(), range[1].get<double>(), 1e-9);
+  double turned = 0.0;
+  for (const auto& at : six_bar["input_deg"]) turned = std::min(turned, at.get<double>());
+  EXPECT_NEAR(range[1].get<double>() - range[0].get<double>(), -turned, 1e-9);
+  const nlohmann::json& first_pose = six_bar["task_body_at_first_pose"];
+  bool at_first_pose = false;
+  for (const int end : {0, 40}) {
+    const nlohmann::json& p = kinematics["coupler_point"][end];
+    at_first_pose |= std::hypot(p[0].get<double>() - first_pose[0].get<double>(),
+                                p[1].get<double>() - first_pose[1].get<double>()) < 1e-9 &&
+                     std::abs(kinematics["links"]["task_body"]["angle_deg"][end].get<double>() -
+                              first_pose[2].get<double>()) < 1e-9;
+  }
+  EXPECT_TRUE(at_first_pose);
+  // Its least transmission angle per loop over the task's range is the result's (which refines
+  // between samples: the samples may stay a little above it).
+  for (int l = 0; l < 2; ++l) {
+    double least = 90.0;
+    for (const auto& mu :
+         kinematics["transmission_angles_deg"][l == 0 ? "first_link" : "second_link"]) {
+      least = std::min(least, mu.get<double>());
+    }
+    EXPECT_GE(least, six_bar["transmission_angle_min_deg"][l].get<double>() - 1e-9);
+    EXPECT_LT(least, six_bar["transmission_angle_min_deg"][l].get<double>() + 0.5);
+  }
+  // The whole range: between the two dead points, sampled inside them.
+  const RunResult whole = Run("analyze '" + result_path + "' --steps 10 --range whole --csv");
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  EXPECT_EQ(std::count(whole.out.begin(), whole.out.end(), '\n'), 11);
+  EXPECT_EQ(whole.out.rfind("input_deg,upper_link_angle_deg,", 0), 0u);
+  ExpectRefused("analyze", "-o",
+                {{"'" + result_path + "' --mechanism 99", "no six-bar ranked 99"},
+                 {"'" + result_path + "' --mass 1,1,1 --length-unit m",
+                  "--mass: the links' masses are taken for four-bars only"},
+                 {"'" + result_path + "' --slider-force 2", "a six-bar has no slider"},
+                 {"'" + result_path + "' --range 0,1", "--range 0,1: the range asked for leaves"},
+                 {"'" + result_path + "' --range 3", "--range: expected FROM,TO"},
+                 {"'" + Solved("four_bar_5_poses.json") + "' --range task",
+                  "--range task: a four-bar's result does not give"}});
 }
 
 // `linkfit analyze --svg` (issue 37): a chart of four panels with a series per link (and the

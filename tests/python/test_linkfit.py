@@ -339,6 +339,38 @@ def test_analyze_with_masses_balances_the_links_energy(tmp_path):
         linkfit.analyze(result, gravity=True, length_unit="m")
 
 
+def test_analyze_a_six_bar(tmp_path):
+    """linkfit.analyze of a six-bar result (issue 37) equals `linkfit analyze`; the power balance
+    T w + F . v_P + T_task w_task = 0 holds at every step; "task" and "whole" choose the range;
+    plot_analysis draws its five links."""
+    result = linkfit.solve(json.loads((DATA / "six_bar_5_poses.json").read_text()))
+    result_path = tmp_path / "six.json"
+    result_path.write_text(json.dumps(result))
+    load = {"coupler_force": [2.0, -5.0], "output_torque": 0.3}
+    ours = linkfit.analyze(result, mechanism=1, input_speed=-3.0, steps=30, load=load,
+                           input_range_deg="whole")
+    completed = subprocess.run(
+        [CLI, "analyze", str(result_path), "--mechanism", "2", "--input-speed", "-3",
+         "--steps", "30", "--force", "2,-5", "--output-torque", "0.3", "--range", "whole"],
+        capture_output=True, text=True, check=True)
+    assert ours == json.loads(completed.stdout)
+    assert ours["type"] == "six-bar" and len(ours["links"]) == 5
+    for k in range(30):
+        v = ours["coupler_point_velocity"][k]
+        power = (-3.0 * ours["input_torque"][k] + 2.0 * v[0] - 5.0 * v[1]
+                 + 0.3 * ours["links"]["task_body"]["angular_velocity"][k])
+        assert abs(power) < 1e-9 * (1.0 + abs(ours["input_torque"][k])), k
+    on_task = linkfit.analyze(result, steps=5, input_range_deg="task")
+    assert on_task["input_deg"][0] == pytest.approx(on_task["task_range_deg"][0])
+    assert on_task["input_deg"][-1] == pytest.approx(on_task["task_range_deg"][1])
+    with pytest.raises(linkfit.InputError, match="input_range_deg"):
+        linkfit.analyze(result, input_range_deg="all")
+    import matplotlib
+    matplotlib.use("Agg")
+    fig = linkfit.plot_analysis(ours)
+    assert len(fig.axes[0].get_lines()) >= 5
+
+
 def test_export_dxf_reads_back_with_ezdxf(tmp_path):
     """`linkfit export --dxf` and linkfit.export_dxf (issue 37) write the same drawing; read back
     with ezdxf (Debian's python3-ezdxf) its layers hold the pivots as circles where the result

@@ -54,6 +54,13 @@ struct Series {
 std::vector<double> Values(const Json& array) {
   std::vector<double> values;
   for (const Json& value : array) {
+    if (value.is_array()) {  // a vector (a spherical coupler's angular velocity): its length
+      double squared = 0.0;
+      for (const Json& c : value)
+        squared += c.is_number() ? c.get<double>() * c.get<double>() : NAN;
+      values.push_back(std::sqrt(squared));
+      continue;
+    }
     values.push_back(value.is_number() ? value.get<double>() : std::nan(""));
   }
   return values;

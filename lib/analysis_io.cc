@@ -11,6 +11,7 @@
 
 #include "lib/six_bar.h"
 #include "lib/six_bar_kinematics.h"
+#include "lib/spherical_four_bar_kinematics.h"
 #include "lib/task.h"
 #include "lib/task_io.h"
 
@@ -347,6 +348,190 @@ std::string SixBarAnalysisText(const Json& result, const std::string& result_tex
   return out.dump(2) + "\n";
 }
 
+// `linkfit analyze` of spherical four-bar `request.mechanism` of a result.
+std::string SphericalAnalysisText(const Json& result, const std::string& source,
+                                  const AnalysisRequest& request) {
+  const auto mechanisms = result.find("mechanisms");
+  if (mechanisms == result.end() || !mechanisms->is_array()) {
+    throw InputError(source + ": no \"mechanisms\" (a result file of `linkfit solve` lists them)");
+  }
+  const int index = request.mechanism;
+  if (index < 0 || index >= static_cast<int>(mechanisms->size())) {
+    throw InputError(source + ": no mechanism ranked " + std::to_string(index + 1) +
+                     " (counted from 1): the result lists " + std::to_string(mechanisms->size()));
+  }
+  const std::string item = source + ": mechanisms[" + std::to_string(index) + "]";
+  if (request.masses.Any()) {
+    throw InputError(
+        "--mass: the links' masses are taken for planar four-bars only (yet), not spherical");
+  }
+  if (request.load.coupler_force.norm() > 0.0 || request.load.slider_force != 0.0) {
+    throw InputError(
+        "--force, --slider-force: a spherical four-bar's load is a torque about its output's "
+        "axis: give --output-torque");
+  }
+  if (request.task_range) {
+    throw InputError(
+        "--range task: a four-bar's result does not give its crank's angles at the task's "
+        "poses: give --range FROM,TO (degrees)");
+  }
+  const Json& mechanism = (*mechanisms)[index];
+  const auto linkage = mechanism.find("linkage");
+  if (!mechanism.is_object() || linkage == mechanism.end() || !linkage->is_object() ||
+      !linkage->contains("joints") || !(*linkage)["joints"].is_object()) {
+    throw InputError(item + ".linkage.joints: missing (a result file of `linkfit solve` has it)");
+  }
+  const Json& joints = (*linkage)["joints"];
+  const std::string at = item + ".linkage.joints";
+  const auto axis = [&](const char* key) {
+    const auto found = joints.find(key);
+    if (found == joints.end() || !found->is_array() || found->size() != 3 ||
+        !(*found)[0].is_number() || !(*found)[1].is_number() || !(*found)[2].is_number()) {
+      throw InputError(at + "." + key + ": expected [x, y, z]");
+    }
+    const Eigen::Vector3d v((*found)[0].get<double>(), (*found)[1].get<double>(),
+                            (*found)[2].get<double>());
+    if (!(v.norm() > 0.0) || !v.allFinite()) throw InputError(at + "." + key + ": not an axis");
+    return v.normalized();
+  };
+  SphericalFourBarJoints axes;
+  axes.input_pivot = axis("input_pivot");
+  axes.input_pin = axis("input_pin");
+  axes.output_pin = axis("output_pin");
+  axes.output_pivot = axis("output_pivot");
+  SphericalFourBarKinematicsOptions options;
+  options.input_speed = request.input_speed;
+  options.steps = request.steps;
+  options.output_torque = request.load.output_torque;
+  if (request.range_deg) {
+    options.range =
+        std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
+  }
+  const SphericalFourBarKinematics kinematics = AnalyzeSphericalFourBarKinematics(axes, options);
+  if (request.range_deg && kinematics.states.empty()) {
+    throw InputError("--range " + Short(request.range_deg->first) + "," +
+                     Short(request.range_deg->second) + ": " + kinematics.note +
+                     " (its crank turns from " + Short(kinematics.range_start * kDegree) + " to " +
+                     Short(kinematics.range_end * kDegree) + " degrees)");
+  }
+  if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
+  const bool loaded = request.load.output_torque != 0.0;
+  const auto vector = [](const Eigen::Vector3d& v) {
+    return Json::array({Number(v.x()), Number(v.y()), Number(v.z())});
+  };
+
+  if (request.csv) {
+    std::string csv =
+        "input_deg,coupler_rotation_deg,coupler_angular_velocity_x,coupler_angular_velocity_y,"
+        "coupler_angular_velocity_z,coupler_angular_acceleration_x,"
+        "coupler_angular_acceleration_y,coupler_angular_acceleration_z,output_angle_deg,"
+        "output_angular_velocity,output_angular_acceleration,transmission_angle_deg,"
+        "mechanical_advantage,input_torque\n";
+    for (const SphericalFourBarState& state : kinematics.states) {
+      std::vector<std::optional<double>> row = {state.input_angle * kDegree,
+                                                state.coupler_rotation * kDegree};
+      for (const Eigen::Vector3d* v : {&state.coupler_velocity, &state.coupler_acceleration}) {
+        for (int c = 0; c < 3; ++c) row.push_back((*v)[c]);
+      }
+      row.push_back(state.output_angle * kDegree);
+      row.push_back(state.output_velocity);
+      row.push_back(state.output_acceleration);
+      row.push_back(state.transmission_angle_deg);
+      row.push_back(state.mechanical_advantage);
+      row.push_back(state.input_torque);
+      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
+      csv += "\n";
+    }
+    return csv;
+  }
+
+  Json out;
+  out["mechanism"] = index + 1;
+  out["type"] = "spherical " + mechanism.value("type", std::string("4R"));
+  out["input_speed_rad_s"] = request.input_speed;
+  out["input_rotates_fully"] = kinematics.input_rotates_fully;
+  out["input_range_deg"] = Json::array(
+      {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
+  Json torque = Json::array(), input_pins = Json::array(), output_pins = Json::array();
+  Json crank_rates = Json::array(), crank_accelerations = Json::array();
+  Json coupler_angles = Json::array(), coupler_rates = Json::array();
+  Json coupler_accelerations = Json::array();
+  Json output_angles = Json::array(), output_rates = Json::array();
+  Json output_accelerations = Json::array();
+  double worst = 90.0;
+  for (const SphericalFourBarState& state : kinematics.states) {
+    input_deg.push_back(Number(state.input_angle * kDegree));
+    crank_rates.push_back(Number(request.input_speed));
+    crank_accelerations.push_back(0.0);
+    coupler_angles.push_back(Number(state.coupler_rotation * kDegree));
+    coupler_rates.push_back(vector(state.coupler_velocity));
+    coupler_accelerations.push_back(vector(state.coupler_acceleration));
+    output_angles.push_back(Number(state.output_angle * kDegree));
+    output_rates.push_back(Number(state.output_velocity));
+    output_accelerations.push_back(Number(state.output_acceleration));
+    input_pins.push_back(vector(state.input_pin));
+    output_pins.push_back(vector(state.output_pin));
+    transmission.push_back(Number(state.transmission_angle_deg));
+    worst = std::min({worst, state.transmission_angle_deg, 180.0 - state.transmission_angle_deg});
+    advantage.push_back(state.mechanical_advantage ? Number(*state.mechanical_advantage)
+                                                   : Json(nullptr));
+    torque.push_back(Number(state.input_torque));
+  }
+  out["input_deg"] = input_deg;
+  out["links"] = {{"input",
+                   {{"angle_deg", input_deg},
+                    {"angular_velocity", crank_rates},
+                    {"angular_acceleration", crank_accelerations}}},
+                  {"coupler",
+                   {{"angle_deg", coupler_angles},
+                    {"angular_velocity", coupler_rates},
+                    {"angular_acceleration", coupler_accelerations}}},
+                  {"output",
+                   {{"angle_deg", output_angles},
+                    {"angular_velocity", output_rates},
+                    {"angular_acceleration", output_accelerations}}}};
+  out["input_pin"] = input_pins;
+  out["output_pin"] = output_pins;
+  out["transmission_angle_deg"] = transmission;
+  out["transmission_angle_worst_deg"] = Number(worst);
+  out["mechanical_advantage"] = advantage;
+  if (loaded) {
+    out["load"] = {{"output_torque", Number(request.load.output_torque)}};
+    out["input_torque"] = torque;
+    out["peak_input_torque"] = Number(kinematics.peak_input_torque);
+  }
+  Json dead = Json::array();
+  for (const SphericalFourBarState& state : kinematics.dead_points) {
+    dead.push_back({{"input_deg", Number(state.input_angle * kDegree)},
+                    {"transmission_angle_deg", Number(state.transmission_angle_deg)},
+                    {"input_pin", vector(state.input_pin)},
+                    {"output_pin", vector(state.output_pin)}});
+  }
+  out["dead_points"] = dead;
+  Json notes = Json::array();
+  if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  if (!kinematics.input_rotates_fully && !request.range_deg) {
+    notes.push_back(
+        "the input is a rocker: its range runs between its two dead points (listed), "
+        "sampled inside them; toward them the rates and the torque grow without "
+        "bound, so their peaks depend on --steps: give --range FROM,TO for the part "
+        "the machine uses");
+  }
+  notes.push_back(
+      "spherical: the input's angle is about the input pivot's axis from the plane of the two "
+      "fixed axes, the output's about the output pivot's axis from the same plane (each "
+      "counter-clockwise about its axis); the coupler's angle_deg is its rotation from the "
+      "first pose, its angular velocity and acceleration vectors [x, y, z] in the fixed "
+      "frame; the pins are unit axes through the centre");
+  out["units"] = {{"angles", "degrees"},
+                  {"angular_velocity", "rad/s"},
+                  {"angular_acceleration", "rad/s^2"},
+                  {"mechanical_advantage", "output torque / input torque"}};
+  out["notes"] = notes;
+  return out.dump(2) + "\n";
+}
+
 }  // namespace
 
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
@@ -360,17 +545,21 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
   if (!result.is_object()) throw InputError(source + ": expected a JSON object (a result file)");
   const auto six_bars = result.find("six_bars");
   if (six_bars != result.end() && six_bars->is_array() && !six_bars->empty()) {
+    // (`linkfit analyze` takes them before reading a four-bar.)
     throw InputError(source +
-                     ": six-bars are not analyzed or drawn yet (planar four-bars "
-                     "driven by a crank are)");
+                     ": six-bars are not drawn yet (planar four-bars driven by a crank are; "
+                     "`linkfit analyze` analyzes six-bars)");
   }
   const std::string space = result.value("space", std::string("planar"));
   if (space != "planar") {
-    const std::string what = result.value("model", std::string()) == "spherical"
-                                 ? "spherical four-bars"
-                                 : space + " mechanisms";
-    throw InputError(source + ": " + what +
-                     " are not analyzed or drawn yet (planar four-bars driven by a crank are)");
+    if (result.value("model", std::string()) == "spherical") {
+      throw InputError(source +
+                       ": spherical four-bars are not drawn yet (planar four-bars driven by a "
+                       "crank are; `linkfit analyze` analyzes spherical ones)");
+    }
+    throw InputError(source + ": " + space +
+                     " mechanisms are not analyzed or drawn yet (planar four-bars and six-bars "
+                     "and spherical four-bars are analyzed)");
   }
   const auto mechanisms = result.find("mechanisms");
   if (mechanisms == result.end() || !mechanisms->is_array()) {
@@ -438,6 +627,9 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     if (result.is_object() && six_bars != result.end() && six_bars->is_array() &&
         !six_bars->empty()) {
       return SixBarAnalysisText(result, result_text, source, request);
+    }
+    if (result.is_object() && result.value("model", std::string()) == "spherical") {
+      return SphericalAnalysisText(result, source, request);
     }
   }
   if (request.task_range) {

@@ -365,9 +365,10 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
     velocity and acceleration, the transmission angle and the mechanical advantage; the dead
     points where a rocker's range ends; with a load, the input torque that holds it (virtual
     work) and its peak. Planar 4Rs and slider-cranks driven by a crank (motion, path and
-    function results), and six-bars driven by their input (``mechanism`` indexes the
-    result's ``six_bars``; the coupler point is the tool frame's origin, the output the task
-    body).
+    function results), six-bars driven by their input (``mechanism`` indexes the result's
+    ``six_bars``; the coupler point is the tool frame's origin, the output the task body) and
+    spherical four-bars (the coupler's angular velocity and acceleration as [x, y, z] vectors,
+    the load a torque on the output).
 
     Args:
         result: a result (dict from :func:`solve` or :func:`refine`, or read from a file) or its

@@ -456,7 +456,8 @@ _ANALYSIS_PANELS = [("link angles", "deg", "angle_deg"),
                     ("angular velocities", "rad/s", "angular_velocity"),
                     ("angular accelerations", "rad/s²", "angular_acceleration")]
 _LINK_COLOURS = {"input": "#d62728", "coupler": "#1f77b4", "output": "#2ca02c",
-                 "slider": "#2ca02c"}
+                 "slider": "#2ca02c", "upper_link": "#d62728", "forearm": "#1f77b4",
+                 "task_body": "#2ca02c", "first_link": "#ff7f0e", "second_link": "#9467bd"}
 DEAD_POINT = "#7f7f7f"
 
 
@@ -483,6 +484,9 @@ def plot_analysis(analysis, fig=None):
                 values = link[{"angle_deg": "position", "angular_velocity": "velocity",
                                "angular_acceleration": "acceleration"}[key]]
                 label = name + " (length units)"
+            if values and isinstance(values[0], list):  # a spherical coupler's vectors
+                values = [math.sqrt(sum(c * c for c in v)) for v in values]
+                label = name + " (magnitude)"
             ax.plot(x, values, color=_LINK_COLOURS.get(name, LINK), label=label, linewidth=1.2)
         ax.set_title(title, fontsize=9, loc="left")
         ax.set_ylabel(unit)

@@ -328,6 +328,8 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
        {"'" + result_path + "' --mass 1,2,3", "--length-unit: expected m, cm, mm, in or ft"},
        {"'" + result_path + "' --mass 1,-2,3 --length-unit mm", "--mass: expected three masses"},
        {"'" + result_path + "' --gravity", "--gravity: give the links' masses"},
+       {"'" + Solved("platform_7_poses.json") + "'",
+        "spatial mechanisms are not analyzed or drawn yet"},
        {"'" + result_path + "' --mass 1,2,3 --length-unit yd", "got 'yd'"}});
   // With masses: the inertial torque (and the weight's) as columns and arrays, in N mm.
   const RunResult massive =
@@ -427,6 +429,42 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASixBar) {
                   "--range task: a four-bar's result does not give"}});
 }
 
+// `linkfit analyze` of a spherical four-bar (issue 37): the input and output angles and rates,
+// the coupler's rotation and angular velocity and acceleration vectors, the transmission angle
+// (at the first pose the result's), the torque holding an output torque; loads it cannot take
+// refused.
+TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASphericalFourBar) {
+  const std::string result_path = Solved("spherical_four_bar_5_poses.json");
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(result_path));
+  const RunResult run = Run("analyze '" + result_path + "' --steps 12 --output-torque 2");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json kinematics = nlohmann::json::parse(run.out);
+  EXPECT_EQ(kinematics["type"], "spherical 4R");
+  ASSERT_EQ(kinematics["input_deg"].size(), 12u);
+  EXPECT_EQ(kinematics["links"]["coupler"]["angle_deg"][0].get<double>(), 0.0);
+  EXPECT_EQ(kinematics["links"]["coupler"]["angular_velocity"][3].size(), 3u);
+  EXPECT_EQ(kinematics["links"]["output"]["angular_acceleration"].size(), 12u);
+  const nlohmann::json& first = result["mechanisms"][0];
+  ASSERT_TRUE(kinematics["input_rotates_fully"].get<bool>());  // a crank: from the first pose
+  EXPECT_NEAR(kinematics["transmission_angle_deg"][0].get<double>(),
+              first["transmission_angle_deg"][0].get<double>(), 1e-6);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(kinematics["input_pin"][0][c].get<double>(),
+                first["linkage"]["joints"]["input_pin"][c].get<double>(), 1e-12);
+    EXPECT_NEAR(kinematics["output_pin"][0][c].get<double>(),
+                first["linkage"]["joints"]["output_pin"][c].get<double>(), 1e-12);
+  }
+  EXPECT_EQ(kinematics["input_torque"].size(), 12u);
+  const RunResult csv = Run("analyze '" + result_path + "' --steps 5 --csv");
+  ASSERT_EQ(csv.status, 0) << csv.err;
+  EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 6);
+  ExpectRefused("analyze", "-o",
+                {{"'" + result_path + "' --force 1,0", "give --output-torque"},
+                 {"'" + result_path + "' --mass 1,1,1 --length-unit m",
+                  "--mass: the links' masses are taken for planar four-bars only"},
+                 {"'" + result_path + "' --mechanism 999", "no mechanism ranked 999"}});
+}
+
 // `linkfit analyze --svg` (issue 37): a chart of four panels with a series per link (and the
 // torque), a rocker's two dead points dashed on each panel; the JSON still goes to -o.
 TEST_F(CliTest, AnalyzeChartsTheAnalysis) {
@@ -476,7 +514,10 @@ TEST_F(CliTest, ExportWritesADxfDrawing) {
                 {{"'" + result_path + "' --mechanism 99", "no mechanism ranked 99"},
                  {"'" + Solved("function_log10.json") + "' --input-deg 270",
                   "--input-deg 270: the four-bar does not reach it on its circuit"},
-                 {"'" + result_path + "' --task '" + Path("missing.json") + "'", "missing.json"}});
+                 {"'" + result_path + "' --task '" + Path("missing.json") + "'", "missing.json"},
+                 {"'" + Solved("six_bar_5_poses.json") + "'", "six-bars are not drawn yet"},
+                 {"'" + Solved("spherical_four_bar_5_poses.json") + "'",
+                  "spherical four-bars are not drawn yet"}});
   const RunResult neither = Run("export '" + result_path + "'");
   EXPECT_EQ(neither.status, 2);
   EXPECT_NE(neither.err.find("give --dxf FILE, --svg FILE or both"), std::string::npos);

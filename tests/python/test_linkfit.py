@@ -371,6 +371,39 @@ def test_analyze_a_six_bar(tmp_path):
     assert len(fig.axes[0].get_lines()) >= 5
 
 
+def test_analyze_a_spherical_four_bar(tmp_path):
+    """linkfit.analyze of a spherical four-bar (issue 37) equals `linkfit analyze`; the power
+    balance T w + T_out psi' = 0 holds; the coupler's angular velocity turns each pin about the
+    centre as its crank does (omega3 x w1 = w u1 x w1)."""
+    result = linkfit.solve(json.loads((DATA / "spherical_four_bar_5_poses.json").read_text()))
+    result_path = tmp_path / "sph.json"
+    result_path.write_text(json.dumps(result))
+    ours = linkfit.analyze(result, input_speed=2.5, steps=36, load={"output_torque": -1.5})
+    completed = subprocess.run(
+        [CLI, "analyze", str(result_path), "--input-speed", "2.5", "--steps", "36",
+         "--output-torque", "-1.5"], capture_output=True, text=True, check=True)
+    assert ours == json.loads(completed.stdout)
+    u1 = result["mechanisms"][0]["linkage"]["joints"]["input_pivot"]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    for k in range(36):
+        power = (2.5 * ours["input_torque"][k]
+                 - 1.5 * ours["links"]["output"]["angular_velocity"][k])
+        assert abs(power) < 1e-9
+        w1 = ours["input_pin"][k]
+        on_coupler = cross(ours["links"]["coupler"]["angular_velocity"][k], w1)
+        on_crank = [2.5 * c for c in cross(u1, w1)]
+        assert max(abs(a - b) for a, b in zip(on_coupler, on_crank)) < 1e-9
+    with pytest.raises(linkfit.InputError, match="give --output-torque"):
+        linkfit.analyze(result, load={"coupler_force": [1, 0]})
+    import matplotlib
+    matplotlib.use("Agg")
+    labels = [line.get_label() for line in linkfit.plot_analysis(ours).axes[1].get_lines()]
+    assert "coupler (magnitude)" in labels
+
+
 def test_export_dxf_reads_back_with_ezdxf(tmp_path):
     """`linkfit export --dxf` and linkfit.export_dxf (issue 37) write the same drawing; read back
     with ezdxf (Debian's python3-ezdxf) its layers hold the pivots as circles where the result

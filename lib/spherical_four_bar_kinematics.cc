@@ -1,0 +1,235 @@
+#include "lib/spherical_four_bar_kinematics.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace linkfit {
+namespace {
+
+// A determinant of [w1, -u2, -w2] below this is a dead point (its columns are unit vectors).
+constexpr double kDeadPoint = 1e-10;
+
+double Continued(double angle, double previous) {
+  return angle + 2.0 * M_PI * std::round((previous - angle) / (2.0 * M_PI));
+}
+
+// The coupler's frame at its pins: (w1, n, w1 x n), n the unit component of w2 normal to w1.
+Eigen::Matrix3d CouplerFrame(const Eigen::Vector3d& w1, const Eigen::Vector3d& w2) {
+  const Eigen::Vector3d n = (w2 - w2.dot(w1) * w1).normalized();
+  Eigen::Matrix3d frame;
+  frame << w1, n, w1.cross(n);
+  return frame;
+}
+
+// The four-bar's dimensions and the assembly it is in at the first pose.
+struct Loop {
+  Eigen::Vector3d u1, u2, e1, e2, f1, f2;
+  double cos_a1 = 1.0, sin_a1 = 0.0, cos_beta = 1.0, cos_a2 = 1.0, a2 = 0.0, beta = 0.0;
+  double cos_gamma = 1.0, sin_gamma = 0.0;
+  double side = 1.0;       // the sign of w2 . (u2 x w1) at the first pose
+  double reference = 0.0;  // phi at the first pose
+  Eigen::Matrix3d reference_frame = Eigen::Matrix3d::Identity();
+
+  // The pins at input angle phi; with `clamp`, a closure just past a dead point is taken at it.
+  bool Close(double phi, bool clamp, Eigen::Vector3d* w1, Eigen::Vector3d* w2) const {
+    *w1 = cos_a1 * u1 + sin_a1 * (std::cos(phi) * e1 + std::sin(phi) * e2);
+    const double g = u2.dot(*w1), normal = 1.0 - g * g;
+    if (!(normal > 1e-14)) return false;
+    const double a = (cos_a2 - g * cos_beta) / normal, b = (cos_beta - g * cos_a2) / normal;
+    double squared = (1.0 - a * a - b * b - 2.0 * a * b * g) / normal;
+    if (squared < 0.0 && !clamp) return false;
+    squared = std::max(squared, 0.0);
+    *w2 = a * u2 + b * *w1 + side * std::sqrt(squared) * u2.cross(*w1);
+    w2->normalize();
+    return true;
+  }
+
+  // The input angles where g = u2 . w1 reaches cos(alpha2 + beta) or cos(alpha2 - beta): where
+  // the loop stops closing.
+  std::vector<double> CriticalAngles() const {
+    std::vector<double> angles;
+    for (const double bound : {std::cos(a2 + beta), std::cos(a2 - beta)}) {
+      const double k = (bound - cos_gamma * cos_a1) / (sin_gamma * sin_a1);
+      if (std::abs(k) > 1.0) continue;
+      const double at = std::acos(k);
+      angles.push_back(at);
+      angles.push_back(-at);
+    }
+    return angles;
+  }
+};
+
+std::optional<Loop> MakeLoop(const SphericalFourBarJoints& joints, std::string* note) {
+  Loop loop;
+  loop.u1 = joints.input_pivot.normalized();
+  loop.u2 = joints.output_pivot.normalized();
+  const Eigen::Vector3d w1 = joints.input_pin.normalized(), w2 = joints.output_pin.normalized();
+  loop.cos_a1 = loop.u1.dot(w1);
+  loop.sin_a1 = loop.u1.cross(w1).norm();
+  loop.cos_beta = w1.dot(w2);
+  loop.beta = std::atan2(w1.cross(w2).norm(), loop.cos_beta);
+  loop.cos_a2 = loop.u2.dot(w2);
+  loop.a2 = std::atan2(loop.u2.cross(w2).norm(), loop.cos_a2);
+  loop.cos_gamma = loop.u1.dot(loop.u2);
+  loop.sin_gamma = loop.u1.cross(loop.u2).norm();
+  if (!(loop.sin_a1 > 1e-9 && std::sin(loop.beta) > 1e-9 && std::sin(loop.a2) > 1e-9 &&
+        loop.sin_gamma > 1e-9)) {
+    *note = "a link of the four-bar has no length (two of its axes along one line)";
+    return std::nullopt;
+  }
+  loop.e1 = (loop.u2 - loop.cos_gamma * loop.u1).normalized();
+  loop.e2 = loop.u1.cross(loop.e1);
+  loop.f1 = (loop.u1 - loop.cos_gamma * loop.u2).normalized();
+  loop.f2 = loop.u2.cross(loop.f1);
+  loop.reference = std::atan2(w1.dot(loop.e2), w1.dot(loop.e1));
+  loop.side = w2.dot(loop.u2.cross(w1)) < 0.0 ? -1.0 : 1.0;
+  loop.reference_frame = CouplerFrame(w1, w2);
+  return loop;
+}
+
+// The input's range about the first pose (as lib/four_bar_kinematics.cc's planar one).
+void InputRange(const Loop& loop, double* start, double* end, bool* full) {
+  double ahead = 2.0 * M_PI, behind = 2.0 * M_PI;
+  for (const double critical : loop.CriticalAngles()) {
+    double offset = std::fmod(critical - loop.reference, 2.0 * M_PI);
+    if (offset < 0.0) offset += 2.0 * M_PI;
+    if (offset < 1e-12) {
+      behind = 0.0;
+      continue;
+    }
+    ahead = std::min(ahead, offset);
+    behind = std::min(behind, 2.0 * M_PI - offset);
+  }
+  *full = ahead == 2.0 * M_PI && behind == 2.0 * M_PI;
+  *start = loop.reference - (*full ? 0.0 : behind);
+  *end = loop.reference + ahead;
+}
+
+// Positions at input angle phi (angles continued from `previous_output`).
+bool PlaceOnLoop(const Loop& loop, double phi, bool clamp, std::optional<double> previous_output,
+                 SphericalFourBarState* state) {
+  Eigen::Vector3d w1, w2;
+  if (!loop.Close(phi, clamp, &w1, &w2)) return false;
+  state->input_angle = phi;
+  state->input_pin = w1;
+  state->output_pin = w2;
+  const double psi = std::atan2(w2.dot(loop.f2), w2.dot(loop.f1));
+  state->output_angle = previous_output ? Continued(psi, *previous_output) : psi;
+  state->coupler_rotation_matrix = CouplerFrame(w1, w2) * loop.reference_frame.transpose();
+  const double trace = state->coupler_rotation_matrix.trace();
+  state->coupler_rotation = std::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0));
+  // At w2, between the tangents toward w1 and toward u2.
+  const Eigen::Vector3d to_w1 = w1 - w1.dot(w2) * w2, to_u2 = loop.u2 - loop.u2.dot(w2) * w2;
+  state->transmission_angle_deg =
+      std::atan2(to_w1.cross(to_u2).norm(), to_w1.dot(to_u2)) * 180.0 / M_PI;
+  return true;
+}
+
+}  // namespace
+
+bool PlaceSphericalFourBar(const SphericalFourBarJoints& joints, double input_angle,
+                           SphericalFourBarState* state) {
+  std::string note;
+  const std::optional<Loop> loop = MakeLoop(joints, &note);
+  if (!loop) return false;
+  double start = 0.0, end = 0.0;
+  bool full = false;
+  InputRange(*loop, &start, &end, &full);
+  double offset = std::fmod(input_angle - start, 2.0 * M_PI);
+  if (offset < 0.0) offset += 2.0 * M_PI;
+  if (!full && offset > end - start) return false;
+  return PlaceOnLoop(*loop, start + offset, false, std::nullopt, state);
+}
+
+SphericalFourBarKinematics AnalyzeSphericalFourBarKinematics(
+    const SphericalFourBarJoints& joints, const SphericalFourBarKinematicsOptions& options) {
+  SphericalFourBarKinematics kinematics;
+  const std::optional<Loop> made = MakeLoop(joints, &kinematics.note);
+  if (!made) return kinematics;
+  const Loop& loop = *made;
+  const double w = options.input_speed;
+  if (!(w != 0.0) || !std::isfinite(w)) {
+    kinematics.note = "the input speed is 0";
+    return kinematics;
+  }
+  InputRange(loop, &kinematics.range_start, &kinematics.range_end, &kinematics.input_rotates_fully);
+  const int steps = std::max(1, options.steps);
+  double first = kinematics.range_start, span = kinematics.range_end - kinematics.range_start;
+  if (options.range) {
+    double offset = std::fmod(options.range->first - kinematics.range_start, 2.0 * M_PI);
+    if (offset < 0.0) offset += 2.0 * M_PI;
+    const double part = options.range->second - options.range->first;
+    if (!(part > 0.0) || offset + part > span + 1e-12) {
+      kinematics.note = "the range asked for leaves the input's range on its circuit";
+      return kinematics;
+    }
+    first = kinematics.range_start + offset;
+    span = part;
+  }
+
+  std::optional<double> previous_output;
+  // The rates at a placed state: false at a dead point.
+  const auto rates = [&](SphericalFourBarState* state) {
+    const Eigen::Vector3d& w1 = state->input_pin;
+    const Eigen::Vector3d& w2 = state->output_pin;
+    Eigen::Matrix3d system;
+    system << w1, -loop.u2, -w2;
+    const double determinant = system.determinant();
+    if (!(std::abs(determinant) > kDeadPoint)) return false;
+    const Eigen::Matrix3d inverse = system.inverse();
+    // [w1, -u2, -w2] (lambda, psi', mu) = -phi' u1.
+    const Eigen::Vector3d velocity = inverse * (-w * loop.u1);
+    const double lambda = velocity[0], psi_rate = velocity[1], mu = velocity[2];
+    state->output_velocity = psi_rate;
+    state->coupler_velocity = w * loop.u1 + lambda * w1;
+    // [w1, -u2, -w2] (lambda', psi'', mu') = mu psi' u2 x w2 - lambda phi' u1 x w1.
+    const Eigen::Vector3d acceleration =
+        inverse * (mu * psi_rate * loop.u2.cross(w2) - lambda * w * loop.u1.cross(w1));
+    state->output_acceleration = acceleration[1];
+    state->coupler_acceleration = acceleration[0] * w1 + lambda * w * loop.u1.cross(w1);
+    // Power balance: T_in phi' + T_out psi' = 0.
+    state->input_torque = -options.output_torque * psi_rate / w + 0.0;
+    state->mechanical_advantage.reset();
+    if (std::abs(psi_rate) > 1e-12 * std::abs(w)) state->mechanical_advantage = w / psi_rate;
+    return true;
+  };
+
+  if (!kinematics.input_rotates_fully) {
+    SphericalFourBarState dead;
+    if (PlaceOnLoop(loop, kinematics.range_start, true, std::nullopt, &dead)) {
+      kinematics.dead_points.push_back(dead);
+    }
+  }
+  for (int k = 0; k < steps; ++k) {
+    const double phi = options.range ? first + (steps > 1 ? span * k / (steps - 1) : 0.0)
+                       : kinematics.input_rotates_fully ? first + span * k / steps
+                                                        : first + span * (k + 0.5) / steps;
+    SphericalFourBarState state;
+    if (!PlaceOnLoop(loop, phi, false, previous_output, &state)) continue;
+    previous_output = state.output_angle;
+    if (!rates(&state)) {
+      kinematics.dead_points.push_back(state);
+      continue;
+    }
+    kinematics.peak_input_torque =
+        std::max(kinematics.peak_input_torque, std::abs(state.input_torque));
+    kinematics.states.push_back(state);
+  }
+  if (!kinematics.input_rotates_fully) {
+    SphericalFourBarState dead;
+    if (PlaceOnLoop(loop, kinematics.range_end, true, previous_output, &dead)) {
+      kinematics.dead_points.push_back(dead);
+    }
+  }
+  if (kinematics.states.empty() && kinematics.note.empty()) {
+    kinematics.note = "the loop does not close over the input's range";
+  }
+  return kinematics;
+}
+
+}  // namespace linkfit

@@ -493,10 +493,11 @@ void SetAnalysisRange(const std::string& range, AnalysisRequest* request) {
 // `linkfit analyze`: the kinematics (and statics, with a load) of one mechanism of a result file
 // (lib/analysis_io.h), JSON or CSV to -o or stdout.
 int Analyze(const std::string& result_path, const std::string& output_path,
-            const std::string& svg_path, AnalysisRequest request,
+            const std::string& svg_path, const std::string& task_path, AnalysisRequest request,
             const std::vector<double>& force) {
   OutputSet outputs;
   outputs.AddInput(result_path);
+  if (!task_path.empty()) outputs.AddInput(task_path);
   // With --svg and no -o, only the chart is written.
   OutputFile* output = output_path.empty() && !svg_path.empty()
                            ? nullptr
@@ -504,6 +505,12 @@ int Analyze(const std::string& result_path, const std::string& output_path,
   OutputFile* svg = svg_path.empty() ? nullptr : &outputs.Add(svg_path, "--svg");
   if (!force.empty()) request.load.coupler_force = Eigen::Vector2d(force[0], force[1]);
   const std::string text = ReadText(result_path, "result");
+  std::vector<Task> tasks;
+  if (!task_path.empty()) {
+    tasks = ReadTaskFile(task_path);
+    if (tasks.size() != 1) throw InputError(task_path + ": analyze takes one task, not a batch");
+    request.task = &tasks[0];
+  }
   const std::string analysis = AnalyzeResultText(text, result_path, request);
   if (output != nullptr) output->Write(analysis);
   if (svg != nullptr) {
@@ -641,7 +648,7 @@ int Run(int argc, char** argv) {
   show->add_option("RESULT", show_path, "result file: .json (one result) or .jsonl (one per line)")
       ->required();
 
-  std::string analyze_result, analyze_output, analyze_svg;
+  std::string analyze_result, analyze_output, analyze_svg, analyze_task;
   AnalysisRequest analysis;
   int analyze_index = 1;
   std::vector<double> analyze_force, analyze_mass;
@@ -691,6 +698,10 @@ int Run(int argc, char** argv) {
   analyze->add_flag("--gravity", analysis.masses.gravity,
                     "the links' weight too, gravity along -y of the result's frame");
   analyze->add_flag("--csv", analysis.csv, "CSV, one row per step, instead of JSON");
+  analyze->add_option("--task", analyze_task,
+                      "the result's task file: a four-bar's task range (the crank's angles from "
+                      "the first pose or point to the last), sampled by default when the input "
+                      "rocks; checked against the result");
   analyze->add_option("-o,--output", analyze_output,
                       "write to this file (default: stdout, unless --svg alone is given)");
   analyze->add_option("--svg", analyze_svg,
@@ -792,7 +803,8 @@ int Run(int argc, char** argv) {
       analysis.masses.coupler = analyze_mass[1];
       analysis.masses.output = analyze_mass[2];
     }
-    return Analyze(analyze_result, analyze_output, analyze_svg, analysis, analyze_force);
+    return Analyze(analyze_result, analyze_output, analyze_svg, analyze_task, analysis,
+                   analyze_force);
   }
   if (bench->parsed()) {
     bench_options.trade = !extremes_only && !constrained_only;

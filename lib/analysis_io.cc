@@ -532,6 +532,102 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
   return out.dump(2) + "\n";
 }
 
+// A four-bar's task range: its crank's angles (radians, continued from the first
+// configuration's, where the result's joints are) from the first task pose, point or pair to the
+// last, least to greatest; none where neither the result nor `task` gives them. Motion: each
+// pose carries the input dyad's moving pivot (the result's "dyads", in E) to its crank pin;
+// path: the crank turns by input_deg_j - input_deg_0 (free timing: the result's; prescribed:
+// the task's points'); function: by the precision pairs' (the task's samples' with a task)
+// inputs from the first pair's. Throws InputError where `task` is not this result's task.
+std::optional<std::pair<double, double>> FourBarTaskRange(const Json& result, const Json& mechanism,
+                                                          const FourBarJoints& joints,
+                                                          double length, const Task* task,
+                                                          const std::string& source) {
+  const std::string problem = result.value("problem", std::string("motion"));
+  const Eigen::Vector2d crank = joints.input_pin - joints.input_pivot;
+  const double first = std::atan2(crank.y(), crank.x());
+  std::vector<double> turns;  // the crank's turn from the first configuration at each item
+  const auto mismatch = [&](const std::string& what) {
+    throw InputError("--task: " + what + " (is it the task of " + source + "?)");
+  };
+  if (problem == "motion") {
+    if (task == nullptr) return std::nullopt;
+    if (task->problem != ProblemKind::kMotion || task->planar_poses.size() < 2) {
+      mismatch("not a planar motion task");
+    }
+    const auto dyads = result.find("dyads");
+    const auto indices = mechanism.find("dyads");
+    if (dyads == result.end() || indices == mechanism.end() || !indices->is_array() ||
+        indices->empty() || !(*indices)[0].is_number_integer()) {
+      return std::nullopt;
+    }
+    const int index = (*indices)[0].get<int>();
+    if (index < 0 || index >= static_cast<int>(dyads->size())) return std::nullopt;
+    const Json& dyad = (*dyads)[index];
+    if (dyad.value("type", std::string()) != "RR") return std::nullopt;
+    const Eigen::Vector2d moving =
+        ReadPoint(dyad, "moving", source + ": dyads[" + std::to_string(index) + "]");
+    double previous = first;
+    for (size_t k = 0; k < task->planar_poses.size(); ++k) {
+      const Eigen::Vector2d pin = task->planar_poses[k].ToFixed(moving);
+      if (k == 0 && (pin - joints.input_pin).norm() > 1e-6 * length) {
+        mismatch("its first pose does not put the crank pin where the result's joints have it");
+      }
+      const Eigen::Vector2d arm = pin - joints.input_pivot;
+      double angle = std::atan2(arm.y(), arm.x());
+      angle += 2.0 * M_PI * std::round((previous - angle) / (2.0 * M_PI));
+      turns.push_back(angle - first);
+      previous = angle;
+    }
+  } else if (problem == "path") {
+    std::vector<double> input_deg;
+    const auto fitted = mechanism.find("input_deg");
+    if (fitted != mechanism.end() && fitted->is_array()) {
+      for (const Json& value : *fitted) {
+        if (value.is_number()) input_deg.push_back(value.get<double>());
+      }
+    } else if (task != nullptr) {
+      if (task->problem != ProblemKind::kPath || task->points.empty() ||
+          !task->points[0].input_angle) {
+        mismatch("not a path task with input angles");
+      }
+      if (joints.coupler_point) {
+        const double slack = 1e-6 * length + 1.000001 * mechanism.value("max_point_error", 0.0);
+        if ((task->points[0].point_in_fixed - *joints.coupler_point).norm() > slack) {
+          mismatch("its first point is not where the result's coupler point passes it");
+        }
+      }
+      for (const TimedPoint& point : task->points) {
+        if (point.input_angle) input_deg.push_back(*point.input_angle * kDegree);
+      }
+    }
+    for (const double at : input_deg) turns.push_back((at - input_deg.front()) / kDegree);
+  } else if (problem == "function") {
+    const auto pairs = result.find("precision_points");
+    if (pairs == result.end() || !pairs->is_array() || pairs->empty() ||
+        !(*pairs)[0].contains("input_deg") || !(*pairs)[0]["input_deg"].is_number()) {
+      return std::nullopt;
+    }
+    const double first_pair = (*pairs)[0]["input_deg"].get<double>() / kDegree;
+    if (task != nullptr) {
+      if (task->problem != ProblemKind::kFunction) mismatch("not a function task");
+      const std::vector<FunctionPair>& samples =
+          task->function_samples.empty() ? task->pairs : task->function_samples;
+      for (const FunctionPair& pair : samples) turns.push_back(pair.input - first_pair);
+    } else {
+      for (const Json& pair : *pairs) {
+        if (pair.contains("input_deg") && pair["input_deg"].is_number()) {
+          turns.push_back(pair["input_deg"].get<double>() / kDegree - first_pair);
+        }
+      }
+    }
+  }
+  if (turns.size() < 2) return std::nullopt;
+  const auto [low, high] = std::minmax_element(turns.begin(), turns.end());
+  if (!(*high - *low > 1e-9)) return std::nullopt;
+  return std::pair{first + *low, first + *high};
+}
+
 }  // namespace
 
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
@@ -632,14 +728,21 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       return SphericalAnalysisText(result, source, request);
     }
   }
-  if (request.task_range) {
-    throw InputError(
-        "--range task: a four-bar's result does not give its crank's angles at the task's "
-        "poses: give --range FROM,TO (degrees)");
-  }
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;
   const double length = four_bar.length;
+  std::optional<std::pair<double, double>> task;
+  {
+    const Json result = Json::parse(result_text);
+    task = FourBarTaskRange(result, result["mechanisms"][request.mechanism], joints, length,
+                            request.task, source);
+  }
+  if (request.task_range && !task) {
+    throw InputError(
+        "--range task: the result does not give the crank's angles at the task's poses or "
+        "points: give its task with --task (motion and timed path tasks), or --range FROM,TO "
+        "(degrees)");
+  }
   FourBarKinematicsOptions options;
   options.input_speed = request.input_speed;
   options.steps = request.steps;
@@ -648,17 +751,33 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   if (request.range_deg) {
     options.range =
         std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
+  } else if (request.task_range) {
+    options.range = task;
   }
   if (!joints.coupler_point && request.load.coupler_force.norm() > 0.0) {
     throw InputError(source +
                      ": --force: the four-bar has no coupler point (a function "
                      "generator): load its output with --output-torque");
   }
-  const FourBarKinematics kinematics = AnalyzeFourBarKinematics(joints, options, length);
-  if (request.range_deg && kinematics.states.empty()) {
-    throw InputError("--range " + Short(request.range_deg->first) + "," +
-                     Short(request.range_deg->second) + ": " + kinematics.note +
-                     " (its crank turns from " + Short(kinematics.range_start * kDegree) + " to " +
+  FourBarKinematics kinematics = AnalyzeFourBarKinematics(joints, options, length);
+  bool sampled_task = request.task_range;
+  if (!request.range_deg && !request.task_range && !request.whole_range &&
+      !kinematics.input_rotates_fully && task) {
+    // A rocker: the part the task uses (its rates grow without bound toward its dead points),
+    // where it runs on the first configuration's circuit.
+    options.range = task;
+    FourBarKinematics on_task = AnalyzeFourBarKinematics(joints, options, length);
+    if (!on_task.states.empty()) {
+      kinematics = std::move(on_task);
+      sampled_task = true;
+    }
+  }
+  if (options.range && kinematics.states.empty()) {
+    const std::string asked = request.range_deg ? "--range " + Short(request.range_deg->first) +
+                                                      "," + Short(request.range_deg->second)
+                                                : std::string("--range task");
+    throw InputError(asked + ": " + kinematics.note + " (its crank turns from " +
+                     Short(kinematics.range_start * kDegree) + " to " +
                      Short(kinematics.range_end * kDegree) + " degrees)");
   }
   const bool loaded = request.load.coupler_force.norm() > 0.0 ||
@@ -716,6 +835,10 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   out["input_rotates_fully"] = kinematics.input_rotates_fully;
   out["input_range_deg"] = Json::array(
       {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  if (task) {
+    out["task_range_deg"] =
+        Json::array({Number(task->first * kDegree), Number(task->second * kDegree)});
+  }
   Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
   Json torque = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
   Json inertial = Json::array(), weight = Json::array();
@@ -802,12 +925,17 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
-  if (!kinematics.input_rotates_fully && !request.range_deg) {
+  if (sampled_task && !request.task_range) {
+    notes.push_back(
+        "the input is a rocker: sampled over the task's range (the crank's angles from the "
+        "first task pose to the last); --range whole samples all of it between its dead points, "
+        "where the rates grow without bound");
+  } else if (!kinematics.input_rotates_fully && !options.range) {
     notes.push_back(
         "the input is a rocker: its range runs between its two dead points (listed), "
         "sampled inside them; toward them the rates and the torque grow without "
         "bound, so their peaks depend on --steps: give --range FROM,TO for the part "
-        "the machine uses");
+        "the machine uses, or --task with the result's task for its range");
   }
   if (!point) notes.push_back("no coupler point in the result: its arrays are left out");
   if (massive) {

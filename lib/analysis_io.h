@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "lib/four_bar_kinematics.h"
+#include "lib/task.h"
 
 namespace linkfit {
 
@@ -30,6 +31,9 @@ struct AnalysisRequest {
   std::optional<std::pair<double, double>> range_deg;
   bool whole_range = false;
   bool task_range = false;
+  // The result's task (its poses, points or function), for a four-bar's task range where the
+  // result alone does not give it (motion, and timed path results); checked against the result.
+  const Task* task = nullptr;
 };
 
 // A four-bar of a result file: its joints at the first pose, its type ("4R", "slider-crank") and

@@ -189,7 +189,8 @@ PYBIND11_MODULE(_linkfit, m) {
       [](const std::string& result, int mechanism, double input_speed, int steps, double force_x,
          double force_y, double output_torque, double slider_force,
          std::optional<std::pair<double, double>> range_deg, std::array<double, 3> masses,
-         const std::string& length_unit, bool gravity, const std::string& range_kind) {
+         const std::string& length_unit, bool gravity, const std::string& range_kind,
+         const std::string& task) {
         linkfit::AnalysisRequest request;
         request.mechanism = mechanism;
         request.input_speed = input_speed;
@@ -205,6 +206,11 @@ PYBIND11_MODULE(_linkfit, m) {
         request.length_unit = length_unit;
         request.task_range = range_kind == "task";
         request.whole_range = range_kind == "whole";
+        std::optional<linkfit::Task> parsed;
+        if (!task.empty()) {
+          parsed = linkfit::ParseTask(task, "task");
+          request.task = &*parsed;
+        }
         py::gil_scoped_release release;
         return linkfit::AnalyzeResultText(result, "result", request);
       },
@@ -213,6 +219,7 @@ PYBIND11_MODULE(_linkfit, m) {
       py::arg("output_torque") = 0.0, py::arg("slider_force") = 0.0,
       py::arg("range_deg") = std::nullopt, py::arg("masses") = std::array<double, 3>{0, 0, 0},
       py::arg("length_unit") = "", py::arg("gravity") = false, py::arg("range_kind") = "",
+      py::arg("task") = "",
       "The kinematics of one mechanism of a result (JSON text), as `linkfit analyze` writes it.");
   m.def(
       "export_json",

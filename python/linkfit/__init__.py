@@ -357,7 +357,7 @@ def summary(result, title=""):
 
 
 def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_range_deg=None,
-            masses=None, length_unit=None, gravity=False):
+            masses=None, length_unit=None, gravity=False, task=None):
     """The kinematics of a listed four-bar or six-bar over its input's range, as ``linkfit analyze``.
 
     Closed form from the loop equations and their derivatives: per step the input angle, every
@@ -394,6 +394,9 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
             ``"in"`` or ``"ft"``: torques are then in newtons times it.
         gravity (bool): with masses, their weight too (gravity along -y of the result's
             frame).
+        task: the result's task (dict or JSON text), for a four-bar's task range where the
+            result alone does not give it (motion and timed path tasks); checked against the
+            result.
 
     Returns:
         dict: the analysis (the JSON ``linkfit analyze`` writes): ``input_deg``, ``links``
@@ -454,11 +457,13 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
     if length_unit is not None and not isinstance(length_unit, str):
         raise InputError("length_unit: expected m, cm, mm, in or ft, got %r" % (length_unit,))
     text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))
+    task_text = "" if task is None else (task if isinstance(task, str)
+                                         else json.dumps(_plain(dict(task))))
     return json.loads(analyze_json(text, mechanism, speed, steps, force[0], force[1],
                                    number(load.get("output_torque", 0.0), "load.output_torque"),
                                    number(load.get("slider_force", 0.0), "load.slider_force"),
                                    input_range_deg, link_masses, length_unit or "",
-                                   bool(gravity), range_kind))
+                                   bool(gravity), range_kind, task_text))
 
 
 def export_dxf(result, path, mechanism=0, input_deg=None, task=None):

@@ -426,7 +426,62 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASixBar) {
                  {"'" + result_path + "' --range 0,1", "--range 0,1: the range asked for leaves"},
                  {"'" + result_path + "' --range 3", "--range: expected FROM,TO"},
                  {"'" + Solved("four_bar_5_poses.json") + "' --range task",
-                  "--range task: a four-bar's result does not give"}});
+                  "--range task: the result does not give the crank's angles"}});
+}
+
+// A four-bar's task range (issue 37): with its motion task, the crank's angles from the first
+// pose to the last (each pose carries the input dyad's moving pivot to the crank pin), sampled
+// with --range task; a rocking function generator is sampled over its precision pairs' inputs by
+// default; a task that is not the result's is refused.
+TEST_F(CliTest, AnalyzeSamplesAFourBarsTaskRange) {
+  const std::string task = std::string(LINKFIT_SOURCE_DIR) + "/data/four_bar_5_poses.json";
+  const std::string result_path = Solved("four_bar_5_poses.json");
+  const nlohmann::json result = nlohmann::json::parse(ReadFile(result_path));
+  const RunResult run =
+      Run("analyze '" + result_path + "' --task '" + task + "' --range task --steps 9");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json kinematics = nlohmann::json::parse(run.out);
+  const nlohmann::json& joints = result["mechanisms"][0]["linkage"]["joints"];
+  const double crank_deg =
+      std::atan2(joints["input_pin"][1].get<double>() - joints["input_pivot"][1].get<double>(),
+                 joints["input_pin"][0].get<double>() - joints["input_pivot"][0].get<double>()) *
+      180.0 / M_PI;
+  // The bundled poses turn the first four-bar's crank from 60 to 140 degrees.
+  const nlohmann::json& range = kinematics["task_range_deg"];
+  EXPECT_NEAR(range[0].get<double>(), crank_deg, 1e-9);
+  EXPECT_NEAR(range[1].get<double>() - range[0].get<double>(), 80.0, 1e-6);
+  ASSERT_EQ(kinematics["input_deg"].size(), 9u);
+  EXPECT_NEAR(kinematics["input_deg"][0].get<double>(), range[0].get<double>(), 1e-9);
+  EXPECT_NEAR(kinematics["input_deg"][8].get<double>(), range[1].get<double>(), 1e-9);
+  EXPECT_NEAR(kinematics["coupler_point"][0][0].get<double>(),
+              joints["coupler_point"][0].get<double>(), 1e-9);
+  // A rocking function generator: its precision pairs' inputs by default.
+  const std::string function_path = Solved("function_log10.json");
+  const nlohmann::json function = nlohmann::json::parse(ReadFile(function_path));
+  const RunResult rocker = Run("analyze '" + function_path + "' --steps 5");
+  ASSERT_EQ(rocker.status, 0) << rocker.err;
+  const nlohmann::json rocking = nlohmann::json::parse(rocker.out);
+  ASSERT_FALSE(rocking["input_rotates_fully"].get<bool>());
+  const double offset = function["mechanisms"][0]["input_offset_deg"].get<double>();
+  const nlohmann::json& pairs = function["precision_points"];
+  EXPECT_NEAR(rocking["input_deg"][0].get<double>(), offset + pairs[0]["input_deg"].get<double>(),
+              1e-9);
+  EXPECT_NEAR(rocking["input_deg"][4].get<double>(),
+              offset + pairs[pairs.size() - 1]["input_deg"].get<double>(), 1e-9);
+  // With its task, the task's whole input range (0 to 90 degrees from the offset).
+  const RunResult whole_task = Run("analyze '" + function_path + "' --steps 5 --task '" +
+                                   std::string(LINKFIT_SOURCE_DIR) + "/data/function_log10.json'");
+  ASSERT_EQ(whole_task.status, 0) << whole_task.err;
+  const nlohmann::json on_task = nlohmann::json::parse(whole_task.out);
+  EXPECT_NEAR(on_task["task_range_deg"][0].get<double>(), offset, 1e-9);
+  EXPECT_NEAR(on_task["task_range_deg"][1].get<double>(), offset + 90.0, 1e-9);
+  ExpectRefused("analyze", "-o",
+                {{"'" + result_path + "' --task '" + std::string(LINKFIT_SOURCE_DIR) +
+                      "/data/slider_crank_5_poses.json'",
+                  "--task: its first pose does not put the crank pin where"},
+                 {"'" + result_path + "' --task '" + std::string(LINKFIT_SOURCE_DIR) +
+                      "/data/path_5_points.json'",
+                  "--task: not a planar motion task"}});
 }
 
 // `linkfit analyze` of a spherical four-bar (issue 37): the input and output angles and rates,

@@ -522,6 +522,25 @@ def test_export_svg_draws_the_pivots_where_the_result_says(tmp_path):
     assert not (tmp_path / "x.svg").exists()
 
 
+def test_analyze_over_the_tasks_range(tmp_path):
+    """With its task, linkfit.analyze samples a four-bar over the task's range as `linkfit
+    analyze --task` does (issue 37); another task is refused."""
+    task_path = DATA / "four_bar_5_poses.json"
+    task = json.loads(task_path.read_text())
+    result = linkfit.solve(task)
+    result_path = tmp_path / "result.json"
+    result_path.write_text(json.dumps(result))
+    ours = linkfit.analyze(result, steps=7, input_range_deg="task", task=task)
+    completed = subprocess.run([CLI, "analyze", str(result_path), "--steps", "7", "--range",
+                                "task", "--task", str(task_path)],
+                               capture_output=True, text=True, check=True)
+    assert ours == json.loads(completed.stdout)
+    assert ours["input_deg"][0] == pytest.approx(ours["task_range_deg"][0])
+    other = json.loads((DATA / "slider_crank_5_poses.json").read_text())
+    with pytest.raises(linkfit.InputError, match="--task: its first pose"):
+        linkfit.analyze(result, task=other)
+
+
 def test_analyze_a_part_of_the_range():
     """input_range_deg samples that part from end to end; outside the circuit: InputError."""
     result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))

@@ -235,6 +235,10 @@ struct FourBarDrawing {
 FourBarDrawing PrepareFourBar(const std::string& result_text, const std::string& source,
                               const CadExportRequest& request) {
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
+  // The task drawn must be this result's (refused otherwise, as `linkfit analyze --task`).
+  if (request.task != nullptr) {
+    ResultFourBarTaskRange(result_text, source, request.mechanism, request.task);
+  }
   FourBarDrawing drawing;
   const FourBarJoints& joints = drawing.joints = four_bar.joints;
   // The configuration drawn: the first pose's, or the crank at the given angle.

@@ -580,16 +580,9 @@ std::optional<std::pair<double, double>> FourBarTaskRange(const Json& result, co
       previous = angle;
     }
   } else if (problem == "path") {
-    std::vector<double> input_deg;
-    const auto fitted = mechanism.find("input_deg");
-    if (fitted != mechanism.end() && fitted->is_array()) {
-      for (const Json& value : *fitted) {
-        if (value.is_number()) input_deg.push_back(value.get<double>());
-      }
-    } else if (task != nullptr) {
-      if (task->problem != ProblemKind::kPath || task->points.empty() ||
-          !task->points[0].input_angle) {
-        mismatch("not a path task with input angles");
+    if (task != nullptr) {
+      if (task->problem != ProblemKind::kPath || task->points.empty()) {
+        mismatch("not a path task");
       }
       if (joints.coupler_point) {
         const double slack = 1e-6 * length + 1.000001 * mechanism.value("max_point_error", 0.0);
@@ -597,6 +590,14 @@ std::optional<std::pair<double, double>> FourBarTaskRange(const Json& result, co
           mismatch("its first point is not where the result's coupler point passes it");
         }
       }
+    }
+    std::vector<double> input_deg;
+    const auto fitted = mechanism.find("input_deg");
+    if (fitted != mechanism.end() && fitted->is_array()) {
+      for (const Json& value : *fitted) {
+        if (value.is_number()) input_deg.push_back(value.get<double>());
+      }
+    } else if (task != nullptr) {
       for (const TimedPoint& point : task->points) {
         if (point.input_angle) input_deg.push_back(*point.input_angle * kDegree);
       }
@@ -677,6 +678,16 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
   return read;
 }
 
+std::optional<std::pair<double, double>> ResultFourBarTaskRange(const std::string& result_text,
+                                                                const std::string& source,
+                                                                int mechanism_index,
+                                                                const Task* task) {
+  const ResultFourBar four_bar = ReadResultFourBar(result_text, source, mechanism_index);
+  const Json result = Json::parse(result_text);
+  return FourBarTaskRange(result, result["mechanisms"][mechanism_index], four_bar.joints,
+                          four_bar.length, task, source);
+}
+
 std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
                               const AnalysisRequest& request) {
   if (!(request.input_speed != 0.0) || !std::isfinite(request.input_speed)) {
@@ -731,12 +742,8 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;
   const double length = four_bar.length;
-  std::optional<std::pair<double, double>> task;
-  {
-    const Json result = Json::parse(result_text);
-    task = FourBarTaskRange(result, result["mechanisms"][request.mechanism], joints, length,
-                            request.task, source);
-  }
+  const std::optional<std::pair<double, double>> task =
+      ResultFourBarTaskRange(result_text, source, request.mechanism, request.task);
   if (request.task_range && !task) {
     throw InputError(
         "--range task: the result does not give the crank's angles at the task's poses or "

@@ -49,6 +49,15 @@ struct ResultFourBar {
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
                                 int mechanism_index);
 
+// A four-bar's task range (its crank's angles in radians from the first task pose, point or
+// pair to the last, least to greatest): from the result where it gives them, else from `task`;
+// none where neither does. Throws InputError where `task` is not this result's (its first pose
+// or point does not fit the mechanism), and as ReadResultFourBar.
+std::optional<std::pair<double, double>> ResultFourBarTaskRange(const std::string& result_text,
+                                                                const std::string& source,
+                                                                int mechanism_index,
+                                                                const Task* task);
+
 // The analysis of mechanism `request.mechanism` of the result `result_text` (a result file's
 // JSON: planar four-bars of motion, path and function results whose input is a crank: 4Rs and
 // slider-cranks with the slider's line on ground; six-bars, `request.mechanism` indexing its

@@ -570,6 +570,9 @@ TEST_F(CliTest, ExportWritesADxfDrawing) {
                  {"'" + Solved("function_log10.json") + "' --input-deg 270",
                   "--input-deg 270: the four-bar does not reach it on its circuit"},
                  {"'" + result_path + "' --task '" + Path("missing.json") + "'", "missing.json"},
+                 {"'" + result_path + "' --task '" + std::string(LINKFIT_SOURCE_DIR) +
+                      "/data/slider_crank_5_poses.json'",
+                  "--task: its first pose does not put the crank pin where"},
                  {"'" + Solved("six_bar_5_poses.json") + "'", "six-bars are not drawn yet"},
                  {"'" + Solved("spherical_four_bar_5_poses.json") + "'",
                   "spherical four-bars are not drawn yet"}});

@@ -9,6 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "lib/dyad.h"
+#include "lib/dyad_four_bar_kinematics.h"
+#include "lib/planar_pose.h"
 #include "lib/six_bar.h"
 #include "lib/six_bar_kinematics.h"
 #include "lib/spherical_four_bar_kinematics.h"
@@ -50,13 +53,14 @@ FourBarJoints ReadJoints(const Json& mechanism, const std::string& item) {
   const Json& joints = (*linkage)["joints"];
   const std::string at = item + ".linkage.joints";
   if (type != "4R" && type != "slider-crank") {
+    // (`linkfit analyze` takes them before reading a four-bar's joints here.)
     throw InputError(item + ": " + (type.empty() ? "this mechanism" : type) +
-                     " four-bars are not analyzed or drawn yet (4Rs and slider-cranks are)");
+                     " four-bars are not drawn yet (4Rs and slider-cranks are)");
   }
   if (!joints.contains("input_pivot")) {
     throw InputError(item +
-                     ": a four-bar driven by a slider is not analyzed or drawn yet (one "
-                     "driven by a crank is)");
+                     ": a four-bar driven by a slider is not drawn yet (one driven by a crank "
+                     "is)");
   }
   FourBarJoints read;
   read.input_pivot = ReadPoint(joints, "input_pivot", at);
@@ -72,9 +76,7 @@ FourBarJoints ReadJoints(const Json& mechanism, const std::string& item) {
     throw InputError(at + ".output_slider_line: missing");
   }
   if (line->value("on", std::string("ground")) != "ground") {
-    throw InputError(item +
-                     ": a slider-crank whose line turns with the coupler is not analyzed "
-                     "or drawn yet");
+    throw InputError(item + ": a slider-crank whose line turns with the coupler is not drawn yet");
   }
   const auto angle = line->find("angle_deg");
   if (angle == line->end() || !angle->is_number()) {
@@ -629,6 +631,256 @@ std::optional<std::pair<double, double>> FourBarTaskRange(const Json& result, co
   return std::pair{first + *low, first + *high};
 }
 
+// A four-bar's dyads from its "linkage" joints, with E the coupler's frame equal to Sigma at
+// the first configuration (the identity pose), for lib/dyad_four_bar_kinematics.h: each side an
+// RR (pivot and pin), a PR (pin and a slider line on ground) or an RP (pivot and a line on the
+// coupler).
+PlanarDyad ReadDyad(const Json& joints, const std::string& side, const std::string& at) {
+  const auto line = joints.find(side + "_slider_line");
+  if (line == joints.end()) {
+    const Eigen::Vector2d pivot = ReadPoint(joints, (side + "_pivot").c_str(), at);
+    const Eigen::Vector2d pin = ReadPoint(joints, (side + "_pin").c_str(), at);
+    return PlanarDyad::RR(pivot, pin, (pin - pivot).norm());
+  }
+  const std::string line_at = at + "." + side + "_slider_line";
+  if (!line->is_object() || !line->contains("angle_deg") || !(*line)["angle_deg"].is_number()) {
+    throw InputError(line_at + ".angle_deg: expected a number");
+  }
+  const double angle = (*line)["angle_deg"].get<double>() / kDegree;
+  const Eigen::Vector2d direction(std::cos(angle), std::sin(angle));
+  const Eigen::Vector2d point = ReadPoint(*line, "point", line_at);
+  if (line->value("on", std::string("ground")) == "ground") {
+    return PlanarDyad::PR(ReadPoint(joints, (side + "_pin").c_str(), at), point, direction);
+  }
+  return PlanarDyad::RP(ReadPoint(joints, (side + "_pivot").c_str(), at), point, direction);
+}
+
+// `linkfit analyze` of a planar four-bar the closed form does not take: an inverted
+// slider-crank, a double slider, an RPRP, or any four-bar driven by a slider
+// (lib/dyad_four_bar_kinematics.h).
+std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
+                                    const std::string& source, const std::string& item,
+                                    const AnalysisRequest& request) {
+  const std::string type = mechanism.value("type", std::string());
+  if (request.masses.Any()) {
+    throw InputError(
+        "--mass: the links' masses are taken for 4Rs and slider-cranks driven by "
+        "a crank (yet), not a " +
+        type);
+  }
+  if (request.task_range) {
+    throw InputError("--range task: a " + type +
+                     "'s task range is not known (yet): give --range FROM,TO");
+  }
+  const Json& joints = mechanism["linkage"]["joints"];
+  const std::string at = item + ".linkage.joints";
+  const PlanarDyad input = ReadDyad(joints, "input", at);
+  const PlanarDyad output = ReadDyad(joints, "output", at);
+  std::optional<Eigen::Vector2d> point;
+  if (joints.contains("coupler_point")) point = ReadPoint(joints, "coupler_point", at);
+  double length = std::max(1e-300, result.value("scale", 0.0));
+  for (const PlanarDyad* dyad : {&input, &output}) {
+    if (dyad->type == DyadType::kRR) length = std::max(length, dyad->radius);
+  }
+  const bool slider_input = input.type == DyadType::kPR;
+  // The input's values: degrees for an angle, the result's length for a slider.
+  const double unit = slider_input ? 1.0 : kDegree;
+  DyadFourBarKinematicsOptions options;
+  options.input_speed = request.input_speed;
+  options.steps = request.steps;
+  options.load.coupler_force = request.load.coupler_force;
+  options.load.output_torque = request.load.output_torque;
+  options.load.slider_force = request.load.slider_force;
+  if (!point && request.load.coupler_force.norm() > 0.0) {
+    throw InputError(source + ": --force: the four-bar has no coupler point: load its output");
+  }
+  if (request.range_deg) {
+    options.range = std::pair{request.range_deg->first / unit, request.range_deg->second / unit};
+  }
+  const DyadFourBarKinematics kinematics =
+      AnalyzeDyadFourBarKinematics(input, output, point, PlanarPose(), options, length);
+  if (kinematics.states.empty()) {
+    throw InputError(
+        (request.range_deg
+             ? "--range " + Short(request.range_deg->first) + "," + Short(request.range_deg->second)
+             : item) +
+        ": " + kinematics.note + " (its input runs from " + Short(kinematics.range_start * unit) +
+        " to " + Short(kinematics.range_end * unit) + (slider_input ? ")" : " degrees)"));
+  }
+  const bool loaded = request.load.coupler_force.norm() > 0.0 ||
+                      request.load.output_torque != 0.0 || request.load.slider_force != 0.0;
+  // Names: the input "input" (a slider's position), the output "output" (a rocker), "slider"
+  // (a PR's position) or "block" (an RP's slide along the coupler's line).
+  const char* output_name = output.type == DyadType::kRR   ? "output"
+                            : output.type == DyadType::kPR ? "slider"
+                                                           : "block";
+  const char* effort_name = slider_input ? "input_force" : "input_torque";
+  // The coupler's line: from the input pin to the output pin where both are on it, else an RP's
+  // line; its direction in Sigma at the first configuration.
+  double coupler_reference = 0.0;
+  if (input.type != DyadType::kRP && output.type != DyadType::kRP) {
+    const Eigen::Vector2d along = output.moving_pivot - input.moving_pivot;
+    coupler_reference = std::atan2(along.y(), along.x());
+  } else {
+    const PlanarDyad& rp = input.type == DyadType::kRP ? input : output;
+    coupler_reference = std::atan2(rp.line_direction.y(), rp.line_direction.x());
+  }
+  const auto input_value = [&](const DyadFourBarState& state) {
+    // An RP input's value is the coupler's turn: its block's angle is its line's direction.
+    return input.type == DyadType::kRP
+               ? (std::atan2(input.line_direction.y(), input.line_direction.x()) + state.input) *
+                     kDegree
+               : state.input * unit;
+  };
+  const auto output_value = [&](const DyadFourBarState& state) {
+    return output.type == DyadType::kRR ? state.output * kDegree : state.output;
+  };
+
+  if (request.csv) {
+    std::string csv = slider_input ? "input_position" : "input_deg";
+    csv += ",coupler_angle_deg,coupler_angular_velocity,coupler_angular_acceleration,";
+    csv += output.type == DyadType::kRR
+               ? "output_angle_deg,output_angular_velocity,output_angular_acceleration"
+               : std::string(output_name) + "_position," + output_name + "_velocity," +
+                     output_name + "_acceleration";
+    if (point) {
+      csv +=
+          ",coupler_point_x,coupler_point_y,coupler_point_velocity_x,coupler_point_velocity_y,"
+          "coupler_point_acceleration_x,coupler_point_acceleration_y";
+    }
+    csv += std::string(",transmission_angle_deg,mechanical_advantage,") + effort_name + "\n";
+    for (const DyadFourBarState& state : kinematics.states) {
+      std::vector<std::optional<double>> row = {
+          input_value(state),       (coupler_reference + state.coupler.theta) * kDegree,
+          state.velocity[2],        state.acceleration[2],
+          output_value(state),      state.output_velocity,
+          state.output_acceleration};
+      if (point) {
+        for (const Eigen::Vector2d* v : {&state.coupler_point, &state.coupler_point_velocity,
+                                         &state.coupler_point_acceleration}) {
+          row.push_back(v->x());
+          row.push_back(v->y());
+        }
+      }
+      row.push_back(state.transmission_angle_deg);
+      row.push_back(state.mechanical_advantage);
+      row.push_back(state.input_effort);
+      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
+      csv += "\n";
+    }
+    return csv;
+  }
+
+  Json out;
+  out["mechanism"] = request.mechanism + 1;
+  out["type"] = type;
+  out["input"] = slider_input                  ? "slider"
+                 : input.type == DyadType::kRP ? "block (turning with the coupler)"
+                                               : "crank";
+  out["input_speed"] = request.input_speed;
+  out["input_rotates_fully"] = kinematics.input_turns_fully;
+  out[slider_input ? "input_range" : "input_range_deg"] =
+      Json::array({Number(kinematics.range_start * unit), Number(kinematics.range_end * unit)});
+  Json inputs = Json::array(), transmission = Json::array(), advantage = Json::array();
+  Json effort = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
+  Json values[3][3];
+  for (auto& link : values) {
+    for (Json& series : link) series = Json::array();
+  }
+  double worst = 90.0;
+  for (const DyadFourBarState& state : kinematics.states) {
+    inputs.push_back(Number(input_value(state)));
+    values[0][0].push_back(Number(input_value(state)));
+    values[0][1].push_back(Number(request.input_speed));
+    values[0][2].push_back(0.0);
+    values[1][0].push_back(Number((coupler_reference + state.coupler.theta) * kDegree));
+    values[1][1].push_back(Number(state.velocity[2]));
+    values[1][2].push_back(Number(state.acceleration[2]));
+    values[2][0].push_back(Number(output_value(state)));
+    values[2][1].push_back(Number(state.output_velocity));
+    values[2][2].push_back(Number(state.output_acceleration));
+    if (point) {
+      p.push_back(Point(state.coupler_point));
+      v.push_back(Point(state.coupler_point_velocity));
+      a.push_back(Point(state.coupler_point_acceleration));
+    }
+    transmission.push_back(Number(state.transmission_angle_deg));
+    worst = std::min({worst, state.transmission_angle_deg, 180.0 - state.transmission_angle_deg});
+    advantage.push_back(state.mechanical_advantage ? Number(*state.mechanical_advantage)
+                                                   : Json(nullptr));
+    effort.push_back(Number(state.input_effort));
+  }
+  // The x axis of the charts is "input_deg"; a slider's input is its position.
+  out["input_deg"] = inputs;
+  if (slider_input) out["input_position"] = inputs;
+  Json links = Json::object();
+  const char* names[3] = {"input", "coupler", output_name};
+  for (int l = 0; l < 3; ++l) {
+    const bool linear = (l == 0 && slider_input) || (l == 2 && output.type != DyadType::kRR);
+    links[names[l]] = linear ? Json{{"position", values[l][0]},
+                                    {"velocity", values[l][1]},
+                                    {"acceleration", values[l][2]}}
+                             : Json{{"angle_deg", values[l][0]},
+                                    {"angular_velocity", values[l][1]},
+                                    {"angular_acceleration", values[l][2]}};
+  }
+  out["links"] = links;
+  if (point) {
+    out["coupler_point"] = p;
+    out["coupler_point_velocity"] = v;
+    out["coupler_point_acceleration"] = a;
+  }
+  out["transmission_angle_deg"] = transmission;
+  out["transmission_angle_worst_deg"] = Number(worst);
+  out["mechanical_advantage"] = advantage;
+  if (loaded) {
+    out["load"] = {{"coupler_force", Point(request.load.coupler_force)},
+                   {"output_torque", Number(request.load.output_torque)},
+                   {"slider_force", Number(request.load.slider_force)}};
+    out[effort_name] = effort;
+    out[slider_input ? "peak_input_force" : "peak_input_torque"] =
+        Number(kinematics.peak_input_effort);
+  }
+  Json dead = Json::array();
+  for (const DyadFourBarState& state : kinematics.dead_points) {
+    Json at_dead = {{slider_input ? "input_position" : "input_deg", Number(input_value(state))},
+                    {"transmission_angle_deg", Number(state.transmission_angle_deg)}};
+    if (point) at_dead["coupler_point"] = Point(state.coupler_point);
+    dead.push_back(at_dead);
+  }
+  out["dead_points"] = dead;
+  Json notes = Json::array();
+  if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  if (!kinematics.input_turns_fully && !request.range_deg) {
+    notes.push_back(
+        kinematics.range_bounded
+            ? "the input's range runs between its two dead points (listed), sampled inside "
+              "them; toward them the rates grow without bound: give --range FROM,TO for the "
+              "part the machine uses"
+            : "the input's range is not closed by a dead point at one end at least (a slider "
+              "sampled within 10 lengths, or a coupler running off): give --range FROM,TO for "
+              "the part the machine uses");
+  }
+  if (slider_input) {
+    notes.push_back(
+        "driven by its slider: input_position and its speed are in the result's length per "
+        "second; input_deg repeats input_position for the charts; input_force holds the load");
+  }
+  if (output.type == DyadType::kRP) {
+    notes.push_back(
+        "the block's position is where its fixed pivot lies along the coupler's line (from the "
+        "line's point on the coupler); the block turns with the coupler");
+  }
+  if (!point) notes.push_back("no coupler point in the result: its arrays are left out");
+  out["units"] = {{"angles", "degrees"},
+                  {"angular_velocity", "rad/s"},
+                  {"angular_acceleration", "rad/s^2"},
+                  {"lengths", "the result's"},
+                  {"mechanical_advantage", "input rate / output rate"}};
+  out["notes"] = notes;
+  return out.dump(2) + "\n";
+}
+
 }  // namespace
 
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
@@ -737,6 +989,33 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     }
     if (result.is_object() && result.value("model", std::string()) == "spherical") {
       return SphericalAnalysisText(result, source, request);
+    }
+    // A planar four-bar the closed form does not take: another type, or driven by a slider.
+    const auto mechanisms = result.find("mechanisms");
+    if (result.is_object() && result.value("space", std::string("planar")) == "planar" &&
+        mechanisms != result.end() && mechanisms->is_array() && request.mechanism >= 0 &&
+        request.mechanism < static_cast<int>(mechanisms->size())) {
+      const Json& mechanism = (*mechanisms)[request.mechanism];
+      const std::string type = mechanism.is_object() ? mechanism.value("type", std::string()) : "";
+      const auto linkage = mechanism.is_object() ? mechanism.find("linkage") : mechanism.end();
+      if (linkage != mechanism.end() && linkage->is_object() && linkage->contains("joints") &&
+          (*linkage)["joints"].is_object()) {
+        const Json& joints = (*linkage)["joints"];
+        const bool crank = joints.contains("input_pivot") && !joints.contains("input_slider_line");
+        const bool closed_form =
+            crank &&
+            (type == "4R" ||
+             (type == "slider-crank" && joints.contains("output_slider_line") &&
+              joints["output_slider_line"].is_object() &&
+              joints["output_slider_line"].value("on", std::string("ground")) == "ground"));
+        if (!closed_form &&
+            (type == "4R" || type == "slider-crank" || type == "inverted slider-crank" ||
+             type == "double slider" || type == "RPRP" || type == "inverted double slider")) {
+          return DyadFourBarAnalysisText(
+              result, mechanism, source,
+              source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request);
+        }
+      }
     }
   }
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);

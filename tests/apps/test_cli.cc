@@ -484,6 +484,71 @@ TEST_F(CliTest, AnalyzeSamplesAFourBarsTaskRange) {
                   "--task: not a planar motion task"}});
 }
 
+// `linkfit analyze` of the four-bars the closed form does not take (issue 37), made from the
+// bundled slider-crank result: the same slider-crank driven by its slider (input_position,
+// input_force), and an inverted slider-crank (its rod through the crank pin sliding in a block
+// on a ground pivot); the power balance holds at every step; masses are refused.
+TEST_F(CliTest, AnalyzeGivesTheKinematicsOfOtherFourBarTypes) {
+  nlohmann::json result = nlohmann::json::parse(ReadFile(Solved("slider_crank_5_poses.json")));
+  const nlohmann::json joints = result["mechanisms"][0]["linkage"]["joints"];
+  nlohmann::json driven = result;
+  driven["mechanisms"][0]["linkage"]["joints"] = {
+      {"input_pin", joints["output_pin"]},
+      {"input_slider_line", joints["output_slider_line"]},
+      {"output_pivot", joints["input_pivot"]},
+      {"output_pin", joints["input_pin"]},
+      {"coupler_point", joints["coupler_point"]}};
+  const std::string driven_path = WriteTask("driven.json", driven.dump());
+  const RunResult run = Run("analyze '" + driven_path + "' --steps 9 --force 3,-10");
+  ASSERT_EQ(run.status, 0) << run.err;
+  const nlohmann::json by_slider = nlohmann::json::parse(run.out);
+  EXPECT_EQ(by_slider["input"], "slider");
+  ASSERT_EQ(by_slider["input_position"].size(), 9u);
+  EXPECT_TRUE(by_slider["links"]["input"].contains("position"));
+  for (int k = 0; k < 9; ++k) {
+    const nlohmann::json& v = by_slider["coupler_point_velocity"][k];
+    const double power = by_slider["input_force"][k].get<double>() + 3.0 * v[0].get<double>() -
+                         10.0 * v[1].get<double>();
+    EXPECT_NEAR(power, 0.0, 1e-9 * (1.0 + std::abs(by_slider["input_force"][k].get<double>())));
+  }
+  // The slider stops where the coupler and the crank align (its dead points, listed).
+  ASSERT_EQ(by_slider["dead_points"].size(), 2u);
+  for (const auto& dead : by_slider["dead_points"]) {
+    const double mu = dead["transmission_angle_deg"].get<double>();
+    EXPECT_LT(std::min(mu, 180.0 - mu), 1e-3);
+  }
+
+  nlohmann::json inverted = result;
+  const std::vector<double> a = joints["input_pin"], b = joints["output_pin"];
+  inverted["mechanisms"][0]["type"] = "inverted slider-crank";
+  inverted["mechanisms"][0]["linkage"]["joints"] = {
+      {"input_pivot", joints["input_pivot"]},
+      {"input_pin", joints["input_pin"]},
+      {"output_pivot", {a[0] + 1.3 * (b[0] - a[0]), a[1] + 1.3 * (b[1] - a[1])}},
+      {"output_slider_line",
+       {{"point", joints["input_pin"]},
+        {"angle_deg", std::atan2(b[1] - a[1], b[0] - a[0]) * 180.0 / M_PI},
+        {"on", "coupler"}}},
+      {"coupler_point", joints["coupler_point"]}};
+  const std::string inverted_path = WriteTask("inverted.json", inverted.dump());
+  const RunResult rod = Run("analyze '" + inverted_path + "' --steps 12 --slider-force 10");
+  ASSERT_EQ(rod.status, 0) << rod.err;
+  const nlohmann::json by_crank = nlohmann::json::parse(rod.out);
+  EXPECT_EQ(by_crank["type"], "inverted slider-crank");
+  EXPECT_TRUE(by_crank["input_rotates_fully"].get<bool>());
+  for (int k = 0; k < 12; ++k) {
+    // T w + F_s s' = 0 (the cylinder's force along the rod).
+    const double power = by_crank["input_torque"][k].get<double>() +
+                         10.0 * by_crank["links"]["block"]["velocity"][k].get<double>();
+    EXPECT_NEAR(power, 0.0, 1e-9 * (1.0 + std::abs(by_crank["input_torque"][k].get<double>())));
+  }
+  ExpectRefused("analyze", "-o",
+                {{"'" + inverted_path + "' --mass 1,1,1 --length-unit mm",
+                  "--mass: the links' masses are taken for 4Rs and slider-cranks driven by a "
+                  "crank"},
+                 {"'" + driven_path + "' --range 0,10", "--range 0,10: the range asked for"}});
+}
+
 // `linkfit analyze` of a spherical four-bar (issue 37): the input and output angles and rates,
 // the coupler's rotation and angular velocity and acceleration vectors, the transmission angle
 // (at the first pose the result's), the torque holding an output torque; loads it cannot take

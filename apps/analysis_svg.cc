@@ -134,13 +134,21 @@ std::string Panel(double top, const std::string& title, const std::string& unit,
 std::string AnalysisSvg(const std::string& analysis_json) {
   const Json analysis = Json::parse(analysis_json);
   const std::vector<double> x = Values(analysis["input_deg"]);
-  std::vector<double> dead;
-  for (const Json& point : analysis["dead_points"])
-    dead.push_back(point["input_deg"].get<double>());
   double x_low = INFINITY, x_high = -INFINITY;
   for (const double v : x) {
     x_low = std::min(x_low, v);
     x_high = std::max(x_high, v);
+  }
+  // The dead points next to the samples (a rocker's range sampled whole: within a tenth of the
+  // span beyond them); those far off (a part of the range sampled) are left out of the chart.
+  std::vector<double> dead;
+  const double reach = 0.1 * (x_high - x_low);
+  for (const Json& point : analysis["dead_points"]) {
+    const Json& at = point.contains("input_deg") ? point["input_deg"] : point["input_position"];
+    if (!at.is_number()) continue;
+    const double v = at.get<double>();
+    if (v < x_low - reach || v > x_high + reach) continue;
+    dead.push_back(v);
   }
   for (const double v : dead) {
     x_low = std::min(x_low, v);
@@ -157,11 +165,15 @@ std::string AnalysisSvg(const std::string& analysis_json) {
     const char* angle_key;
     const char* slider_key;
   };
+  // A slider's position and rates share the panels (their units said where there is one).
+  bool slider = false;
+  for (const auto& [name, link] : analysis["links"].items()) slider |= link.contains("position");
   const Kind kinds[] = {
-      {"link angles", "deg; a slider: length", "angle_deg", "position"},
-      {"angular velocities", "rad/s; a slider: length/s", "angular_velocity", "velocity"},
-      {"angular accelerations", "rad/s^2; a slider: length/s^2", "angular_acceleration",
-       "acceleration"}};
+      {"link angles", slider ? "deg; a slider: length" : "deg", "angle_deg", "position"},
+      {"angular velocities", slider ? "rad/s; a slider: length/s" : "rad/s", "angular_velocity",
+       "velocity"},
+      {"angular accelerations", slider ? "rad/s^2; a slider: length/s^2" : "rad/s^2",
+       "angular_acceleration", "acceleration"}};
   std::string body;
   double top = 30.0;
   for (const Kind& kind : kinds) {
@@ -174,12 +186,20 @@ std::string AnalysisSvg(const std::string& analysis_json) {
     body += Panel(top, kind.title, kind.unit, x, series, dead, x_low, x_high);
     top += kPanelHeight;
   }
-  if (analysis.contains("input_torque")) {
-    body += Panel(top,
-                  "input torque holding the load, peak " +
-                      Number(analysis["peak_input_torque"].get<double>()),
-                  "force x length", x, {{"torque", "#333333", Values(analysis["input_torque"])}},
-                  dead, x_low, x_high);
+  const bool force_input = analysis.contains("input_force");
+  if (analysis.contains("input_torque") || force_input) {
+    // Its unit where the analysis says (a length unit given), else force times length.
+    std::string unit = force_input ? "force" : "force x length";
+    if (!force_input && analysis.contains("units") && analysis["units"].contains("torque")) {
+      unit = analysis["units"]["torque"].get<std::string>();
+    }
+    const char* key = force_input ? "input_force" : "input_torque";
+    body += Panel(
+        top,
+        std::string(force_input ? "input force" : "input torque") + " holding the load, peak " +
+            Number(analysis[force_input ? "peak_input_force" : "peak_input_torque"].get<double>()),
+        unit, x, {{force_input ? "force" : "torque", "#333333", Values(analysis[key])}}, dead,
+        x_low, x_high);
   } else {
     body += Panel(top, "transmission angle", "deg", x,
                   {{"transmission", "#333333", Values(analysis["transmission_angle_deg"])}}, dead,
@@ -196,12 +216,23 @@ std::string AnalysisSvg(const std::string& analysis_json) {
       "fill=\"white\"/>\n<text x=\"" +
       Coordinate(kLeft) + "\" y=\"18\" font-size=\"13\">" +
       Escaped(analysis.value("type", std::string("four-bar"))) + " " +
-      Number(analysis["mechanism"].get<double>()) +
-      ": against the input angle, deg (dead points dashed)</text>\n";
+      Number(analysis["mechanism"].get<double>()) + ": against the input" +
+      (analysis.contains("input_position") ? std::string(" position")
+                                           : std::string(" angle, deg")) +
+      " (dead points dashed)</text>\n";
   svg += body;
+  // The input's values under the last panel: five ticks from end to end.
+  const double plot_width = kWidth - kLeft - kRight;
+  for (int k = 0; k <= 4; ++k) {
+    const double at = x_low + (x_high - x_low) * k / 4.0;
+    svg += "<text x=\"" + Coordinate(kLeft + plot_width * k / 4.0) + "\" y=\"" +
+           Coordinate(top - kBottom + 14) + "\" font-size=\"10\" text-anchor=\"middle\">" +
+           Number(at) + "</text>\n";
+  }
+  const bool position = analysis.contains("input_position");
   svg += "<text x=\"" + Coordinate(kLeft) + "\" y=\"" + Coordinate(top + 14) +
-         "\" font-size=\"11\">input " + Number(x_low) + " to " + Number(x_high) +
-         " deg</text>\n</svg>\n";
+         "\" font-size=\"11\">input " + (position ? "position " : "angle ") + Number(x_low) +
+         " to " + Number(x_high) + (position ? "" : " deg") + "</text>\n</svg>\n";
   return svg;
 }
 

@@ -90,16 +90,20 @@ class DxfDrawing : public Drawing {
     const Eigen::Vector2d line = b + offset * normal;
     const Eigen::Vector2d middle = 0.5 * (a + b) + offset * normal;
     // Its text the length itself (a program that does not measure the dimension shows it).
+    // A rotated linear dimension along a -> b measures the true length in every reader (an
+    // aligned one leaves its direction to the reader: ezdxf measures it along x).
     DL_DimensionData dimension(line.x(), line.y(), 0.0, middle.x(), middle.y(), 0.0,
-                               0x1,  // aligned
+                               0x0,  // rotated, horizontal or vertical
                                5,    // attachment: middle centre
                                1, 1.0, LengthText(along.norm()), "Standard", 0.0);
     // Its constructor leaves the arrows' flags unset (written as whatever the memory held).
     dimension.arrow1Flipped = false;
     dimension.arrow2Flipped = false;
-    dxf_->writeDimAligned(*writer_, dimension,
-                          DL_DimAlignedData(a.x(), a.y(), 0.0, b.x(), b.y(), 0.0),
-                          On("DIMENSIONS"));
+    // (dxflib takes the angle in radians and writes it in degrees.)
+    const double angle = std::atan2(along.y(), along.x());
+    dxf_->writeDimLinear(*writer_, dimension,
+                         DL_DimLinearData(a.x(), a.y(), 0.0, b.x(), b.y(), 0.0, angle, 0.0),
+                         On("DIMENSIONS"));
   }
 
  private:

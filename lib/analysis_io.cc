@@ -103,6 +103,27 @@ std::string CsvNumber(const std::optional<double>& value) {
   return text;
 }
 
+// The defects the result lists for a mechanism, as a note (none without).
+void AddDefectsNote(const Json& listed, Json* notes) {
+  const auto defects = listed.is_object() ? listed.find("defects") : listed.end();
+  if (defects == listed.end() || !defects->is_array() || defects->empty()) return;
+  std::string names;
+  for (const Json& defect : *defects) {
+    if (defect.is_string()) names += (names.empty() ? "" : ", ") + defect.get<std::string>();
+  }
+  notes->push_back("the result lists this mechanism's defects: " + names +
+                   " (circuit, branch or order: it does not reach every task pose in one "
+                   "motion, so not all of them lie on the motion analyzed here; transmission: "
+                   "its transmission angle falls below the minimum)");
+}
+
+// The first and last input values sampled (degrees), or nothing without samples.
+template <typename States, typename Value>
+Json SampledRange(const States& states, const Value& value) {
+  if (states.empty()) return Json(nullptr);
+  return Json::array({Number(value(states.front())), Number(value(states.back()))});
+}
+
 // The six-bar's bodies as the analysis names them (lib/six_bar.h SixBarBody 1 to 5).
 constexpr const char* kSixBarLinkNames[] = {"upper_link", "forearm", "task_body", "first_link",
                                             "second_link"};
@@ -127,39 +148,19 @@ double SixBarBodyReferenceAngle(const SixBar& six_bar, int body) {
 }
 
 // `linkfit analyze` of six-bar `request.mechanism` of a result (its "six_bars").
-std::string SixBarAnalysisText(const Json& result, const std::string& result_text,
-                               const std::string& source, const AnalysisRequest& request) {
-  const Json& list = result["six_bars"];
+std::string SixBarAnalysisText(const std::string& result_text, const std::string& source,
+                               const AnalysisRequest& request) {
   const int index = request.mechanism;
-  if (index < 0 || index >= static_cast<int>(list.size())) {
-    throw InputError(source + ": no six-bar ranked " + std::to_string(index + 1) +
-                     " (counted from 1): the result lists " + std::to_string(list.size()));
-  }
   const std::string item = source + ": six_bars[" + std::to_string(index) + "]";
+  const ResultSixBar read = ReadResultSixBar(result_text, source, index);
   if (request.masses.Any()) {
     throw InputError("--mass: the links' masses are taken for four-bars only (yet), not six-bars");
   }
   if (request.load.slider_force != 0.0) throw InputError("--slider-force: a six-bar has no slider");
-  const Json& entry = list[index];
-  if (!entry.is_object() || !entry.contains("task_body_at_first_pose")) {
-    throw InputError(item +
-                     ".task_body_at_first_pose: missing (a result file of `linkfit solve` "
-                     "has it)");
-  }
-  // The parser places the task body at "task_body_at_first_pose" and reads the turns at as many
-  // poses as it is given.
-  const auto turns = entry.find("turns_at_poses_deg");
-  const size_t pose_count =
-      turns != entry.end() && turns->is_array() && !turns->empty() ? turns->size() : 1;
-  const SixBarDesign design =
-      ParseSixBarDesign(result_text, source, std::vector<PlanarPose>(pose_count));
-  const SixBar& six_bar = design.six_bars[index];
-  const int input = design.inputs[index];
-  const std::vector<SixBarAngles>& at_poses = design.at_poses[index];
-  double length = std::max(1e-300, result.value("scale", 0.0));
-  length = std::max({length, (six_bar.elbow - six_bar.ground_pivot).norm(),
-                     (six_bar.wrist - six_bar.elbow).norm(), six_bar.links[0].Length(),
-                     six_bar.links[1].Length()});
+  const SixBar& six_bar = read.six_bar;
+  const int input = read.input;
+  const std::vector<SixBarAngles>& at_poses = read.at_poses;
+  const double length = read.length;
   const double reference = SixBarInputReferenceAngle(six_bar, input);
   // The task's range: the input's angles from the first pose to the last.
   std::optional<std::pair<double, double>> task;
@@ -267,6 +268,8 @@ std::string SixBarAnalysisText(const Json& result, const std::string& result_tex
   out["input_rotates_fully"] = kinematics.input_rotates_fully;
   out["input_range_deg"] = Json::array(
       {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  out["sampled_range_deg"] = SampledRange(
+      kinematics.states, [](const SixBarState& state) { return state.input_angle * kDegree; });
   if (task) {
     out["task_range_deg"] =
         Json::array({Number(task->first * kDegree), Number(task->second * kDegree)});
@@ -324,6 +327,12 @@ std::string SixBarAnalysisText(const Json& result, const std::string& result_tex
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  AddDefectsNote(Json::parse(result_text)["six_bars"][index], &notes);
+  if (!kinematics.input_rotates_fully) {
+    notes.push_back(
+        "at a six-bar's dead point the input cannot drive on (its closure's Jacobian in the "
+        "other turns is singular); the loops' transmission angles need not be 0 there");
+  }
   if (sampled_task && !request.task_range) {
     notes.push_back(
         "the input rocks: sampled over the task's range (the input's angles at the first and "
@@ -454,6 +463,9 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
   out["input_rotates_fully"] = kinematics.input_rotates_fully;
   out["input_range_deg"] = Json::array(
       {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  out["sampled_range_deg"] =
+      SampledRange(kinematics.states,
+                   [](const SphericalFourBarState& state) { return state.input_angle * kDegree; });
   Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
   Json torque = Json::array(), input_pins = Json::array(), output_pins = Json::array();
   Json crank_rates = Json::array(), crank_accelerations = Json::array();
@@ -513,6 +525,7 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  AddDefectsNote(mechanism, &notes);
   if (!kinematics.input_rotates_fully && !request.range_deg) {
     notes.push_back(
         "the input is a rocker: its range runs between its two dead points (listed), "
@@ -781,6 +794,8 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
   out["input_rotates_fully"] = kinematics.input_turns_fully;
   out[slider_input ? "input_range" : "input_range_deg"] =
       Json::array({Number(kinematics.range_start * unit), Number(kinematics.range_end * unit)});
+  out[slider_input ? "sampled_range" : "sampled_range_deg"] =
+      SampledRange(kinematics.states, input_value);
   Json inputs = Json::array(), transmission = Json::array(), advantage = Json::array();
   Json effort = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
   Json values[3][3];
@@ -851,6 +866,7 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  AddDefectsNote(mechanism, &notes);
   if (!kinematics.input_turns_fully && !request.range_deg) {
     notes.push_back(
         kinematics.range_bounded
@@ -930,6 +946,48 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
   return read;
 }
 
+ResultSixBar ReadResultSixBar(const std::string& result_text, const std::string& source,
+                              int index) {
+  Json result;
+  try {
+    result = Json::parse(result_text);
+  } catch (const Json::parse_error& error) {
+    throw InputError(source + ": not a JSON result file (" + std::string(error.what()) + ")");
+  }
+  const auto list = result.is_object() ? result.find("six_bars") : result.end();
+  if (list == result.end() || !list->is_array() || list->empty()) {
+    throw InputError(source + ": no \"six_bars\" (a six-bar result lists them)");
+  }
+  if (index < 0 || index >= static_cast<int>(list->size())) {
+    throw InputError(source + ": no six-bar ranked " + std::to_string(index + 1) +
+                     " (counted from 1): the result lists " + std::to_string(list->size()));
+  }
+  const std::string item = source + ": six_bars[" + std::to_string(index) + "]";
+  const Json& entry = (*list)[index];
+  if (!entry.is_object() || !entry.contains("task_body_at_first_pose")) {
+    throw InputError(item +
+                     ".task_body_at_first_pose: missing (a result file of `linkfit solve` "
+                     "has it)");
+  }
+  // The parser places the task body at "task_body_at_first_pose" and reads the turns at as many
+  // poses as it is given.
+  const auto turns = entry.find("turns_at_poses_deg");
+  const size_t pose_count =
+      turns != entry.end() && turns->is_array() && !turns->empty() ? turns->size() : 1;
+  const SixBarDesign design =
+      ParseSixBarDesign(result_text, source, std::vector<PlanarPose>(pose_count));
+  ResultSixBar read;
+  read.six_bar = design.six_bars[index];
+  read.input = design.inputs[index];
+  read.at_poses = design.at_poses[index];
+  const SixBar& six_bar = read.six_bar;
+  read.length =
+      std::max({1e-300, result.value("scale", 0.0), (six_bar.elbow - six_bar.ground_pivot).norm(),
+                (six_bar.wrist - six_bar.elbow).norm(), six_bar.links[0].Length(),
+                six_bar.links[1].Length()});
+  return read;
+}
+
 std::optional<std::pair<double, double>> ResultFourBarTaskRange(const std::string& result_text,
                                                                 const std::string& source,
                                                                 int mechanism_index,
@@ -985,7 +1043,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     const auto six_bars = result.find("six_bars");
     if (result.is_object() && six_bars != result.end() && six_bars->is_array() &&
         !six_bars->empty()) {
-      return SixBarAnalysisText(result, result_text, source, request);
+      return SixBarAnalysisText(result_text, source, request);
     }
     if (result.is_object() && result.value("model", std::string()) == "spherical") {
       return SphericalAnalysisText(result, source, request);
@@ -1121,6 +1179,8 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   out["input_rotates_fully"] = kinematics.input_rotates_fully;
   out["input_range_deg"] = Json::array(
       {Number(kinematics.range_start * kDegree), Number(kinematics.range_end * kDegree)});
+  out["sampled_range_deg"] = SampledRange(
+      kinematics.states, [](const FourBarState& state) { return state.input_angle * kDegree; });
   if (task) {
     out["task_range_deg"] =
         Json::array({Number(task->first * kDegree), Number(task->second * kDegree)});
@@ -1211,6 +1271,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
+  AddDefectsNote(Json::parse(result_text)["mechanisms"][request.mechanism], &notes);
   if (sampled_task && !request.task_range) {
     notes.push_back(
         "the input is a rocker: sampled over the task's range (the crank's angles from the "

@@ -6,8 +6,10 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "lib/four_bar_kinematics.h"
+#include "lib/six_bar.h"
 #include "lib/task.h"
 
 namespace linkfit {
@@ -48,6 +50,19 @@ struct ResultFourBar {
 // (naming `source` and the item) as AnalyzeResultText.
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
                                 int mechanism_index);
+
+// A six-bar of a result file: the six-bar, its input body, its turns at the task's poses (where
+// the result gives them) and a length for tolerances.
+struct ResultSixBar {
+  SixBar six_bar;
+  int input = 1;
+  std::vector<SixBarAngles> at_poses;
+  double length = 1.0;
+};
+
+// Six-bar `index` (0: the first listed) of the result `result_text` (its "six_bars"); InputError
+// naming `source` where there is none such.
+ResultSixBar ReadResultSixBar(const std::string& result_text, const std::string& source, int index);
 
 // A four-bar's task range (its crank's angles in radians from the first task pose, point or
 // pair to the last, least to greatest): from the result where it gives them, else from `task`;

@@ -268,6 +268,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
     if (kinematics.input_turns_fully) {
       from = start + std::fmod(from - start, 2.0 * M_PI);
       if (from < start) from += 2.0 * M_PI;
+      if (from > start + 2.0 * M_PI - 1e-9) from = start;  // (just before the start: rounding)
     }
     const double part = options.range->second - options.range->first;
     if (!(part > 0.0) || from < start - 1e-12 || from + part > start + span + 1e-12) {

@@ -259,6 +259,7 @@ bool PlaceFourBar(const FourBarJoints& joints, double input_angle, double length
   InputRange(*loop, &start, &end, &full);
   double offset = std::fmod(input_angle - start, 2.0 * M_PI);
   if (offset < 0.0) offset += 2.0 * M_PI;
+  if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
   if (!full && offset > end - start) return false;
   return PlaceOnLoop(*loop, start + offset, false, loop->coupler_reference_angle, std::nullopt,
                      state);
@@ -279,6 +280,7 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
     // The part asked for, on the circuit: its start within the range, its end too.
     double offset = std::fmod(options.range->first - kinematics.range_start, 2.0 * M_PI);
     if (offset < 0.0) offset += 2.0 * M_PI;
+    if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
     const double part = options.range->second - options.range->first;
     if (!(part > 0.0) || offset + part > span + 1e-12) {
       kinematics.note = "the range asked for leaves the input's range on its circuit";

@@ -136,6 +136,7 @@ SixBarKinematics AnalyzeSixBarKinematics(const SixBar& six_bar, int input,
     // The part asked for, within the range (a whole turn: wherever it starts).
     double offset = std::fmod(options.range->first - reference - low, 2.0 * M_PI);
     if (offset < 0.0) offset += 2.0 * M_PI;
+    if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
     const double part = options.range->second - options.range->first;
     if (!(part > 0.0) || offset + part > span + 1e-12) {
       kinematics.note = "the range asked for leaves the input's range on its circuit";

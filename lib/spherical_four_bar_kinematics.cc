@@ -142,6 +142,7 @@ bool PlaceSphericalFourBar(const SphericalFourBarJoints& joints, double input_an
   InputRange(*loop, &start, &end, &full);
   double offset = std::fmod(input_angle - start, 2.0 * M_PI);
   if (offset < 0.0) offset += 2.0 * M_PI;
+  if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
   if (!full && offset > end - start) return false;
   return PlaceOnLoop(*loop, start + offset, false, std::nullopt, state);
 }
@@ -163,6 +164,7 @@ SphericalFourBarKinematics AnalyzeSphericalFourBarKinematics(
   if (options.range) {
     double offset = std::fmod(options.range->first - kinematics.range_start, 2.0 * M_PI);
     if (offset < 0.0) offset += 2.0 * M_PI;
+    if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
     const double part = options.range->second - options.range->first;
     if (!(part > 0.0) || offset + part > span + 1e-12) {
       kinematics.note = "the range asked for leaves the input's range on its circuit";

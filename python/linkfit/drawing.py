@@ -11,6 +11,7 @@ SphericalPictureToJson), attached to the results of :func:`linkfit.solve` and
 """
 
 import math
+import sys
 
 # The SVG's colours (apps/picture.cc).
 TASK_X = "#d62728"
@@ -37,8 +38,9 @@ def _pyplot():
     try:
         import matplotlib.pyplot as pyplot
     except ImportError as error:  # pragma: no cover - depends on the machine
-        raise ImportError("linkfit.plot needs matplotlib (Debian: apt-get install "
-                          "python3-matplotlib)") from error
+        raise ImportError("linkfit's drawings (plot, plot_analysis) need matplotlib in this "
+                          "Python (%s): Debian's python3-matplotlib serves /usr/bin/python3"
+                          % sys.executable) from error
     return pyplot
 
 
@@ -492,18 +494,27 @@ def plot_analysis(analysis, fig=None):
         ax.set_ylabel(unit)
         ax.legend(fontsize=7, loc="upper right")
     last = axes[3]
-    if "input_torque" in analysis:
-        last.plot(x, analysis["input_torque"], color=LINK, linewidth=1.2)
-        last.set_title("input torque holding the load (peak %.4g)"
-                       % analysis["peak_input_torque"], fontsize=9, loc="left")
-        last.set_ylabel("force × length")
+    force = "input_force" in analysis  # a slider drives it
+    if "input_torque" in analysis or force:
+        key = "input_force" if force else "input_torque"
+        last.plot(x, analysis[key], color=LINK, linewidth=1.2)
+        last.set_title("input %s holding the load (peak %.4g)"
+                       % ("force" if force else "torque", analysis["peak_" + key]),
+                       fontsize=9, loc="left")
+        last.set_ylabel("force" if force else
+                        analysis.get("units", {}).get("torque", "force × length"))
     else:
         last.plot(x, analysis["transmission_angle_deg"], color=LINK, linewidth=1.2)
         last.set_title("transmission angle", fontsize=9, loc="left")
         last.set_ylabel("deg")
-    last.set_xlabel("input angle, deg")
+    last.set_xlabel("input position" if "input_position" in analysis else "input angle, deg")
+    # The dead points next to the samples (within a tenth of their span), as the SVG draws them.
+    reach = 0.1 * (max(x) - min(x)) if x else 0.0
     for dead in analysis.get("dead_points", []):
+        at = dead.get("input_deg", dead.get("input_position"))
+        if at is None or at < min(x) - reach or at > max(x) + reach:
+            continue
         for ax in axes:
-            ax.axvline(dead["input_deg"], color=DEAD_POINT, linestyle="--", linewidth=0.8)
+            ax.axvline(at, color=DEAD_POINT, linestyle="--", linewidth=0.8)
     fig.tight_layout()
     return fig

@@ -586,11 +586,14 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASphericalFourBar) {
 }
 
 // `linkfit analyze --svg` (issue 37): a chart of four panels with a series per link (and the
-// torque), a rocker's two dead points dashed on each panel; the JSON still goes to -o.
+// torque), a rocker's two dead points dashed on each panel; the JSON still goes to -o. Sampled
+// over its task's range, the dead points far beyond it are left out of the chart.
 TEST_F(CliTest, AnalyzeChartsTheAnalysis) {
   const std::string result_path = Solved("function_log10.json");
-  const RunResult run = Run("analyze '" + result_path + "' --output-torque 1 --svg '" +
-                            Path("chart.svg") + "' -o '" + Path("kinematics.json") + "'");
+  // (Its whole range: by default a rocker is sampled over its task's, away from them.)
+  const RunResult run =
+      Run("analyze '" + result_path + "' --range whole --output-torque 1 --svg '" +
+          Path("chart.svg") + "' -o '" + Path("kinematics.json") + "'");
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json kinematics = nlohmann::json::parse(ReadFile(Path("kinematics.json")));
   ASSERT_EQ(kinematics["dead_points"].size(), 2u);  // its crank is a rocker
@@ -608,7 +611,16 @@ TEST_F(CliTest, AnalyzeChartsTheAnalysis) {
   const RunResult alone = Run("analyze '" + result_path + "' --svg '" + Path("chart2.svg") + "'");
   ASSERT_EQ(alone.status, 0) << alone.err;
   EXPECT_EQ(alone.out, "");
-  EXPECT_NE(ReadFile(Path("chart2.svg")).find("transmission angle"), std::string::npos);
+  const std::string task_chart = ReadFile(Path("chart2.svg"));
+  EXPECT_NE(task_chart.find("transmission angle"), std::string::npos);
+  // Over the task's range (its precision pairs', 52 to 138 degrees): the dead point at 48
+  // degrees is drawn on each panel, the one at 165 is not.
+  size_t marks = 0;
+  for (size_t at = task_chart.find("class=\"dead-point\""); at != std::string::npos;
+       at = task_chart.find("class=\"dead-point\"", at + 1)) {
+    ++marks;
+  }
+  EXPECT_EQ(marks, 4u);
 }
 
 // `linkfit export --dxf` and `--svg` (issue 37): a DXF file (its content is read back by ezdxf in

@@ -444,10 +444,13 @@ def test_export_dxf_reads_back_with_ezdxf(tmp_path):
         for layer, names in expected.items():
             for joint in names:
                 assert near(joints[joint], circles(layer)), (name, layer, joint)
-        # The dimensions measure the link lengths the result gives.
+        # The dimensions measure the link lengths the result gives: between their definition
+        # points, and as ezdxf measures them (a rotated dimension along the link).
         lengths = sorted(math.dist((d.dxf.defpoint2.x, d.dxf.defpoint2.y),
                                    (d.dxf.defpoint3.x, d.dxf.defpoint3.y))
                          for d in msp.query("DIMENSION"))
+        measured = sorted(d.get_measurement() for d in msp.query("DIMENSION"))
+        assert measured == pytest.approx(lengths, rel=1e-9), name
         links = mechanism["linkage"]["links"]
         named = sorted(links[k] for k in ("ground", "input", "coupler", "output") if k in links)
         assert len(lengths) == len(named)

@@ -242,7 +242,8 @@ def test_plot_analysis_draws_four_panels_with_the_dead_points():
     """linkfit.plot_analysis (issue 37): four panels against the input angle, a line per link in
     the first three and the torque in the last, a rocker's dead points marked on each."""
     result = linkfit.solve(json.loads((DATA / "function_log10.json").read_text()))
-    analysis = linkfit.analyze(result, steps=60, load={"output_torque": 1.0})
+    analysis = linkfit.analyze(result, steps=60, load={"output_torque": 1.0},
+                               input_range_deg="whole")
     figure = linkfit.plot_analysis(analysis)
     axes = figure.get_axes()
     assert len(axes) == 4

@@ -5,19 +5,25 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <limits>
 #include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "lib/analysis_io.h"
 #include "lib/four_bar_kinematics.h"
+#include "lib/six_bar.h"
+#include "lib/six_bar_kinematics.h"
 #include "lib/task_io.h"
 
 namespace linkfit {
@@ -32,10 +38,15 @@ struct Layer {
   int color;
   const char* svg_color;
 };
-constexpr Layer kLayers[] = {{"GROUND", 8, "#808080"},    {"INPUT", 1, "#d62728"},
-                             {"COUPLER", 5, "#1f5fbf"},   {"OUTPUT", 3, "#2ca02c"},
-                             {"CURVE", 6, "#b02cb0"},     {"TASK", 2, "#c08000"},
-                             {"DIMENSIONS", 7, "#000000"}};
+// A four-bar draws on GROUND, INPUT, COUPLER and OUTPUT; a six-bar on GROUND and a layer per
+// moving body (lib/six_bar.h SixBarBody order).
+constexpr Layer kLayers[] = {
+    {"GROUND", 8, "#808080"},    {"INPUT", 1, "#d62728"},       {"COUPLER", 5, "#1f5fbf"},
+    {"OUTPUT", 3, "#2ca02c"},    {"UPPER_LINK", 1, "#d62728"},  {"FOREARM", 4, "#1f77b4"},
+    {"TASK_BODY", 3, "#2ca02c"}, {"FIRST_LINK", 30, "#ff7f0e"}, {"SECOND_LINK", 6, "#9467bd"},
+    {"CURVE", 6, "#b02cb0"},     {"TASK", 2, "#c08000"},        {"DIMENSIONS", 7, "#000000"}};
+constexpr const char* kSixBarLayers[] = {"GROUND",    "UPPER_LINK", "FOREARM",
+                                         "TASK_BODY", "FIRST_LINK", "SECOND_LINK"};
 
 // What a drawing is made of, on the layers above; the DXF and the SVG write it.
 class Drawing {
@@ -155,11 +166,13 @@ class SvgDrawing : public Drawing {
     // The text (as high as the DXF's, a thirtieth of the links) centred beyond the line.
     const double font = 10.0 * stroke_;
     const Eigen::Vector2d middle = 0.5 * (from + to) + (offset > 0.0 ? 0.8 : -0.8) * font * normal;
-    // The text is drawn in a frame flipped back to y down.
+    // The text is drawn in a frame flipped back to y down, at 10 units scaled to its height
+    // (renderers draw a font of a fraction of a unit poorly: a result in metres).
     Add("DIMENSIONS", "<text transform=\"translate(" + N(middle.x()) + "," + N(middle.y()) +
-                          ") scale(1,-1) rotate(" + N(-angle) +
-                          ")\" text-anchor=\"middle\" dominant-baseline=\"middle\" font-size=\"" +
-                          N(font) + "\" stroke=\"none\" fill=\"currentColor\">" +
+                          ") scale(" + N(font / 10.0) + "," + N(-font / 10.0) + ") rotate(" +
+                          N(-angle) +
+                          ")\" text-anchor=\"middle\" dominant-baseline=\"middle\" "
+                          "font-size=\"10\" stroke=\"none\" fill=\"currentColor\">" +
                           LengthText(along.norm()) + "</text>");
   }
 
@@ -274,6 +287,17 @@ FourBarDrawing PrepareFourBar(const std::string& result_text, const std::string&
   return drawing;
 }
 
+// The task's poses as frames (x axis twice as long as y) and its points as small circles.
+void DrawTask(const Task& task, double axis, double radius, Drawing* drawing) {
+  for (const PlanarPose& pose : task.planar_poses) {
+    const Eigen::Vector2d origin = pose.origin_in_fixed;
+    const Eigen::Vector2d x(std::cos(pose.theta), std::sin(pose.theta));
+    drawing->Line("TASK", origin, origin + axis * x);
+    drawing->Line("TASK", origin, origin + 0.5 * axis * Eigen::Vector2d(-x.y(), x.x()));
+  }
+  for (const TimedPoint& point : task.points) drawing->Circle("TASK", point.point_in_fixed, radius);
+}
+
 // The four-bar's entities, on their layers.
 void DrawFourBar(const FourBarDrawing& four_bar, const Task* task, Drawing* drawing) {
   const FourBarJoints& joints = four_bar.joints;
@@ -332,19 +356,7 @@ void DrawFourBar(const FourBarDrawing& four_bar, const Task* task, Drawing* draw
     }
     drawing->Polyline("CURVE", curve, four_bar.kinematics.input_rotates_fully);
   }
-  // The task: each pose as its frame (x axis twice as long as y), each point as a small circle.
-  if (task != nullptr) {
-    const double axis = 0.1 * links;
-    for (const PlanarPose& pose : task->planar_poses) {
-      const Eigen::Vector2d origin = pose.origin_in_fixed;
-      const Eigen::Vector2d x(std::cos(pose.theta), std::sin(pose.theta));
-      drawing->Line("TASK", origin, origin + axis * x);
-      drawing->Line("TASK", origin, origin + 0.5 * axis * Eigen::Vector2d(-x.y(), x.x()));
-    }
-    for (const TimedPoint& point : task->points) {
-      drawing->Circle("TASK", point.point_in_fixed, 0.5 * pivot_radius);
-    }
-  }
+  if (task != nullptr) DrawTask(*task, 0.1 * links, 0.5 * pivot_radius, drawing);
   // The link lengths.
   const double offset = 2.5 * pivot_radius;
   drawing->Dimension(a0, a, offset);
@@ -355,11 +367,139 @@ void DrawFourBar(const FourBarDrawing& four_bar, const Task* task, Drawing* draw
   }
 }
 
+// A six-bar of a result in the configuration drawn, with the tool point's curve.
+struct SixBarSketch {
+  SixBar six_bar;
+  SixBarAngles turns = SixBarAngles::Zero();
+  std::vector<Eigen::Vector2d> curve;
+  bool closed_curve = false;
+  double links = 1.0, pivot_radius = 1.0;
+};
+
+SixBarSketch PrepareSixBar(const std::string& result_text, const std::string& source,
+                           const CadExportRequest& request) {
+  const ResultSixBar read = ReadResultSixBar(result_text, source, request.mechanism);
+  SixBarSketch sketch;
+  sketch.six_bar = read.six_bar;
+  const SixBar& six_bar = sketch.six_bar;
+  SixBarKinematicsOptions sweep;
+  sweep.steps = request.curve_steps;
+  const SixBarKinematics kinematics =
+      AnalyzeSixBarKinematics(six_bar, read.input, sweep, read.length);
+  for (const SixBarState& state : kinematics.states) sketch.curve.push_back(state.tool_point);
+  sketch.closed_curve = kinematics.input_rotates_fully;
+  if (request.task != nullptr) {
+    // The task drawn must be this result's: its first pose the task body's at the first pose.
+    const std::vector<PlanarPose>& poses = request.task->planar_poses;
+    const PlanarPose& first = six_bar.reference_pose;
+    if (poses.empty() ||
+        (poses[0].origin_in_fixed - first.origin_in_fixed).norm() > 1e-6 * read.length ||
+        std::abs(std::remainder(poses[0].theta - first.theta, 2.0 * M_PI)) > 1e-6) {
+      throw InputError(
+          "--task: its first pose is not the six-bar's task body at its first pose "
+          "(is it the task of " +
+          source + "?)");
+    }
+  }
+  if (request.input_deg) {
+    // The input turned to the angle asked for, on the first pose's assembly.
+    const double reference = SixBarInputReferenceAngle(six_bar, read.input);
+    double turn = std::remainder(*request.input_deg / kDegree - reference, 2.0 * M_PI);
+    if (!kinematics.input_rotates_fully &&
+        (reference + turn < kinematics.range_start || reference + turn > kinematics.range_end)) {
+      turn += turn < 0.0 ? 2.0 * M_PI : -2.0 * M_PI;
+    }
+    const SixBarDriver driver(six_bar, read.input, read.length);
+    if (!driver.Drive(turn, &sketch.turns, kSixBarDriveStep)) {
+      char text[160];
+      std::snprintf(text, sizeof(text),
+                    "--input-deg %.6g: the six-bar does not reach it on its assembly (its input "
+                    "turns from %.6g to %.6g degrees)",
+                    *request.input_deg, kinematics.range_start * kDegree,
+                    kinematics.range_end * kDegree);
+      throw InputError(text);
+    }
+  }
+  sketch.links =
+      (six_bar.elbow - six_bar.ground_pivot).norm() + (six_bar.wrist - six_bar.elbow).norm();
+  double shortest = std::numeric_limits<double>::infinity();
+  const std::array<std::vector<Eigen::Vector2d>, 6> bodies = SixBarBodyJoints(six_bar);
+  for (const std::vector<Eigen::Vector2d>& joints : bodies) {
+    for (size_t i = 0; i < joints.size(); ++i) {
+      for (size_t j = i + 1; j < joints.size(); ++j) {
+        const double side = (joints[i] - joints[j]).norm();
+        if (side > 1e-9 * sketch.links) shortest = std::min(shortest, side);
+      }
+    }
+  }
+  sketch.pivot_radius = std::min(sketch.links / 30.0, shortest / 6.0);
+  return sketch;
+}
+
+void DrawSixBar(const SixBarSketch& sketch, const Task* task, Drawing* drawing) {
+  const SixBar& six_bar = sketch.six_bar;
+  const std::array<std::vector<Eigen::Vector2d>, 6> bodies = SixBarBodyJoints(six_bar);
+  const double offset = 2.5 * sketch.pivot_radius;
+  for (int body = 0; body < 6; ++body) {
+    const char* layer = kSixBarLayers[body];
+    const PlanarPose moved = SixBarBodyDisplacement(six_bar, sketch.turns, body);
+    std::vector<Eigen::Vector2d> joints;
+    for (const Eigen::Vector2d& joint : bodies[body]) joints.push_back(moved.ToFixed(joint));
+    // The task body carries the tool frame's origin, the point the task moves.
+    if (body == kSixBarTaskBody) {
+      joints.push_back(moved.ToFixed(six_bar.reference_pose.origin_in_fixed));
+    }
+    for (const Eigen::Vector2d& joint : joints) drawing->Circle(layer, joint, sketch.pivot_radius);
+    if (joints.size() >= 2) drawing->Polyline(layer, joints, joints.size() > 2);
+    // Its dimensions: every pair of joints of a moving body (ground: between its pivots).
+    for (size_t i = 0; i < joints.size(); ++i) {
+      for (size_t j = i + 1; j < joints.size(); ++j) {
+        if ((joints[i] - joints[j]).norm() > 1e-9 * sketch.links) {
+          drawing->Dimension(joints[i], joints[j], body == 0 ? -offset : offset);
+        }
+      }
+    }
+  }
+  drawing->Polyline("CURVE", sketch.curve, sketch.closed_curve);
+  if (task != nullptr) DrawTask(*task, 0.1 * sketch.links, 0.5 * sketch.pivot_radius, drawing);
+}
+
+// What a result's mechanism draws: its scale (the text's and the lines' size) and its entities.
+struct Sketch {
+  double scale = 1.0;
+  std::function<void(Drawing*)> draw;
+};
+
+Sketch PrepareSketch(const std::string& result_text, const std::string& source,
+                     const CadExportRequest& request) {
+  bool six_bar = false;
+  try {
+    const nlohmann::json result = nlohmann::json::parse(result_text);
+    six_bar = result.is_object() && result.contains("six_bars") && result["six_bars"].is_array() &&
+              !result["six_bars"].empty();
+  } catch (const nlohmann::json::parse_error&) {
+    // ReadResultFourBar says what is wrong.
+  }
+  Sketch sketch;
+  if (six_bar) {
+    auto prepared = std::make_shared<SixBarSketch>(PrepareSixBar(result_text, source, request));
+    sketch.scale = prepared->links;
+    const Task* task = request.task;
+    sketch.draw = [prepared, task](Drawing* drawing) { DrawSixBar(*prepared, task, drawing); };
+    return sketch;
+  }
+  auto prepared = std::make_shared<FourBarDrawing>(PrepareFourBar(result_text, source, request));
+  sketch.scale = prepared->links;
+  const Task* task = request.task;
+  sketch.draw = [prepared, task](Drawing* drawing) { DrawFourBar(*prepared, task, drawing); };
+  return sketch;
+}
+
 }  // namespace
 
 std::string ResultDxf(const std::string& result_text, const std::string& source,
                       const CadExportRequest& request) {
-  const FourBarDrawing four_bar = PrepareFourBar(result_text, source, request);
+  const Sketch sketch = PrepareSketch(result_text, source, request);
   TemporaryPath file;
   DL_Dxf dxf;
   DL_WriterA* writer = dxf.out(file.path().c_str(), DL_Codes::AC1015);
@@ -394,7 +534,7 @@ std::string ResultDxf(const std::string& result_text, const std::string& source,
   dxf.writeAppid(*writer, "ACAD");
   writer->tableEnd();
   // Dimension text about a thirtieth of the links' length.
-  const double text = four_bar.links / 30.0;
+  const double text = sketch.scale / 30.0;
   dxf.writeDimStyle(*writer, text, 0.25 * text, 0.25 * text, 0.25 * text, text);
   dxf.writeBlockRecord(*writer);
   writer->tableEnd();
@@ -408,7 +548,7 @@ std::string ResultDxf(const std::string& result_text, const std::string& source,
 
   writer->sectionEntities();
   DxfDrawing drawing(&dxf, writer);
-  DrawFourBar(four_bar, request.task, &drawing);
+  sketch.draw(&drawing);
   writer->sectionEnd();
   dxf.writeObjects(*writer, "LINKFIT");
   dxf.writeObjectsEnd(*writer);
@@ -421,9 +561,9 @@ std::string ResultDxf(const std::string& result_text, const std::string& source,
 
 std::string ResultSvg(const std::string& result_text, const std::string& source,
                       const CadExportRequest& request) {
-  const FourBarDrawing four_bar = PrepareFourBar(result_text, source, request);
-  SvgDrawing drawing(four_bar.links / 300.0, 1e-9 * four_bar.links);
-  DrawFourBar(four_bar, request.task, &drawing);
+  const Sketch sketch = PrepareSketch(result_text, source, request);
+  SvgDrawing drawing(sketch.scale / 300.0, 1e-9 * sketch.scale);
+  sketch.draw(&drawing);
   return drawing.Document();
 }
 

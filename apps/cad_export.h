@@ -1,9 +1,10 @@
-// `linkfit export --dxf/--svg`: a listed four-bar as a DXF drawing for CAD, written by dxflib
-// (Debian's libdxflib-dev), or the same drawing as SVG (for a laser cutter, a web page, a
-// report). Each link on its own layer (GROUND, INPUT, COUPLER, OUTPUT) with its pivots as
-// circles, the coupler body as a closed polyline through its pins and coupler point, the coupler
-// curve over the input's range (CURVE), the task's poses or points when the task is given (TASK)
-// and aligned dimensions of the link lengths (DIMENSIONS). Coordinates are the result's, in Sigma.
+// `linkfit export --dxf/--svg`: a listed four-bar (or six-bar: a layer per body) as a DXF drawing
+// for CAD, written by dxflib (Debian's libdxflib-dev), or the same drawing as SVG (for a laser
+// cutter, a web page, a report). Each link on its own layer (GROUND, INPUT, COUPLER, OUTPUT) with
+// its pivots as circles, the coupler body as a closed polyline through its pins and coupler point,
+// the coupler curve over the input's range (CURVE), the task's poses or points when the task is
+// given (TASK) and aligned dimensions of the link lengths (DIMENSIONS). Coordinates are the
+// result's, in Sigma.
 #ifndef LINKFIT_APPS_CAD_EXPORT_H_
 #define LINKFIT_APPS_CAD_EXPORT_H_
 

@@ -544,6 +544,62 @@ def test_analyze_over_the_tasks_range(tmp_path):
         linkfit.analyze(result, task=other)
 
 
+def test_export_a_six_bar_with_its_joints_where_the_result_says(tmp_path):
+    """`linkfit export` of a six-bar (issue 37): a layer per body (GROUND, UPPER_LINK, FOREARM,
+    TASK_BODY, FIRST_LINK, SECOND_LINK) with circles at the result's joints, the tool point's
+    curve, the task's poses, dimensions measuring each body's joints apart; the DXF read back
+    with ezdxf and the SVG as XML agree; another task is refused."""
+    ezdxf = pytest.importorskip("ezdxf")
+    import xml.etree.ElementTree as ElementTree
+    task_path = DATA / "six_bar_5_poses.json"
+    task = json.loads(task_path.read_text())
+    result = linkfit.solve(task)
+    result_path = tmp_path / "six.json"
+    result_path.write_text(json.dumps(result))
+    dxf, svg = tmp_path / "six.dxf", tmp_path / "six.svg"
+    subprocess.run([CLI, "export", str(result_path), "--dxf", str(dxf), "--svg", str(svg),
+                    "--task", str(task_path)], check=True)
+    linkfit.export_svg(result, tmp_path / "python.svg", task=task)
+    assert (tmp_path / "python.svg").read_bytes() == svg.read_bytes()
+    joints = result["six_bars"][0]["joints_at_first_pose"]
+    links = joints["links"]
+    names = {"ground": "GROUND", "upper link": "UPPER_LINK", "forearm": "FOREARM",
+             "task body": "TASK_BODY", "first link": "FIRST_LINK", "second link": "SECOND_LINK"}
+    expected = {"GROUND": [joints["ground_pivot"]],
+                "UPPER_LINK": [joints["ground_pivot"], joints["elbow"]],
+                "FOREARM": [joints["elbow"], joints["wrist"]],
+                "TASK_BODY": [joints["wrist"]],
+                "FIRST_LINK": [links[0]["from_joint"], links[0]["to_joint"]],
+                "SECOND_LINK": [links[1]["from_joint"], links[1]["to_joint"]]}
+    for link in links:
+        expected[names[link["from"]]].append(link["from_joint"])
+        expected[names[link["to"]]].append(link["to_joint"])
+    msp = ezdxf.readfile(str(dxf)).modelspace()
+    root = ElementTree.parse(svg).getroot()
+    ns = {"svg": "http://www.w3.org/2000/svg"}
+    groups = {g.get("id"): g for g in root.find("svg:g", ns).findall("svg:g", ns)}
+    scale = result["scale"]
+    for layer, points in expected.items():
+        dxf_circles = [(c.dxf.center.x, c.dxf.center.y)
+                       for c in msp.query('CIRCLE[layer=="%s"]' % layer)]
+        svg_circles = [(float(c.get("cx")), float(c.get("cy")))
+                       for c in groups[layer].findall("svg:circle", ns)]
+        for point in points:
+            assert any(math.dist(point, c) < 1e-9 * scale for c in dxf_circles), (layer, point)
+            assert any(math.dist(point, c) < 1e-7 * scale for c in svg_circles), (layer, point)
+    # Each dimension measures its two joints apart.
+    for d in msp.query("DIMENSION"):
+        apart = math.dist((d.dxf.defpoint2.x, d.dxf.defpoint2.y),
+                          (d.dxf.defpoint3.x, d.dxf.defpoint3.y))
+        assert d.get_measurement() == pytest.approx(apart, rel=1e-9)
+        assert float(d.dxf.text) == pytest.approx(apart, rel=1e-5)
+    assert len(msp.query('LINE[layer=="TASK"]')) == 2 * len(task["poses"])
+    assert len(msp.query('LWPOLYLINE[layer=="CURVE"]')) + len(msp.query('POLYLINE[layer=="CURVE"]')) == 1
+    with pytest.raises(linkfit.InputError, match="--task: its first pose"):
+        linkfit.export_dxf(result, tmp_path / "x.dxf",
+                           task=json.loads((DATA / "four_bar_5_poses.json").read_text()))
+
+
 def test_analyze_a_part_of_the_range():
     """input_range_deg samples that part from end to end; outside the circuit: InputError."""
     result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))

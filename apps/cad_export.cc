@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "lib/analysis_io.h"
+#include "lib/dyad_four_bar_kinematics.h"
 #include "lib/four_bar_kinematics.h"
 #include "lib/six_bar.h"
 #include "lib/six_bar_kinematics.h"
@@ -464,6 +465,183 @@ void DrawSixBar(const SixBarSketch& sketch, const Task* task, Drawing* drawing) 
   if (task != nullptr) DrawTask(*task, 0.1 * sketch.links, 0.5 * sketch.pivot_radius, drawing);
 }
 
+// A four-bar of another type (or driven by a slider) in the configuration drawn, with its
+// coupler curve.
+struct DyadSketch {
+  ResultDyadFourBar four_bar;
+  PlanarPose pose;  // the coupler drawn (E in Sigma; E is Sigma at the first configuration)
+  std::vector<Eigen::Vector2d> curve;
+  bool closed_curve = false;
+  double slider_low = 0.0, slider_high = 0.0;  // a PR's pin's travel along its line
+  double links = 1.0, pivot_radius = 1.0;
+};
+
+DyadSketch PrepareDyadFourBar(const ResultDyadFourBar& four_bar, const std::string& source,
+                              const CadExportRequest& request) {
+  DyadSketch sketch;
+  sketch.four_bar = four_bar;
+  const PlanarDyad& input = four_bar.input;
+  const PlanarDyad& output = four_bar.output;
+  if (request.task != nullptr && four_bar.coupler_point) {
+    // The task drawn must be this result's: its first pose's origin or point at the coupler
+    // point (within the fit's error).
+    const Task& task = *request.task;
+    const std::optional<Eigen::Vector2d> first =
+        !task.planar_poses.empty() ? std::optional(task.planar_poses[0].origin_in_fixed)
+        : !task.points.empty()     ? std::optional(task.points[0].point_in_fixed)
+                                   : std::nullopt;
+    if (!first || (*first - *four_bar.coupler_point).norm() > 0.05 * four_bar.length) {
+      throw InputError(
+          "--task: its first pose or point is not at the four-bar's coupler point "
+          "(is it the task of " +
+          source + "?)");
+    }
+  }
+  DyadFourBarKinematicsOptions sweep;
+  sweep.steps = request.curve_steps;
+  const DyadFourBarKinematics kinematics = AnalyzeDyadFourBarKinematics(
+      input, output, four_bar.coupler_point, PlanarPose(), sweep, four_bar.length);
+  for (const DyadFourBarState& state : kinematics.states) {
+    sketch.curve.push_back(state.coupler_point);
+  }
+  sketch.closed_curve = kinematics.input_turns_fully;
+  if (request.input_deg) {
+    // The input's value asked for (an angle in degrees; a slider's position), reached on the
+    // first configuration's assembly.
+    const double value =
+        input.type == DyadType::kPR ? *request.input_deg : *request.input_deg / kDegree;
+    DyadFourBarKinematicsOptions at;
+    at.steps = 1;
+    at.range =
+        std::pair{value, value + 1e-9 * (input.type == DyadType::kPR ? four_bar.length : 1.0)};
+    DyadFourBarKinematics placed = AnalyzeDyadFourBarKinematics(
+        input, output, four_bar.coupler_point, PlanarPose(), at, four_bar.length);
+    if (placed.states.empty()) {
+      const double unit = input.type == DyadType::kPR ? 1.0 : kDegree;
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "--input-deg %.6g: the four-bar does not reach it on its circuit (its input "
+                    "runs from %.6g to %.6g%s)",
+                    *request.input_deg, kinematics.range_start * unit, kinematics.range_end * unit,
+                    input.type == DyadType::kPR ? "" : " degrees");
+      throw InputError(text);
+    }
+    sketch.pose = placed.states[0].coupler;
+  }
+  // A PR's travel along its line over the input's range.
+  for (const PlanarDyad* dyad : {&input, &output}) {
+    if (dyad->type != DyadType::kPR) continue;
+    sketch.slider_low = sketch.slider_high =
+        dyad->line_direction.dot(sketch.pose.ToFixed(dyad->moving_pivot) - dyad->line_point);
+    for (const DyadFourBarState& state : kinematics.states) {
+      const double at =
+          dyad->line_direction.dot(state.coupler.ToFixed(dyad->moving_pivot) - dyad->line_point);
+      sketch.slider_low = std::min(sketch.slider_low, at);
+      sketch.slider_high = std::max(sketch.slider_high, at);
+    }
+  }
+  // The links' scale: the RR links and the coupler's pins apart.
+  double links = 0.0, shortest = std::numeric_limits<double>::infinity();
+  for (const PlanarDyad* dyad : {&input, &output}) {
+    if (dyad->type == DyadType::kRR) {
+      links += dyad->radius;
+      shortest = std::min(shortest, dyad->radius);
+    }
+  }
+  if (input.type != DyadType::kRP && output.type != DyadType::kRP) {
+    const double coupler = (output.moving_pivot - input.moving_pivot).norm();
+    links += coupler;
+    shortest = std::min(shortest, coupler);
+  }
+  if (input.type != DyadType::kPR && output.type != DyadType::kPR) {
+    links = std::max(links, (output.fixed_pivot - input.fixed_pivot).norm());  // the ground
+  }
+  if (!(links > 0.0)) links = four_bar.length;
+  sketch.links = links;
+  sketch.pivot_radius = std::min(links / 30.0, std::isfinite(shortest) ? shortest / 6.0 : links);
+  return sketch;
+}
+
+void DrawDyadFourBar(const DyadSketch& sketch, const Task* task, Drawing* drawing) {
+  const PlanarDyad& input = sketch.four_bar.input;
+  const PlanarDyad& output = sketch.four_bar.output;
+  const PlanarPose& pose = sketch.pose;
+  const double r = sketch.pivot_radius, links = sketch.links;
+  // A slider block at `at` along `direction` (a rectangle 4 r by 2.4 r).
+  const auto block = [&](const char* layer, const Eigen::Vector2d& at,
+                         const Eigen::Vector2d& direction) {
+    const Eigen::Vector2d u = direction.normalized(), n(-u.y(), u.x());
+    const double half = 2.0 * r;
+    drawing->Polyline(layer,
+                      {at - half * u - 0.6 * half * n, at + half * u - 0.6 * half * n,
+                       at + half * u + 0.6 * half * n, at - half * u + 0.6 * half * n},
+                      true);
+  };
+  std::vector<Eigen::Vector2d> body;  // the coupler's points: its pins and coupler point
+  std::vector<Eigen::Vector2d> ground;
+  for (const auto& [dyad, layer] : {std::pair{&input, "INPUT"}, std::pair{&output, "OUTPUT"}}) {
+    switch (dyad->type) {
+      case DyadType::kRR: {
+        const Eigen::Vector2d pin = pose.ToFixed(dyad->moving_pivot);
+        drawing->Circle("GROUND", dyad->fixed_pivot, r);
+        drawing->Line(layer, dyad->fixed_pivot, pin);
+        drawing->Circle(layer, dyad->fixed_pivot, r);
+        drawing->Circle(layer, pin, r);
+        drawing->Dimension(dyad->fixed_pivot, pin, 2.5 * r);
+        ground.push_back(dyad->fixed_pivot);
+        body.push_back(pin);
+        break;
+      }
+      case DyadType::kPR: {
+        const Eigen::Vector2d pin = pose.ToFixed(dyad->moving_pivot);
+        const double margin = 0.1 * links;
+        drawing->Line("GROUND",
+                      dyad->line_point + (sketch.slider_low - margin) * dyad->line_direction,
+                      dyad->line_point + (sketch.slider_high + margin) * dyad->line_direction);
+        block(layer, pin, dyad->line_direction);
+        drawing->Circle(layer, pin, r);
+        body.push_back(pin);
+        break;
+      }
+      case DyadType::kRP: {
+        // The block turns about its ground pivot and slides on the coupler's line.
+        const Eigen::Vector2d direction = Rotation2(pose.theta) * dyad->line_direction;
+        drawing->Circle("GROUND", dyad->fixed_pivot, r);
+        block(layer, dyad->fixed_pivot, direction);
+        drawing->Circle(layer, dyad->fixed_pivot, r);
+        const Eigen::Vector2d foot = pose.ToFixed(dyad->line_point);
+        const double along = direction.dot(dyad->fixed_pivot - foot);
+        drawing->Line("COUPLER", foot + (std::min(along, 0.0) - 0.6 * links) * direction,
+                      foot + (std::max(along, 0.0) + 0.6 * links) * direction);
+        ground.push_back(dyad->fixed_pivot);
+        body.push_back(foot);
+        break;
+      }
+    }
+  }
+  if (ground.size() == 2) {
+    drawing->Line("GROUND", ground[0], ground[1]);
+    drawing->Dimension(ground[0], ground[1], -2.5 * r);
+  }
+  const std::optional<Eigen::Vector2d>& point = sketch.four_bar.coupler_point;
+  if (point) body.push_back(pose.ToFixed(*point));
+  // The coupler body through its points (distinct ones), a circle at the coupler point.
+  std::vector<Eigen::Vector2d> distinct;
+  for (const Eigen::Vector2d& p : body) {
+    bool seen = false;
+    for (const Eigen::Vector2d& q : distinct) seen |= (p - q).norm() <= 1e-9 * links;
+    if (!seen) distinct.push_back(p);
+  }
+  if (distinct.size() >= 2) drawing->Polyline("COUPLER", distinct, distinct.size() > 2);
+  if (point) drawing->Circle("COUPLER", pose.ToFixed(*point), r);
+  if (input.type != DyadType::kRP && output.type != DyadType::kRP) {
+    drawing->Dimension(pose.ToFixed(input.moving_pivot), pose.ToFixed(output.moving_pivot),
+                       2.5 * r);
+  }
+  drawing->Polyline("CURVE", sketch.curve, sketch.closed_curve);
+  if (task != nullptr) DrawTask(*task, 0.1 * links, 0.5 * r, drawing);
+}
+
 // What a result's mechanism draws: its scale (the text's and the lines' size) and its entities.
 struct Sketch {
   double scale = 1.0;
@@ -486,6 +664,14 @@ Sketch PrepareSketch(const std::string& result_text, const std::string& source,
     sketch.scale = prepared->links;
     const Task* task = request.task;
     sketch.draw = [prepared, task](Drawing* drawing) { DrawSixBar(*prepared, task, drawing); };
+    return sketch;
+  }
+  if (const std::optional<ResultDyadFourBar> other =
+          ReadResultDyadFourBar(result_text, source, request.mechanism)) {
+    auto prepared = std::make_shared<DyadSketch>(PrepareDyadFourBar(*other, source, request));
+    sketch.scale = prepared->links;
+    const Task* task = request.task;
+    sketch.draw = [prepared, task](Drawing* drawing) { DrawDyadFourBar(*prepared, task, drawing); };
     return sketch;
   }
   auto prepared = std::make_shared<FourBarDrawing>(PrepareFourBar(result_text, source, request));

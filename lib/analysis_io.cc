@@ -946,6 +946,51 @@ ResultFourBar ReadResultFourBar(const std::string& result_text, const std::strin
   return read;
 }
 
+std::optional<ResultDyadFourBar> ReadResultDyadFourBar(const std::string& result_text,
+                                                       const std::string& source, int index) {
+  Json result;
+  try {
+    result = Json::parse(result_text);
+  } catch (const Json::parse_error&) {
+    return std::nullopt;  // (ReadResultFourBar says what is wrong)
+  }
+  const auto mechanisms = result.is_object() ? result.find("mechanisms") : result.end();
+  if (result.value("space", std::string("planar")) != "planar" || mechanisms == result.end() ||
+      !mechanisms->is_array() || index < 0 || index >= static_cast<int>(mechanisms->size())) {
+    return std::nullopt;
+  }
+  const Json& mechanism = (*mechanisms)[index];
+  const std::string type = mechanism.is_object() ? mechanism.value("type", std::string()) : "";
+  const auto linkage = mechanism.is_object() ? mechanism.find("linkage") : mechanism.end();
+  if (linkage == mechanism.end() || !linkage->is_object() || !linkage->contains("joints") ||
+      !(*linkage)["joints"].is_object()) {
+    return std::nullopt;
+  }
+  const Json& joints = (*linkage)["joints"];
+  const bool crank = joints.contains("input_pivot") && !joints.contains("input_slider_line");
+  const bool closed_form =
+      crank && (type == "4R" ||
+                (type == "slider-crank" && joints.contains("output_slider_line") &&
+                 joints["output_slider_line"].is_object() &&
+                 joints["output_slider_line"].value("on", std::string("ground")) == "ground"));
+  if (closed_form ||
+      !(type == "4R" || type == "slider-crank" || type == "inverted slider-crank" ||
+        type == "double slider" || type == "RPRP" || type == "inverted double slider")) {
+    return std::nullopt;
+  }
+  const std::string at = source + ": mechanisms[" + std::to_string(index) + "].linkage.joints";
+  ResultDyadFourBar read;
+  read.type = type;
+  read.input = ReadDyad(joints, "input", at);
+  read.output = ReadDyad(joints, "output", at);
+  if (joints.contains("coupler_point")) read.coupler_point = ReadPoint(joints, "coupler_point", at);
+  read.length = std::max(1e-300, result.value("scale", 0.0));
+  for (const PlanarDyad* dyad : {&read.input, &read.output}) {
+    if (dyad->type == DyadType::kRR) read.length = std::max(read.length, dyad->radius);
+  }
+  return read;
+}
+
 ResultSixBar ReadResultSixBar(const std::string& result_text, const std::string& source,
                               int index) {
   Json result;
@@ -1049,31 +1094,10 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       return SphericalAnalysisText(result, source, request);
     }
     // A planar four-bar the closed form does not take: another type, or driven by a slider.
-    const auto mechanisms = result.find("mechanisms");
-    if (result.is_object() && result.value("space", std::string("planar")) == "planar" &&
-        mechanisms != result.end() && mechanisms->is_array() && request.mechanism >= 0 &&
-        request.mechanism < static_cast<int>(mechanisms->size())) {
-      const Json& mechanism = (*mechanisms)[request.mechanism];
-      const std::string type = mechanism.is_object() ? mechanism.value("type", std::string()) : "";
-      const auto linkage = mechanism.is_object() ? mechanism.find("linkage") : mechanism.end();
-      if (linkage != mechanism.end() && linkage->is_object() && linkage->contains("joints") &&
-          (*linkage)["joints"].is_object()) {
-        const Json& joints = (*linkage)["joints"];
-        const bool crank = joints.contains("input_pivot") && !joints.contains("input_slider_line");
-        const bool closed_form =
-            crank &&
-            (type == "4R" ||
-             (type == "slider-crank" && joints.contains("output_slider_line") &&
-              joints["output_slider_line"].is_object() &&
-              joints["output_slider_line"].value("on", std::string("ground")) == "ground"));
-        if (!closed_form &&
-            (type == "4R" || type == "slider-crank" || type == "inverted slider-crank" ||
-             type == "double slider" || type == "RPRP" || type == "inverted double slider")) {
-          return DyadFourBarAnalysisText(
-              result, mechanism, source,
-              source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request);
-        }
-      }
+    if (ReadResultDyadFourBar(result_text, source, request.mechanism)) {
+      return DyadFourBarAnalysisText(
+          result, result["mechanisms"][request.mechanism], source,
+          source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request);
     }
   }
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);

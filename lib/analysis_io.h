@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "lib/dyad.h"
 #include "lib/four_bar_kinematics.h"
 #include "lib/six_bar.h"
 #include "lib/task.h"
@@ -50,6 +51,22 @@ struct ResultFourBar {
 // (naming `source` and the item) as AnalyzeResultText.
 ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
                                 int mechanism_index);
+
+// A planar four-bar of a result file that the closed form (lib/four_bar_kinematics.h) does not
+// take: an inverted slider-crank, a double slider, an RPRP, an inverted double slider, or any
+// four-bar driven by a slider; its dyads with E equal to Sigma at the first configuration
+// (lib/dyad_four_bar_kinematics.h), its coupler point there, a length for tolerances.
+struct ResultDyadFourBar {
+  std::string type;
+  PlanarDyad input, output;
+  std::optional<Eigen::Vector2d> coupler_point;
+  double length = 1.0;
+};
+
+// Mechanism `index` of the result as such a four-bar; none where it is not one (a 4R or a
+// slider-crank driven by its crank, another kind of mechanism, no such mechanism).
+std::optional<ResultDyadFourBar> ReadResultDyadFourBar(const std::string& result_text,
+                                                       const std::string& source, int index);
 
 // A six-bar of a result file: the six-bar, its input body, its turns at the task's poses (where
 // the result gives them) and a length for tolerances.

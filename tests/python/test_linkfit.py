@@ -600,6 +600,50 @@ def test_export_a_six_bar_with_its_joints_where_the_result_says(tmp_path):
                            task=json.loads((DATA / "four_bar_5_poses.json").read_text()))
 
 
+def test_export_other_four_bar_types(tmp_path):
+    """`linkfit export` of four-bars the closed form does not take (issue 37), made from the
+    bundled slider-crank: driven by its slider, and an inverted slider-crank. Read back with
+    ezdxf: the ground pivots as circles where the joints are, the slider line on GROUND, the
+    dimensions measuring the RR links; Python and the CLI write the same SVG."""
+    ezdxf = pytest.importorskip("ezdxf")
+    result = linkfit.solve(json.loads((DATA / "slider_crank_5_poses.json").read_text()))
+    joints = result["mechanisms"][0]["linkage"]["joints"]
+    driven = json.loads(json.dumps(result))
+    driven["mechanisms"][0]["linkage"]["joints"] = {
+        "input_pin": joints["output_pin"], "input_slider_line": joints["output_slider_line"],
+        "output_pivot": joints["input_pivot"], "output_pin": joints["input_pin"],
+        "coupler_point": joints["coupler_point"]}
+    a, b = joints["input_pin"], joints["output_pin"]
+    pivot = [a[0] + 1.3 * (b[0] - a[0]), a[1] + 1.3 * (b[1] - a[1])]
+    inverted = json.loads(json.dumps(result))
+    inverted["mechanisms"][0]["type"] = "inverted slider-crank"
+    inverted["mechanisms"][0]["linkage"]["joints"] = {
+        "input_pivot": joints["input_pivot"], "input_pin": a, "output_pivot": pivot,
+        "output_slider_line": {"point": a, "on": "coupler",
+                               "angle_deg": math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))},
+        "coupler_point": joints["coupler_point"]}
+    crank = math.dist(joints["input_pivot"], a)
+    for name, made, pivots, rr in [("driven", driven, [joints["input_pivot"]], [crank]),
+                                   ("inverted", inverted, [joints["input_pivot"], pivot],
+                                    [crank, math.dist(joints["input_pivot"], pivot)])]:
+        path = tmp_path / (name + ".json")
+        path.write_text(json.dumps(made))
+        dxf, svg = tmp_path / (name + ".dxf"), tmp_path / (name + ".svg")
+        subprocess.run([CLI, "export", str(path), "--dxf", str(dxf), "--svg", str(svg)],
+                       check=True)
+        linkfit.export_svg(made, tmp_path / (name + "_python.svg"))
+        assert (tmp_path / (name + "_python.svg")).read_bytes() == svg.read_bytes()
+        msp = ezdxf.readfile(str(dxf)).modelspace()
+        circles = [(c.dxf.center.x, c.dxf.center.y) for c in msp.query('CIRCLE[layer=="GROUND"]')]
+        for at in pivots:
+            assert any(math.dist(at, c) < 1e-9 * result["scale"] for c in circles), (name, at)
+        measured = [d.get_measurement() for d in msp.query("DIMENSION")]
+        for length in rr:
+            assert any(abs(m - length) < 1e-9 * length for m in measured), (name, length)
+        if name == "driven":
+            assert len(msp.query('LINE[layer=="GROUND"]')) == 1  # the slider's line
+
+
 def test_analyze_a_part_of_the_range():
     """input_range_deg samples that part from end to end; outside the circuit: InputError."""
     result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))

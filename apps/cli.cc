@@ -687,11 +687,12 @@ int Run(int argc, char** argv) {
       "default: a crank's whole turn, a rocking input's task range where known, else whole");
   analyze
       ->add_option("--mass", analyze_mass,
-                   "the links' masses INPUT,COUPLER,OUTPUT in kg (OUTPUT: the rocker or the "
-                   "slider), for the torque that drives them at the input speed (uniform bars, "
-                   "the coupler a plate); needs --length-unit")
+                   "the links' masses in kg: a four-bar's INPUT,COUPLER,OUTPUT (OUTPUT: the "
+                   "rocker or the slider), a six-bar's UPPER_LINK,FOREARM,TASK_BODY,FIRST_LINK,"
+                   "SECOND_LINK; for the torque that drives them at the input speed (uniform "
+                   "bodies: bars, plates on three or more joints); needs --length-unit")
       ->delimiter(',')
-      ->expected(3);
+      ->expected(3, 5);
   analyze->add_option("--length-unit", analysis.length_unit,
                       "the result's length unit: m, cm, mm, in or ft (torques then in N times "
                       "it)");
@@ -798,11 +799,7 @@ int Run(int argc, char** argv) {
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
     if (!analyze_range.empty()) SetAnalysisRange(analyze_range, &analysis);
-    if (!analyze_mass.empty()) {
-      analysis.masses.input = analyze_mass[0];
-      analysis.masses.coupler = analyze_mass[1];
-      analysis.masses.output = analyze_mass[2];
-    }
+    analysis.mass_list = analyze_mass;
     return Analyze(analyze_result, analyze_output, analyze_svg, analyze_task, analysis,
                    analyze_force);
   }

@@ -149,13 +149,22 @@ double SixBarBodyReferenceAngle(const SixBar& six_bar, int body) {
 
 // `linkfit analyze` of six-bar `request.mechanism` of a result (its "six_bars").
 std::string SixBarAnalysisText(const std::string& result_text, const std::string& source,
-                               const AnalysisRequest& request) {
+                               const AnalysisRequest& request, const FourBarMasses& units) {
   const int index = request.mechanism;
   const std::string item = source + ": six_bars[" + std::to_string(index) + "]";
   const ResultSixBar read = ReadResultSixBar(result_text, source, index);
-  if (request.masses.Any()) {
-    throw InputError("--mass: the links' masses are taken for four-bars only (yet), not six-bars");
+  SixBarMasses masses;
+  if (!request.mass_list.empty()) {
+    if (request.mass_list.size() != 5) {
+      throw InputError(
+          "--mass: a six-bar takes five masses UPPER_LINK,FOREARM,TASK_BODY,FIRST_LINK,"
+          "SECOND_LINK (kg)");
+    }
+    for (int body = 0; body < 5; ++body) masses.mass[body] = request.mass_list[body];
   }
+  masses.length_unit_m = units.length_unit_m;
+  masses.gravity = units.gravity;
+  const bool massive = masses.Any();
   if (request.load.slider_force != 0.0) throw InputError("--slider-force: a six-bar has no slider");
   const SixBar& six_bar = read.six_bar;
   const int input = read.input;
@@ -181,6 +190,7 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
   options.steps = request.steps;
   options.load.tool_force = request.load.coupler_force;
   options.load.task_body_torque = request.load.output_torque;
+  options.masses = masses;
   if (request.range_deg) {
     options.range =
         std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
@@ -209,7 +219,8 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
                      Short(kinematics.range_end * kDegree) + " degrees)");
   }
   if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
-  const bool loaded = request.load.coupler_force.norm() > 0.0 || request.load.output_torque != 0.0;
+  const bool loaded =
+      request.load.coupler_force.norm() > 0.0 || request.load.output_torque != 0.0 || massive;
   // Each body's angle continued from the first step's, which is in (-180, 180].
   double wraps[5];
   for (int body = 1; body <= 5; ++body) {
@@ -235,7 +246,10 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
         ",coupler_point_x,coupler_point_y,coupler_point_velocity_x,coupler_point_velocity_y,"
         "coupler_point_acceleration_x,coupler_point_acceleration_y,transmission_angle_deg,"
         "transmission_angle_first_link_deg,transmission_angle_second_link_deg,"
-        "mechanical_advantage,input_torque\n";
+        "mechanical_advantage,input_torque";
+    if (massive) csv += ",inertial_torque";
+    if (massive && masses.gravity) csv += ",weight_torque";
+    csv += "\n";
     for (const SixBarState& state : kinematics.states) {
       std::vector<std::optional<double>> row = {state.input_angle * kDegree};
       for (int body = 1; body <= 5; ++body) {
@@ -253,6 +267,8 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
       row.push_back(state.transmission_deg[1]);
       row.push_back(state.mechanical_advantage);
       row.push_back(state.input_torque);
+      if (massive) row.push_back(state.inertial_torque);
+      if (massive && masses.gravity) row.push_back(state.weight_torque);
       for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
       csv += "\n";
     }
@@ -317,6 +333,18 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
     out["input_torque"] = torque;
     out["peak_input_torque"] = Number(kinematics.peak_input_torque);
   }
+  if (massive) {
+    Json named = Json::object(), inertial = Json::array(), weight = Json::array();
+    for (int body = 0; body < 5; ++body) named[kSixBarLinkNames[body]] = masses.mass[body];
+    named["gravity"] = masses.gravity;
+    for (const SixBarState& state : kinematics.states) {
+      inertial.push_back(Number(state.inertial_torque));
+      weight.push_back(Number(state.weight_torque));
+    }
+    out["masses"] = named;
+    out["inertial_torque"] = inertial;
+    if (masses.gravity) out["weight_torque"] = weight;
+  }
   Json dead = Json::array();
   for (const SixBarState& state : kinematics.dead_points) {
     dead.push_back({{"input_deg", Number(state.input_angle * kDegree)},
@@ -349,12 +377,15 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
       "ground pivot to the elbow, the forearm from the elbow to the wrist, the task body's "
       "frame's x axis, each RR link from its first joint to its second; the coupler point is "
       "the tool frame's origin, the output the task body");
-  out["units"] = {{"angles", "degrees"},
-                  {"angular_velocity", "rad/s"},
-                  {"angular_acceleration", "rad/s^2"},
-                  {"lengths", "the result's"},
-                  {"transmission_angle", "each loop's, folded into 0-90 degrees"},
-                  {"mechanical_advantage", "task body torque / input torque"}};
+  out["units"] = {
+      {"angles", "degrees"},
+      {"angular_velocity", "rad/s"},
+      {"angular_acceleration", "rad/s^2"},
+      {"lengths", "the result's"},
+      {"transmission_angle", "each loop's, folded into 0-90 degrees"},
+      {"torque", request.length_unit.empty() ? std::string("N times the result's length unit")
+                                             : "N " + request.length_unit},
+      {"mechanical_advantage", "task body torque / input torque"}};
   out["notes"] = notes;
   return out.dump(2) + "\n";
 }
@@ -372,7 +403,8 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
                      " (counted from 1): the result lists " + std::to_string(mechanisms->size()));
   }
   const std::string item = source + ": mechanisms[" + std::to_string(index) + "]";
-  if (request.masses.Any()) {
+  if (request.masses.Any() || std::any_of(request.mass_list.begin(), request.mass_list.end(),
+                                          [](double mass) { return mass > 0.0; })) {
     throw InputError(
         "--mass: the links' masses are taken for planar four-bars only (yet), not spherical");
   }
@@ -675,7 +707,8 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
                                     const std::string& source, const std::string& item,
                                     const AnalysisRequest& request) {
   const std::string type = mechanism.value("type", std::string());
-  if (request.masses.Any()) {
+  if (request.masses.Any() || std::any_of(request.mass_list.begin(), request.mass_list.end(),
+                                          [](double mass) { return mass > 0.0; })) {
     throw InputError(
         "--mass: the links' masses are taken for 4Rs and slider-cranks driven by "
         "a crank (yet), not a " +
@@ -1057,7 +1090,20 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     throw InputError("--steps: expected a whole number from 1 to " + std::to_string(kMaxSteps));
   }
   FourBarMasses masses = request.masses;
-  const bool massive = masses.Any();
+  for (const double mass : request.mass_list) {
+    if (!(std::isfinite(mass) && mass >= 0.0)) {
+      throw InputError(
+          "--mass: expected the links' masses in kg (a four-bar's INPUT,COUPLER,OUTPUT, a "
+          "six-bar's five), none negative");
+    }
+  }
+  if (request.mass_list.size() == 3) {
+    masses.input = request.mass_list[0];
+    masses.coupler = request.mass_list[1];
+    masses.output = request.mass_list[2];
+  }
+  bool massive = masses.Any();
+  for (const double mass : request.mass_list) massive |= mass > 0.0;
   for (const double mass : {masses.input, masses.coupler, masses.output}) {
     if (!(std::isfinite(mass) && mass >= 0.0)) {
       throw InputError("--mass: expected three masses INPUT,COUPLER,OUTPUT in kg, none negative");
@@ -1088,7 +1134,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     const auto six_bars = result.find("six_bars");
     if (result.is_object() && six_bars != result.end() && six_bars->is_array() &&
         !six_bars->empty()) {
-      return SixBarAnalysisText(result_text, source, request);
+      return SixBarAnalysisText(result_text, source, request, masses);
     }
     if (result.is_object() && result.value("model", std::string()) == "spherical") {
       return SphericalAnalysisText(result, source, request);
@@ -1099,6 +1145,9 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
           result, result["mechanisms"][request.mechanism], source,
           source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request);
     }
+  }
+  if (request.mass_list.size() != 3 && !request.mass_list.empty()) {
+    throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
   }
   const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;

@@ -23,6 +23,9 @@ struct AnalysisRequest {
   // The links' masses (kg; masses.length_unit_m is set from length_unit) for the inertial torque
   // at the constant input speed and, with masses.gravity, their weight's.
   FourBarMasses masses;
+  // The links' masses as given (kg): a four-bar's three (INPUT, COUPLER, OUTPUT; they fill
+  // `masses`), a six-bar's five (upper link, forearm, task body, first link, second link).
+  std::vector<double> mass_list;
   // The result's length unit: "m", "cm", "mm", "in" or "ft" (needed with masses).
   std::string length_unit;
   bool csv = false;  // CSV (one row per step) instead of JSON

@@ -18,8 +18,26 @@ double Direction(const Eigen::Vector2d& v) { return std::atan2(v.y(), v.x()); }
 // lib/six_bar.cc's continuation judges one).
 constexpr double kDeadPivot = 1e-10;
 
+// Each body's centre of mass (at the reference configuration, in Sigma) and polar moment of
+// inertia about it per unit mass (SixBarMasses' shapes).
+struct BodyShapes {
+  std::array<Eigen::Vector2d, 5> centre;
+  std::array<double, 5> inertia;
+};
+BodyShapes Shapes(const SixBar& six_bar) {
+  BodyShapes shapes;
+  const std::array<std::vector<Eigen::Vector2d>, 6> joints = SixBarBodyJoints(six_bar);
+  for (int body = 1; body <= 5; ++body) {
+    std::vector<Eigen::Vector2d> points = joints[body];
+    if (body == kSixBarTaskBody) points.push_back(six_bar.reference_pose.origin_in_fixed);
+    UniformBody(points, &shapes.centre[body - 1], &shapes.inertia[body - 1]);
+  }
+  return shapes;
+}
+
 // The rates at a placed configuration (state->turns): false at a dead point of the input.
-bool Rates(const SixBar& six_bar, int input, double w, const SixBarLoad& load, SixBarState* state) {
+bool Rates(const SixBar& six_bar, int input, double w, const SixBarLoad& load,
+           const SixBarMasses& masses, const BodyShapes& shapes, SixBarState* state) {
   const std::array<double, kSixBarJointCount> joints = SixBarJointNumbers(six_bar);
   const SixBarFrames<double> frames({six_bar.links[0].from_body, six_bar.links[1].from_body},
                                     {six_bar.links[0].to_body, six_bar.links[1].to_body},
@@ -69,6 +87,27 @@ bool Rates(const SixBar& six_bar, int input, double w, const SixBarLoad& load, S
       0.0;  // (no load: 0, not -0)
   state->mechanical_advantage.reset();
   if (std::abs(task_turn) > 1e-12 * std::abs(w)) state->mechanical_advantage = w / task_turn;
+  if (masses.Any()) {
+    // T_in w = dT/dt - P_weight: dT/dt = sum m a_G . v_G + I alpha omega, each centre of mass G
+    // moving as a point of its body (v = G omega, a = G alpha + sum omega_j^2 perp(G_j)).
+    const Eigen::Vector2d weight(0.0, masses.gravity ? -9.80665 : 0.0);
+    double energy_rate = 0.0, weight_power = 0.0;
+    for (int body = 1; body <= 5; ++body) {
+      const double m = masses.mass[body - 1];
+      if (!(m > 0.0)) continue;
+      const Eigen::Vector2d g = frames.At(body, shapes.centre[body - 1]);
+      const Eigen::Matrix<double, 2, 5> lever = frames.Gradient(body, g);
+      const Eigen::Vector2d v = lever * omega;
+      Eigen::Vector2d a = lever * alpha;
+      for (int j = 0; j < 5; ++j) a += omega[j] * omega[j] * Perp(lever.col(j));
+      energy_rate += m * (a.dot(v) + shapes.inertia[body - 1] * alpha[body - 1] * omega[body - 1]);
+      weight_power += m * weight.dot(v);
+    }
+    // kg L^2 / s^3 is length_unit_m N L / s.
+    state->inertial_torque = energy_rate * masses.length_unit_m / w;
+    state->weight_torque = -weight_power / w + 0.0;
+    state->input_torque += state->inertial_torque + state->weight_torque;
+  }
   return true;
 }
 
@@ -82,6 +121,46 @@ void Positions(const SixBar& six_bar, int input, double reference, SixBarState* 
 }
 
 }  // namespace
+
+void UniformBody(const std::vector<Eigen::Vector2d>& points, Eigen::Vector2d* centre,
+                 double* inertia_per_mass) {
+  *centre = points.empty() ? Eigen::Vector2d::Zero() : points[0];
+  *inertia_per_mass = 0.0;
+  if (points.size() < 2) return;
+  if (points.size() >= 3) {
+    // A plate: the polygon through the points (shoelace sums about the first point).
+    double area = 0.0, polar = 0.0;
+    Eigen::Vector2d moment = Eigen::Vector2d::Zero();
+    const Eigen::Vector2d origin = points[0];
+    for (size_t i = 0; i < points.size(); ++i) {
+      const Eigen::Vector2d p = points[i] - origin, q = points[(i + 1) % points.size()] - origin;
+      const double cross = p.x() * q.y() - p.y() * q.x();
+      area += 0.5 * cross;
+      moment += cross * (p + q) / 6.0;
+      polar += cross * (p.squaredNorm() + p.dot(q) + q.squaredNorm()) / 12.0;
+    }
+    double extent = 0.0;
+    for (const Eigen::Vector2d& p : points) extent = std::max(extent, (p - origin).norm());
+    if (std::abs(area) > 1e-9 * extent * extent) {
+      const Eigen::Vector2d centroid = moment / area;
+      *centre = origin + centroid;
+      *inertia_per_mass = polar / area - centroid.squaredNorm();
+      return;
+    }
+  }
+  // A bar between the two points farthest apart.
+  size_t a = 0, b = 1;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t j = i + 1; j < points.size(); ++j) {
+      if ((points[i] - points[j]).norm() > (points[a] - points[b]).norm()) {
+        a = i;
+        b = j;
+      }
+    }
+  }
+  *centre = 0.5 * (points[a] + points[b]);
+  *inertia_per_mass = (points[a] - points[b]).squaredNorm() / 12.0;
+}
 
 double SixBarInputReferenceAngle(const SixBar& six_bar, int input) {
   if (input == kSixBarUpperLink) return Direction(six_bar.elbow - six_bar.ground_pivot);
@@ -146,6 +225,7 @@ SixBarKinematics AnalyzeSixBarKinematics(const SixBar& six_bar, int input,
     span = part;
   }
 
+  const BodyShapes shapes = Shapes(six_bar);
   SixBarAngles angles = start;
   for (int k = 0; k < steps; ++k) {
     const double turn = options.range ? first + (steps > 1 ? span * k / (steps - 1) : 0.0)
@@ -158,7 +238,7 @@ SixBarKinematics AnalyzeSixBarKinematics(const SixBar& six_bar, int input,
     SixBarState state;
     state.turns = angles;
     Positions(six_bar, input, reference, &state);
-    if (!Rates(six_bar, input, w, options.load, &state)) {
+    if (!Rates(six_bar, input, w, options.load, options.masses, shapes, &state)) {
       kinematics.dead_points.push_back(state);
       continue;
     }

@@ -35,6 +35,23 @@ struct SixBarLoad {
   double task_body_torque = 0.0;
 };
 
+// The bodies' masses (kg), for the torque that drives them at the constant input speed (their
+// inertia) and, with `gravity`, holds their weight. Each body is uniform over its points (its
+// joints, the task body's with the tool frame's origin): a bar between two, a plate on three or
+// more (the polygon through them in order), a point mass alone. The result's lengths are
+// `length_unit_m` metres each: the torques come out in N times that length.
+struct SixBarMasses {
+  SixBarAngles mass = SixBarAngles::Zero();  // bodies 1 to 5
+  double length_unit_m = 1.0;
+  bool gravity = false;  // along -y of Sigma, g = 9.80665
+  bool Any() const { return (mass.array() > 0.0).any(); }
+};
+
+// A uniform body over `points` (in any frame): its centre of mass and its polar moment of
+// inertia about it per unit mass (SixBarMasses' shapes).
+void UniformBody(const std::vector<Eigen::Vector2d>& points, Eigen::Vector2d* centre,
+                 double* inertia_per_mass);
+
 struct SixBarKinematicsOptions {
   double input_speed = 1.0;  // the input link's constant angular velocity (rad/s, not 0)
   int steps = 360;           // samples over the input's range
@@ -42,6 +59,7 @@ struct SixBarKinematicsOptions {
   // to, both ends sampled), on the reference's assembly.
   std::optional<std::pair<double, double>> range;
   SixBarLoad load;
+  SixBarMasses masses;
 };
 
 // One configuration. Bodies are numbered as in lib/six_bar.h (1 .. 5 at index 0 .. 4).
@@ -58,7 +76,10 @@ struct SixBarState {
   // The task body's torque over the input's (w_input / w_task_body); none where the task body
   // does not turn.
   std::optional<double> mechanical_advantage;
-  double input_torque = 0.0;  // holding the load (virtual work)
+  // Holding the load (virtual work), plus with masses the bodies' inertia and weight (their
+  // parts below).
+  double input_torque = 0.0;
+  double inertial_torque = 0.0, weight_torque = 0.0;
 };
 
 struct SixBarKinematics {

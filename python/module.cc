@@ -188,7 +188,7 @@ PYBIND11_MODULE(_linkfit, m) {
       "analyze_json",
       [](const std::string& result, int mechanism, double input_speed, int steps, double force_x,
          double force_y, double output_torque, double slider_force,
-         std::optional<std::pair<double, double>> range_deg, std::array<double, 3> masses,
+         std::optional<std::pair<double, double>> range_deg, const std::vector<double>& masses,
          const std::string& length_unit, bool gravity, const std::string& range_kind,
          const std::string& task) {
         linkfit::AnalysisRequest request;
@@ -199,9 +199,7 @@ PYBIND11_MODULE(_linkfit, m) {
         request.load.output_torque = output_torque;
         request.load.slider_force = slider_force;
         request.range_deg = range_deg;
-        request.masses.input = masses[0];
-        request.masses.coupler = masses[1];
-        request.masses.output = masses[2];
+        request.mass_list = masses;
         request.masses.gravity = gravity;
         request.length_unit = length_unit;
         request.task_range = range_kind == "task";
@@ -217,7 +215,7 @@ PYBIND11_MODULE(_linkfit, m) {
       py::arg("result"), py::arg("mechanism") = 0, py::arg("input_speed") = 1.0,
       py::arg("steps") = 360, py::arg("force_x") = 0.0, py::arg("force_y") = 0.0,
       py::arg("output_torque") = 0.0, py::arg("slider_force") = 0.0,
-      py::arg("range_deg") = std::nullopt, py::arg("masses") = std::array<double, 3>{0, 0, 0},
+      py::arg("range_deg") = std::nullopt, py::arg("masses") = std::vector<double>{},
       py::arg("length_unit") = "", py::arg("gravity") = false, py::arg("range_kind") = "",
       py::arg("task") = "",
       "The kinematics of one mechanism of a result (JSON text), as `linkfit analyze` writes it.");

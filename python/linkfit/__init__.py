@@ -389,7 +389,8 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
             "output": m}`` (each optional; ``output`` is the rocker or the slider), for the
             torque that drives them at the constant input speed: the crank and the rocker as
             uniform bars, the coupler as a plate on its pins and the coupler point, the slider
-            as a block. Needs ``length_unit``.
+            as a block; a six-bar's ``upper_link``, ``forearm``, ``task_body``, ``first_link``
+            and ``second_link``, each uniform over its joints. Needs ``length_unit``.
         length_unit (str or None): the result's length unit, ``"m"``, ``"cm"``, ``"mm"``,
             ``"in"`` or ``"ft"``: torques are then in newtons times it.
         gravity (bool): with masses, their weight too (gravity along -y of the result's
@@ -449,11 +450,15 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
                              "'whole'")
         input_range_deg = tuple(number(v, "input_range_deg") for v in bounds)
     masses = dict(_plain(masses) or {})
-    unknown = set(masses) - {"input", "coupler", "output"}
+    four_bar = ("input", "coupler", "output")
+    six_bar = ("upper_link", "forearm", "task_body", "first_link", "second_link")
+    links = six_bar if set(masses) & set(six_bar) else four_bar
+    unknown = set(masses) - set(links)
     if unknown:
-        raise InputError("masses: unknown link " + sorted(unknown)[0] + " (input, coupler, output)")
+        raise InputError("masses: unknown link " + sorted(unknown)[0] + " (a four-bar's input, "
+                         "coupler, output; a six-bar's " + ", ".join(six_bar) + ")")
     link_masses = [number(masses.get(link, 0.0), "masses." + link)
-                   for link in ("input", "coupler", "output")]
+                   for link in links] if masses else []
     if length_unit is not None and not isinstance(length_unit, str):
         raise InputError("length_unit: expected m, cm, mm, in or ft, got %r" % (length_unit,))
     text = result if isinstance(result, str) else json.dumps(_plain(dict(result)))

@@ -326,7 +326,8 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfAListedFourBar) {
        {"'" + Solved("function_log10.json") + "' --range 30,100",
         "--range 30,100: the range asked for leaves the input's range on its circuit"},
        {"'" + result_path + "' --mass 1,2,3", "--length-unit: expected m, cm, mm, in or ft"},
-       {"'" + result_path + "' --mass 1,-2,3 --length-unit mm", "--mass: expected three masses"},
+       {"'" + result_path + "' --mass 1,-2,3 --length-unit mm",
+        "--mass: expected the links' masses in kg"},
        {"'" + result_path + "' --gravity", "--gravity: give the links' masses"},
        {"'" + Solved("platform_7_poses.json") + "'",
         "spatial mechanisms are not analyzed or drawn yet"},
@@ -413,6 +414,19 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASixBar) {
     EXPECT_GE(least, six_bar["transmission_angle_min_deg"][l].get<double>() - 1e-9);
     EXPECT_LT(least, six_bar["transmission_angle_min_deg"][l].get<double>() + 0.5);
   }
+  // With its bodies' masses: the inertial and the weight's torques, the parts of the input's.
+  const RunResult heavy = Run("analyze '" + result_path +
+                              "' --steps 6 --mass 0.2,0.3,0.4,0.2,0.1 --length-unit mm --gravity");
+  ASSERT_EQ(heavy.status, 0) << heavy.err;
+  const nlohmann::json massive = nlohmann::json::parse(heavy.out);
+  EXPECT_EQ(massive["units"]["torque"], "N mm");
+  EXPECT_EQ(massive["masses"]["task_body"].get<double>(), 0.4);
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_NEAR(
+        massive["input_torque"][k].get<double>(),
+        massive["inertial_torque"][k].get<double>() + massive["weight_torque"][k].get<double>(),
+        1e-12 * (1.0 + std::abs(massive["input_torque"][k].get<double>())));
+  }
   // The whole range: between the two dead points, sampled inside them.
   const RunResult whole = Run("analyze '" + result_path + "' --steps 10 --range whole --csv");
   ASSERT_EQ(whole.status, 0) << whole.err;
@@ -421,7 +435,7 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASixBar) {
   ExpectRefused("analyze", "-o",
                 {{"'" + result_path + "' --mechanism 99", "no six-bar ranked 99"},
                  {"'" + result_path + "' --mass 1,1,1 --length-unit m",
-                  "--mass: the links' masses are taken for four-bars only"},
+                  "--mass: a six-bar takes five masses"},
                  {"'" + result_path + "' --slider-force 2", "a six-bar has no slider"},
                  {"'" + result_path + "' --range 0,1", "--range 0,1: the range asked for leaves"},
                  {"'" + result_path + "' --range 3", "--range: expected FROM,TO"},

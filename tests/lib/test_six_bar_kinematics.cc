@@ -125,6 +125,91 @@ TEST(SixBarKinematics, RatesAreTheDerivativesOfThePositions) {
   EXPECT_GT(rocker, 10);
 }
 
+// With the bodies' masses, the inertial torque at constant input speed is the rate of their
+// kinetic energy over the input's turn, and the weight's that of their potential energy: both
+// against nested central differences of the positions alone (each body's centre of mass and turn
+// at input turns t +- h give its velocity; the energies at t +- H their rates). Uniform bodies:
+// a triangle's polar moment is m (a^2 + b^2 + c^2) / 36.
+TEST(SixBarKinematics, InertialTorqueIsTheRateOfTheBodiesEnergy) {
+  Eigen::Vector2d centre;
+  double inertia = 0.0;
+  const std::vector<Eigen::Vector2d> triangle = {{0.0, 0.0}, {2.0, 0.0}, {0.5, 1.5}};
+  UniformBody(triangle, &centre, &inertia);
+  EXPECT_NEAR((centre - Eigen::Vector2d(2.5 / 3.0, 0.5)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(inertia, (4.0 + (0.25 + 2.25) + (2.25 + 2.25)) / 36.0, 1e-15);
+  UniformBody({{0.0, 0.0}, {3.0, 4.0}}, &centre, &inertia);
+  EXPECT_NEAR(inertia, 25.0 / 12.0, 1e-15);
+
+  int checked = 0;
+  double worst = 0.0;
+  ForEachDrivenSixBar(kSeed + 2, 3, [&](const SixBar& six_bar, int input) {
+    SixBarKinematicsOptions options;
+    options.steps = 12;
+    options.input_speed = 3.0;
+    options.masses.mass << 0.7, 1.1, 1.6, 0.4, 0.9;
+    options.masses.gravity = true;
+    const SixBarKinematics kinematics = AnalyzeSixBarKinematics(six_bar, input, options, 1.0);
+    const SixBarDriver driver(six_bar, input, 1.0);
+    // Each body's centre of mass (in its reference place) and moment per mass.
+    const std::array<std::vector<Eigen::Vector2d>, 6> joints = SixBarBodyJoints(six_bar);
+    std::array<Eigen::Vector2d, 5> centres;
+    std::array<double, 5> moments;
+    for (int body = 1; body <= 5; ++body) {
+      std::vector<Eigen::Vector2d> points = joints[body];
+      if (body == kSixBarTaskBody) points.push_back(six_bar.reference_pose.origin_in_fixed);
+      UniformBody(points, &centres[body - 1], &moments[body - 1]);
+    }
+    const double w = options.input_speed;
+    for (const SixBarState& state : kinematics.states) {
+      if (std::min(state.transmission_deg[0], state.transmission_deg[1]) < 15.0) continue;
+      if (state.angular_velocity.cwiseAbs().maxCoeff() > 10.0 * w) continue;
+      SixBarAssembly assembly;
+      ASSERT_TRUE(driver.AssemblyOf(state.turns, &assembly));
+      const double t = state.turns[input - 1];
+      // Kinetic and potential energy at input turn u, from positions at u +- h only.
+      const auto energies = [&](double u, double* kinetic, double* potential) {
+        const double h = 1e-5;
+        SixBarAngles plus = state.turns, minus = state.turns, here = state.turns;
+        if (!driver.Place(assembly, u + h, &plus, 1e-14) ||
+            !driver.Place(assembly, u - h, &minus, 1e-14) ||
+            !driver.Place(assembly, u, &here, 1e-14)) {
+          return false;
+        }
+        *kinetic = *potential = 0.0;
+        for (int body = 1; body <= 5; ++body) {
+          const double m = options.masses.mass[body - 1];
+          const auto at = [&](const SixBarAngles& turns) {
+            return SixBarBodyDisplacement(six_bar, turns, body).ToFixed(centres[body - 1]);
+          };
+          const Eigen::Vector2d v = (at(plus) - at(minus)) / (2.0 * h) * w;
+          const double turn_rate = (plus[body - 1] - minus[body - 1]) / (2.0 * h) * w;
+          *kinetic += 0.5 * m * (v.squaredNorm() + moments[body - 1] * turn_rate * turn_rate);
+          *potential += m * 9.80665 * at(here).y();
+        }
+        return true;
+      };
+      // Richardson-extrapolated central differences over H = 1e-3 and H / 2.
+      const double big = 1e-3;
+      double k[4], p[4];
+      const double at[4] = {t + big, t - big, t + 0.5 * big, t - 0.5 * big};
+      bool placed = true;
+      for (int i = 0; i < 4; ++i) placed = placed && energies(at[i], &k[i], &p[i]);
+      if (!placed) continue;
+      const double inertial = (4.0 * (k[2] - k[3]) / big - (k[0] - k[1]) / (2.0 * big)) / 3.0;
+      const double weight = (4.0 * (p[2] - p[3]) / big - (p[0] - p[1]) / (2.0 * big)) / 3.0;
+      const double scale = 1.0 + std::abs(inertial) + std::abs(weight);
+      worst = std::max({worst, std::abs(state.inertial_torque - inertial) / scale,
+                        std::abs(state.weight_torque - weight) / scale});
+      EXPECT_NEAR(state.inertial_torque, inertial, 1e-4 * scale);
+      EXPECT_NEAR(state.weight_torque, weight, 1e-4 * scale);
+      EXPECT_NEAR(state.input_torque, state.inertial_torque + state.weight_torque, 1e-12 * scale);
+      ++checked;
+    }
+  });
+  std::cout << checked << " states checked; worst difference " << worst << " (relative)\n";
+  EXPECT_GT(checked, 300);
+}
+
 // A rocking input's range ends at its dead points: the six-bar drives up to each and not past it
 // on the same assembly, and the states lie between them; the ends are the same at 30 and 600
 // steps; a crank has none and its states run a whole turn.

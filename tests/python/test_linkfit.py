@@ -360,6 +360,15 @@ def test_analyze_a_six_bar(tmp_path):
         power = (-3.0 * ours["input_torque"][k] + 2.0 * v[0] - 5.0 * v[1]
                  + 0.3 * ours["links"]["task_body"]["angular_velocity"][k])
         assert abs(power) < 1e-9 * (1.0 + abs(ours["input_torque"][k])), k
+    masses = {"upper_link": 0.2, "forearm": 0.3, "task_body": 0.4, "first_link": 0.2,
+              "second_link": 0.1}
+    heavy = linkfit.analyze(result, steps=6, masses=masses, length_unit="m", gravity=True)
+    completed = subprocess.run(
+        [CLI, "analyze", str(result_path), "--steps", "6", "--mass", "0.2,0.3,0.4,0.2,0.1",
+         "--length-unit", "m", "--gravity"], capture_output=True, text=True, check=True)
+    assert heavy == json.loads(completed.stdout)
+    with pytest.raises(linkfit.InputError, match="masses: unknown link"):
+        linkfit.analyze(result, masses={"upper_link": 1, "rocker": 1}, length_unit="m")
     on_task = linkfit.analyze(result, steps=5, input_range_deg="task")
     assert on_task["input_deg"][0] == pytest.approx(on_task["task_range_deg"][0])
     assert on_task["input_deg"][-1] == pytest.approx(on_task["task_range_deg"][1])

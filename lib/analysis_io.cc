@@ -705,15 +705,20 @@ PlanarDyad ReadDyad(const Json& joints, const std::string& side, const std::stri
 // (lib/dyad_four_bar_kinematics.h).
 std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
                                     const std::string& source, const std::string& item,
-                                    const AnalysisRequest& request) {
+                                    const AnalysisRequest& request, const FourBarMasses& units) {
   const std::string type = mechanism.value("type", std::string());
-  if (request.masses.Any() || std::any_of(request.mass_list.begin(), request.mass_list.end(),
-                                          [](double mass) { return mass > 0.0; })) {
-    throw InputError(
-        "--mass: the links' masses are taken for 4Rs and slider-cranks driven by "
-        "a crank (yet), not a " +
-        type);
+  DyadFourBarMasses masses;
+  if (!request.mass_list.empty()) {
+    if (request.mass_list.size() != 3) {
+      throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
+    }
+    masses.input = request.mass_list[0];
+    masses.coupler = request.mass_list[1];
+    masses.output = request.mass_list[2];
   }
+  masses.length_unit_m = units.length_unit_m;
+  masses.gravity = units.gravity;
+  const bool massive = masses.Any();
   if (request.task_range) {
     throw InputError("--range task: a " + type +
                      "'s task range is not known (yet): give --range FROM,TO");
@@ -737,6 +742,7 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
   options.load.coupler_force = request.load.coupler_force;
   options.load.output_torque = request.load.output_torque;
   options.load.slider_force = request.load.slider_force;
+  options.masses = masses;
   if (!point && request.load.coupler_force.norm() > 0.0) {
     throw InputError(source + ": --force: the four-bar has no coupler point: load its output");
   }
@@ -754,7 +760,8 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
         " to " + Short(kinematics.range_end * unit) + (slider_input ? ")" : " degrees)"));
   }
   const bool loaded = request.load.coupler_force.norm() > 0.0 ||
-                      request.load.output_torque != 0.0 || request.load.slider_force != 0.0;
+                      request.load.output_torque != 0.0 || request.load.slider_force != 0.0 ||
+                      massive;
   // Names: the input "input" (a slider's position), the output "output" (a rocker), "slider"
   // (a PR's position) or "block" (an RP's slide along the coupler's line).
   const char* output_name = output.type == DyadType::kRR   ? "output"
@@ -888,6 +895,19 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
     out[effort_name] = effort;
     out[slider_input ? "peak_input_force" : "peak_input_torque"] =
         Number(kinematics.peak_input_effort);
+  }
+  if (massive) {
+    Json inertial = Json::array(), weight = Json::array();
+    for (const DyadFourBarState& state : kinematics.states) {
+      inertial.push_back(Number(state.inertial_effort));
+      weight.push_back(Number(state.weight_effort));
+    }
+    out["masses"] = {{"input", Number(masses.input)},
+                     {"coupler", Number(masses.coupler)},
+                     {output_name, Number(masses.output)},
+                     {"gravity", masses.gravity}};
+    out[slider_input ? "inertial_force" : "inertial_torque"] = inertial;
+    if (masses.gravity) out[slider_input ? "weight_force" : "weight_torque"] = weight;
   }
   Json dead = Json::array();
   for (const DyadFourBarState& state : kinematics.dead_points) {
@@ -1143,7 +1163,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     if (ReadResultDyadFourBar(result_text, source, request.mechanism)) {
       return DyadFourBarAnalysisText(
           result, result["mechanisms"][request.mechanism], source,
-          source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request);
+          source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request, masses);
     }
   }
   if (request.mass_list.size() != 3 && !request.mass_list.empty()) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "lib/mechanism.h"
+#include "lib/uniform_body.h"
 
 namespace linkfit {
 namespace {
@@ -320,6 +321,12 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
         break;
     }
   };
+  // The coupler's points (in E): its pins, an RP's line point, the coupler point.
+  std::vector<Eigen::Vector2d> coupler_points;
+  for (const PlanarDyad* dyad : {&input, &output}) {
+    coupler_points.push_back(dyad->type == DyadType::kRP ? dyad->line_point : dyad->moving_pivot);
+  }
+  if (coupler_point) coupler_points.push_back(*coupler_point);
   std::optional<double> previous_output;
   const auto rates = [&](DyadFourBarState* state) {
     const Closure closure(input, output, state->coupler, state->input);
@@ -379,6 +386,50 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
         (output.type == DyadType::kRR ? load.output_torque : load.slider_force) *
             state->output_velocity;
     state->input_effort = -load_power / w + 0.0;
+    if (options.masses.Any()) {
+      // E w = dT/dt - P_weight, dT/dt = sum m a_G . v_G + I alpha omega.
+      const DyadFourBarMasses& masses = options.masses;
+      const Eigen::Vector2d gravity(0.0, masses.gravity ? -9.80665 : 0.0);
+      double energy_rate = 0.0, weight_power = 0.0;
+      const auto body = [&](double m, double inertia, const Eigen::Vector2d& v,
+                            const Eigen::Vector2d& a, double omega, double alpha) {
+        energy_rate += m * (a.dot(v) + inertia * alpha * omega);
+        weight_power += m * gravity.dot(v);
+      };
+      // A point of the coupler (in E): its velocity and acceleration.
+      const auto moving = [&](const Eigen::Vector2d& p, Eigen::Vector2d* v, Eigen::Vector2d* a) {
+        const Eigen::Vector2d arm = rotation * p;
+        *v = c_rate + theta_rate * Perp(arm);
+        *a = c_acc + theta_acc * Perp(arm) - theta_rate * theta_rate * arm;
+      };
+      for (const auto& [dyad, m] :
+           {std::pair{&input, masses.input}, std::pair{&output, masses.output}}) {
+        if (!(m > 0.0)) continue;
+        Eigen::Vector2d v, a;
+        if (dyad->type == DyadType::kRR) {
+          // A bar about its pivot: its middle moves at half its pin's rates.
+          moving(dyad->moving_pivot, &v, &a);
+          const Eigen::Vector2d r = closure.At(dyad->moving_pivot) - dyad->fixed_pivot;
+          const double omega = (r.x() * v.y() - r.y() * v.x()) / r.squaredNorm();
+          const double alpha = (r.x() * a.y() - r.y() * a.x()) / r.squaredNorm();
+          body(m, r.squaredNorm() / 12.0, 0.5 * v, 0.5 * a, omega, alpha);
+        } else if (dyad->type == DyadType::kPR) {
+          moving(dyad->moving_pivot, &v, &a);
+          body(m, 0.0, v, a, 0.0, 0.0);
+        }
+      }
+      if (masses.coupler > 0.0) {
+        Eigen::Vector2d centre;
+        double inertia = 0.0;
+        UniformBody(coupler_points, &centre, &inertia);
+        Eigen::Vector2d v, a;
+        moving(centre, &v, &a);
+        body(masses.coupler, inertia, v, a, theta_rate, theta_acc);
+      }
+      state->inertial_effort = energy_rate * masses.length_unit_m / w;
+      state->weight_effort = -weight_power / w + 0.0;
+      state->input_effort += state->inertial_effort + state->weight_effort;
+    }
     state->mechanical_advantage.reset();
     const double still = 1e-12 * std::abs(w) * (output.type == DyadType::kRR ? 1.0 : length);
     if (std::abs(state->output_velocity) > still) {

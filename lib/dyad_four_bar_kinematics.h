@@ -36,6 +36,18 @@ struct DyadFourBarLoad {
   double slider_force = 0.0;
 };
 
+// The links' masses (kg), for the effort that drives them at the constant input rate (their
+// inertia) and, with `gravity`, holds their weight: an RR link a uniform bar from its pivot to its
+// pin, a PR's block a mass moving with its pin, an RP's block on its ground pivot (its centre
+// still: no energy), the coupler uniform over its pins (an RP's line point) and coupler point (a
+// bar, a plate, a point mass). The result's lengths are `length_unit_m` metres each.
+struct DyadFourBarMasses {
+  double input = 0.0, coupler = 0.0, output = 0.0;
+  double length_unit_m = 1.0;
+  bool gravity = false;
+  bool Any() const { return input > 0.0 || coupler > 0.0 || output > 0.0; }
+};
+
 struct DyadFourBarKinematicsOptions {
   double input_speed = 1.0;  // the input joint's constant rate: rad/s, or length/s for a slider
   int steps = 360;
@@ -43,6 +55,7 @@ struct DyadFourBarKinematicsOptions {
   // both ends sampled, on the first configuration's assembly.
   std::optional<std::pair<double, double>> range;
   DyadFourBarLoad load;
+  DyadFourBarMasses masses;
 };
 
 struct DyadFourBarState {
@@ -64,7 +77,10 @@ struct DyadFourBarState {
   // point, 90 best.
   double transmission_angle_deg = 90.0;
   std::optional<double> mechanical_advantage;  // input rate over output rate; none where still
-  double input_effort = 0.0;  // the input torque (or a slider input's force) holding the load
+  // The input torque (or a slider input's force) holding the load, plus with masses the links'
+  // inertia and weight (their parts below).
+  double input_effort = 0.0;
+  double inertial_effort = 0.0, weight_effort = 0.0;
 };
 
 struct DyadFourBarKinematics {

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "lib/six_bar.h"
+#include "lib/uniform_body.h"
 
 namespace linkfit {
 
@@ -46,11 +47,6 @@ struct SixBarMasses {
   bool gravity = false;  // along -y of Sigma, g = 9.80665
   bool Any() const { return (mass.array() > 0.0).any(); }
 };
-
-// A uniform body over `points` (in any frame): its centre of mass and its polar moment of
-// inertia about it per unit mass (SixBarMasses' shapes).
-void UniformBody(const std::vector<Eigen::Vector2d>& points, Eigen::Vector2d* centre,
-                 double* inertia_per_mass);
 
 struct SixBarKinematicsOptions {
   double input_speed = 1.0;  // the input link's constant angular velocity (rad/s, not 0)

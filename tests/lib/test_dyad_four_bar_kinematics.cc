@@ -14,6 +14,7 @@
 #include "lib/dyad_four_bar_kinematics.h"
 #include "lib/four_bar_kinematics.h"
 #include "lib/mechanism.h"
+#include "lib/uniform_body.h"
 
 namespace linkfit {
 namespace {
@@ -213,6 +214,127 @@ TEST(DyadFourBarKinematics, AgreesWithTheClosedFormFourBar) {
     }
   }
   EXPECT_GT(compared, 800);
+}
+
+// With the links' masses, the inertial and the weight's efforts are the rates of the links'
+// kinetic and potential energy over the input's value: against nested central differences of
+// the positions alone, for all nine type pairs.
+TEST(DyadFourBarKinematics, InertialEffortIsTheRateOfTheLinksEnergy) {
+  std::mt19937_64 rng(kSeed + 3);
+  const DyadType types[] = {DyadType::kRR, DyadType::kPR, DyadType::kRP};
+  int checked = 0;
+  double worst = 0.0;
+  for (const DyadType in : types) {
+    for (const DyadType out : types) {
+      for (int trial = 0; trial < 15; ++trial) {
+        const PlanarDyad input = RandomDyad(rng, in), output = RandomDyad(rng, out);
+        const Eigen::Vector2d point(0.3, -0.5);
+        DyadFourBarKinematicsOptions options;
+        options.steps = 10;
+        options.input_speed = 2.0;
+        options.masses.input = 0.6;
+        options.masses.coupler = 1.3;
+        options.masses.output = 0.8;
+        options.masses.gravity = true;
+        const DyadFourBarKinematics kinematics =
+            AnalyzeDyadFourBarKinematics(input, output, point, PlanarPose(), options, 1.0);
+        std::vector<Eigen::Vector2d> on_coupler;
+        for (const PlanarDyad* dyad : {&input, &output}) {
+          on_coupler.push_back(dyad->type == DyadType::kRP ? dyad->line_point : dyad->moving_pivot);
+        }
+        on_coupler.push_back(point);
+        Eigen::Vector2d centre;
+        double moment = 0.0;
+        UniformBody(on_coupler, &centre, &moment);
+        const double w = options.input_speed;
+        for (const DyadFourBarState& state : kinematics.states) {
+          if (std::min(state.transmission_angle_deg, 180.0 - state.transmission_angle_deg) < 15) {
+            continue;
+          }
+          if (state.velocity.cwiseAbs().maxCoeff() > 10.0 * std::abs(w)) continue;
+          const auto pose_at = [&](double value, PlanarPose* pose) {
+            std::vector<PlanarPose> poses;
+            if (AssembleFourBar(input, output, value, 0.0, &poses) == 0) return false;
+            double best = std::numeric_limits<double>::infinity();
+            for (PlanarPose candidate : poses) {
+              candidate.theta +=
+                  2.0 * M_PI * std::round((state.coupler.theta - candidate.theta) / (2.0 * M_PI));
+              const double distance =
+                  (candidate.origin_in_fixed - state.coupler.origin_in_fixed).norm() +
+                  std::abs(candidate.theta - state.coupler.theta);
+              if (distance < best) {
+                best = distance;
+                *pose = candidate;
+              }
+            }
+            return true;
+          };
+          // The energies at input value u from positions at u +- h.
+          const auto energies = [&](double u, double* kinetic, double* potential) {
+            const double h = 1e-5;
+            PlanarPose plus, minus, here;
+            if (!pose_at(u + h, &plus) || !pose_at(u - h, &minus) || !pose_at(u, &here)) {
+              return false;
+            }
+            const auto rate = [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+              return Eigen::Vector2d((a - b) / (2.0 * h) * w);
+            };
+            *kinetic = *potential = 0.0;
+            const double g = 9.80665;
+            for (const auto& [dyad, m] : {std::pair{&input, options.masses.input},
+                                          std::pair{&output, options.masses.output}}) {
+              if (dyad->type == DyadType::kRR) {
+                const Eigen::Vector2d pin_plus = plus.ToFixed(dyad->moving_pivot);
+                const Eigen::Vector2d pin_minus = minus.ToFixed(dyad->moving_pivot);
+                const Eigen::Vector2d v = 0.5 * rate(pin_plus, pin_minus);
+                const double turn =
+                    std::remainder(std::atan2((pin_plus - dyad->fixed_pivot).y(),
+                                              (pin_plus - dyad->fixed_pivot).x()) -
+                                       std::atan2((pin_minus - dyad->fixed_pivot).y(),
+                                                  (pin_minus - dyad->fixed_pivot).x()),
+                                   2.0 * M_PI) /
+                    (2.0 * h) * w;
+                *kinetic +=
+                    0.5 * m * (v.squaredNorm() + dyad->radius * dyad->radius / 12.0 * turn * turn);
+                *potential +=
+                    m * g * 0.5 * (here.ToFixed(dyad->moving_pivot) + dyad->fixed_pivot).y();
+              } else if (dyad->type == DyadType::kPR) {
+                const Eigen::Vector2d v =
+                    rate(plus.ToFixed(dyad->moving_pivot), minus.ToFixed(dyad->moving_pivot));
+                *kinetic += 0.5 * m * v.squaredNorm();
+                *potential += m * g * here.ToFixed(dyad->moving_pivot).y();
+              }
+            }
+            const Eigen::Vector2d v = rate(plus.ToFixed(centre), minus.ToFixed(centre));
+            const double turn = (plus.theta - minus.theta) / (2.0 * h) * w;
+            *kinetic += 0.5 * options.masses.coupler * (v.squaredNorm() + moment * turn * turn);
+            *potential += options.masses.coupler * g * here.ToFixed(centre).y();
+            return true;
+          };
+          const double big = 2.5e-4;  // (near dead points the energy's higher derivatives grow)
+          double k[4], p[4];
+          const double at[4] = {state.input + big, state.input - big, state.input + 0.5 * big,
+                                state.input - 0.5 * big};
+          bool placed = true;
+          for (int i = 0; i < 4; ++i) placed = placed && energies(at[i], &k[i], &p[i]);
+          if (!placed) continue;
+          // Richardson-extrapolated central differences; per unit of the input's value.
+          const double inertial = (4.0 * (k[2] - k[3]) / big - (k[0] - k[1]) / (2.0 * big)) / 3.0;
+          const double weight = (4.0 * (p[2] - p[3]) / big - (p[0] - p[1]) / (2.0 * big)) / 3.0;
+          const double scale = 1.0 + std::abs(inertial) + std::abs(weight);
+          worst = std::max({worst, std::abs(state.inertial_effort - inertial) / scale,
+                            std::abs(state.weight_effort - weight) / scale});
+          EXPECT_NEAR(state.inertial_effort, inertial, 1e-5 * scale)
+              << DyadTypeName(in) << " + " << DyadTypeName(out);
+          EXPECT_NEAR(state.weight_effort, weight, 1e-5 * scale)
+              << DyadTypeName(in) << " + " << DyadTypeName(out);
+          ++checked;
+        }
+      }
+    }
+  }
+  std::cout << checked << " states checked; worst difference " << worst << " (relative)\n";
+  EXPECT_GT(checked, 500);
 }
 
 // Where an input's range ends (the four-bar stops assembling), the transmission angle is 0 or

@@ -556,10 +556,21 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfOtherFourBarTypes) {
                          10.0 * by_crank["links"]["block"]["velocity"][k].get<double>();
     EXPECT_NEAR(power, 0.0, 1e-9 * (1.0 + std::abs(by_crank["input_torque"][k].get<double>())));
   }
+  // With masses: the inertial and the weight's parts of the input torque.
+  const RunResult heavy = Run("analyze '" + inverted_path +
+                              "' --steps 5 --input-speed 20 --mass 0.1,0.5,0.2 --length-unit mm "
+                              "--gravity");
+  ASSERT_EQ(heavy.status, 0) << heavy.err;
+  const nlohmann::json massive = nlohmann::json::parse(heavy.out);
+  for (int k = 0; k < 5; ++k) {
+    EXPECT_NEAR(
+        massive["input_torque"][k].get<double>(),
+        massive["inertial_torque"][k].get<double>() + massive["weight_torque"][k].get<double>(),
+        1e-12 * (1.0 + std::abs(massive["input_torque"][k].get<double>())));
+  }
   ExpectRefused("analyze", "-o",
-                {{"'" + inverted_path + "' --mass 1,1,1 --length-unit mm",
-                  "--mass: the links' masses are taken for 4Rs and slider-cranks driven by a "
-                  "crank"},
+                {{"'" + inverted_path + "' --mass 1,1,1,1,1 --length-unit mm",
+                  "--mass: a four-bar takes three masses"},
                  {"'" + driven_path + "' --range 0,10", "--range 0,10: the range asked for"}});
 }
 

@@ -124,6 +124,45 @@ Json SampledRange(const States& states, const Value& value) {
   return Json::array({Number(value(states.front())), Number(value(states.back()))});
 }
 
+// The analysis over the part of the input's range the request asks for (AnalysisRequest):
+// `analyze(range)` analyzes over `range` (radians), or the input's default range without one. A
+// rocking input is sampled over `task` (the task's range, where known) unless the request says
+// otherwise; *sampled_task tells whether it was. InputError where a range asked for gives no
+// states (naming the input's range), or none come at all.
+template <typename Kinematics, typename Analyze>
+Kinematics AnalyzeOverTheRange(const AnalysisRequest& request,
+                               const std::optional<std::pair<double, double>>& task,
+                               const std::string& item, const Analyze& analyze,
+                               bool* sampled_task) {
+  std::optional<std::pair<double, double>> range;
+  if (request.range_deg) {
+    range = std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
+  } else if (request.task_range) {
+    range = task;
+  }
+  Kinematics kinematics = analyze(range);
+  *sampled_task = request.task_range;
+  if (!range && !request.whole_range && !kinematics.input_rotates_fully && task) {
+    // A rocking input: the part the task uses (its rates grow without bound toward its dead
+    // points), where it runs through it on the first configuration's assembly.
+    Kinematics on_task = analyze(task);
+    if (!on_task.states.empty()) {
+      kinematics = std::move(on_task);
+      *sampled_task = true;
+    }
+  }
+  if (range && kinematics.states.empty()) {
+    const std::string asked = request.range_deg ? "--range " + Short(request.range_deg->first) +
+                                                      "," + Short(request.range_deg->second)
+                                                : std::string("--range task");
+    throw InputError(asked + ": " + kinematics.note + " (its input turns from " +
+                     Short(kinematics.range_start * kDegree) + " to " +
+                     Short(kinematics.range_end * kDegree) + " degrees)");
+  }
+  if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
+  return kinematics;
+}
+
 // The six-bar's bodies as the analysis names them (lib/six_bar.h SixBarBody 1 to 5).
 constexpr const char* kSixBarLinkNames[] = {"upper_link", "forearm", "task_body", "first_link",
                                             "second_link"};
@@ -191,34 +230,14 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
   options.load.tool_force = request.load.coupler_force;
   options.load.task_body_torque = request.load.output_torque;
   options.masses = masses;
-  if (request.range_deg) {
-    options.range =
-        std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
-  } else if (request.task_range) {
-    options.range = task;
-  }
-  SixBarKinematics kinematics = AnalyzeSixBarKinematics(six_bar, input, options, length);
-  bool sampled_task = request.task_range;
-  if (!request.range_deg && !request.task_range && !request.whole_range &&
-      !kinematics.input_rotates_fully && task) {
-    // A rocking input: the part the task uses (its rates grow without bound toward its dead
-    // points), where it drives through it.
-    options.range = task;
-    SixBarKinematics on_task = AnalyzeSixBarKinematics(six_bar, input, options, length);
-    if (!on_task.states.empty()) {
-      kinematics = std::move(on_task);
-      sampled_task = true;
-    }
-  }
-  if (options.range && kinematics.states.empty()) {
-    const std::string asked = request.range_deg ? "--range " + Short(request.range_deg->first) +
-                                                      "," + Short(request.range_deg->second)
-                                                : std::string("--range task");
-    throw InputError(asked + ": " + kinematics.note + " (its input turns from " +
-                     Short(kinematics.range_start * kDegree) + " to " +
-                     Short(kinematics.range_end * kDegree) + " degrees)");
-  }
-  if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
+  bool sampled_task = false;
+  const SixBarKinematics kinematics = AnalyzeOverTheRange<SixBarKinematics>(
+      request, task, item,
+      [&](const std::optional<std::pair<double, double>>& range) {
+        options.range = range;
+        return AnalyzeSixBarKinematics(six_bar, input, options, length);
+      },
+      &sampled_task);
   const bool loaded =
       request.load.coupler_force.norm() > 0.0 || request.load.output_torque != 0.0 || massive;
   // Each body's angle continued from the first step's, which is in (-180, 180].
@@ -366,7 +385,7 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
         "the input rocks: sampled over the task's range (the input's angles at the first and "
         "the last pose); --range whole samples all of it between its dead points, where the "
         "rates grow without bound");
-  } else if (!kinematics.input_rotates_fully && !options.range) {
+  } else if (!kinematics.input_rotates_fully && !request.range_deg && !sampled_task) {
     notes.push_back(
         "the input rocks: its range runs between its two dead points (listed), sampled inside "
         "them; toward them the rates and the torque grow without bound, so their peaks depend "
@@ -446,18 +465,14 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
   options.input_speed = request.input_speed;
   options.steps = request.steps;
   options.output_torque = request.load.output_torque;
-  if (request.range_deg) {
-    options.range =
-        std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
-  }
-  const SphericalFourBarKinematics kinematics = AnalyzeSphericalFourBarKinematics(axes, options);
-  if (request.range_deg && kinematics.states.empty()) {
-    throw InputError("--range " + Short(request.range_deg->first) + "," +
-                     Short(request.range_deg->second) + ": " + kinematics.note +
-                     " (its crank turns from " + Short(kinematics.range_start * kDegree) + " to " +
-                     Short(kinematics.range_end * kDegree) + " degrees)");
-  }
-  if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
+  bool sampled_task = false;
+  const SphericalFourBarKinematics kinematics = AnalyzeOverTheRange<SphericalFourBarKinematics>(
+      request, std::nullopt, item,
+      [&](const std::optional<std::pair<double, double>>& range) {
+        options.range = range;
+        return AnalyzeSphericalFourBarKinematics(axes, options);
+      },
+      &sampled_task);
   const bool loaded = request.load.output_torque != 0.0;
   const auto vector = [](const Eigen::Vector3d& v) {
     return Json::array({Number(v.x()), Number(v.y()), Number(v.z())});
@@ -1185,38 +1200,19 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   options.steps = request.steps;
   options.load = request.load;
   options.masses = masses;
-  if (request.range_deg) {
-    options.range =
-        std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
-  } else if (request.task_range) {
-    options.range = task;
-  }
   if (!joints.coupler_point && request.load.coupler_force.norm() > 0.0) {
     throw InputError(source +
                      ": --force: the four-bar has no coupler point (a function "
                      "generator): load its output with --output-torque");
   }
-  FourBarKinematics kinematics = AnalyzeFourBarKinematics(joints, options, length);
-  bool sampled_task = request.task_range;
-  if (!request.range_deg && !request.task_range && !request.whole_range &&
-      !kinematics.input_rotates_fully && task) {
-    // A rocker: the part the task uses (its rates grow without bound toward its dead points),
-    // where it runs on the first configuration's circuit.
-    options.range = task;
-    FourBarKinematics on_task = AnalyzeFourBarKinematics(joints, options, length);
-    if (!on_task.states.empty()) {
-      kinematics = std::move(on_task);
-      sampled_task = true;
-    }
-  }
-  if (options.range && kinematics.states.empty()) {
-    const std::string asked = request.range_deg ? "--range " + Short(request.range_deg->first) +
-                                                      "," + Short(request.range_deg->second)
-                                                : std::string("--range task");
-    throw InputError(asked + ": " + kinematics.note + " (its crank turns from " +
-                     Short(kinematics.range_start * kDegree) + " to " +
-                     Short(kinematics.range_end * kDegree) + " degrees)");
-  }
+  bool sampled_task = false;
+  const FourBarKinematics kinematics = AnalyzeOverTheRange<FourBarKinematics>(
+      request, task, source + ": mechanisms[" + std::to_string(request.mechanism) + "]",
+      [&](const std::optional<std::pair<double, double>>& range) {
+        options.range = range;
+        return AnalyzeFourBarKinematics(joints, options, length);
+      },
+      &sampled_task);
   const bool loaded = request.load.coupler_force.norm() > 0.0 ||
                       request.load.output_torque != 0.0 || request.load.slider_force != 0.0 ||
                       massive;
@@ -1370,7 +1366,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
         "the input is a rocker: sampled over the task's range (the crank's angles from the "
         "first task pose to the last); --range whole samples all of it between its dead points, "
         "where the rates grow without bound");
-  } else if (!kinematics.input_rotates_fully && !options.range) {
+  } else if (!kinematics.input_rotates_fully && !request.range_deg && !sampled_task) {
     notes.push_back(
         "the input is a rocker: its range runs between its two dead points (listed), "
         "sampled inside them; toward them the rates and the torque grow without "

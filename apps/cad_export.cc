@@ -504,7 +504,7 @@ DyadSketch PrepareDyadFourBar(const ResultDyadFourBar& four_bar, const std::stri
   for (const DyadFourBarState& state : kinematics.states) {
     sketch.curve.push_back(state.coupler_point);
   }
-  sketch.closed_curve = kinematics.input_turns_fully;
+  sketch.closed_curve = kinematics.input_rotates_fully;
   if (request.input_deg) {
     // The input's value asked for (an angle in degrees; a slider's position), reached on the
     // first configuration's assembly.

@@ -128,15 +128,16 @@ Json SampledRange(const States& states, const Value& value) {
 // `analyze(range)` analyzes over `range` (radians), or the input's default range without one. A
 // rocking input is sampled over `task` (the task's range, where known) unless the request says
 // otherwise; *sampled_task tells whether it was. InputError where a range asked for gives no
-// states (naming the input's range), or none come at all.
+// states (naming the input's range), or none come at all. `unit` turns the input's values into
+// the request's (degrees; 1 for a slider's position, `unit_name` empty).
 template <typename Kinematics, typename Analyze>
 Kinematics AnalyzeOverTheRange(const AnalysisRequest& request,
                                const std::optional<std::pair<double, double>>& task,
-                               const std::string& item, const Analyze& analyze,
-                               bool* sampled_task) {
+                               const std::string& item, const Analyze& analyze, bool* sampled_task,
+                               double unit = kDegree, const std::string& unit_name = " degrees") {
   std::optional<std::pair<double, double>> range;
   if (request.range_deg) {
-    range = std::pair{request.range_deg->first / kDegree, request.range_deg->second / kDegree};
+    range = std::pair{request.range_deg->first / unit, request.range_deg->second / unit};
   } else if (request.task_range) {
     range = task;
   }
@@ -155,9 +156,9 @@ Kinematics AnalyzeOverTheRange(const AnalysisRequest& request,
     const std::string asked = request.range_deg ? "--range " + Short(request.range_deg->first) +
                                                       "," + Short(request.range_deg->second)
                                                 : std::string("--range task");
-    throw InputError(asked + ": " + kinematics.note + " (its input turns from " +
-                     Short(kinematics.range_start * kDegree) + " to " +
-                     Short(kinematics.range_end * kDegree) + " degrees)");
+    throw InputError(asked + ": " + kinematics.note + " (its input runs from " +
+                     Short(kinematics.range_start * unit) + " to " +
+                     Short(kinematics.range_end * unit) + unit_name + ")");
   }
   if (kinematics.states.empty()) throw InputError(item + ": " + kinematics.note);
   return kinematics;
@@ -734,10 +735,6 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
   masses.length_unit_m = units.length_unit_m;
   masses.gravity = units.gravity;
   const bool massive = masses.Any();
-  if (request.task_range) {
-    throw InputError("--range task: a " + type +
-                     "'s task range is not known (yet): give --range FROM,TO");
-  }
   const Json& joints = mechanism["linkage"]["joints"];
   const std::string at = item + ".linkage.joints";
   const PlanarDyad input = ReadDyad(joints, "input", at);
@@ -761,19 +758,66 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
   if (!point && request.load.coupler_force.norm() > 0.0) {
     throw InputError(source + ": --force: the four-bar has no coupler point: load its output");
   }
-  if (request.range_deg) {
-    options.range = std::pair{request.range_deg->first / unit, request.range_deg->second / unit};
+  // The task's range: the input's values from the first task pose (or point) to the last.
+  // Motion (with the task): each pose's displacement from the first carries the dyads, E being
+  // Sigma at the first configuration; path: the crank turns by input_deg_j - input_deg_0 (the
+  // result's fitted ones, or the task's).
+  std::vector<double> task_values;
+  const double first_value = InputValue(input, PlanarPose());
+  const std::string problem = result.value("problem", std::string("motion"));
+  const auto mismatch = [&](const std::string& what) {
+    throw InputError("--task: " + what + " (is it the task of " + source + "?)");
+  };
+  if (problem == "motion" && request.task != nullptr) {
+    const std::vector<PlanarPose>& poses = request.task->planar_poses;
+    if (request.task->problem != ProblemKind::kMotion || poses.size() < 2) {
+      mismatch("not a planar motion task");
+    }
+    if (point && (poses[0].origin_in_fixed - *point).norm() > 0.05 * length) {
+      mismatch("its first pose is not at the four-bar's coupler point");
+    }
+    const PlanarPose back = poses[0].Inverse();
+    double previous = first_value;
+    for (const PlanarPose& pose : poses) {
+      double value = InputValue(input, pose * back);
+      if (!slider_input) value += 2.0 * M_PI * std::round((previous - value) / (2.0 * M_PI));
+      task_values.push_back(value);
+      previous = value;
+    }
+  } else if (problem == "path" && !slider_input) {
+    std::vector<double> input_deg;
+    const auto fitted = mechanism.find("input_deg");
+    if (fitted != mechanism.end() && fitted->is_array()) {
+      for (const Json& value : *fitted) {
+        if (value.is_number()) input_deg.push_back(value.get<double>());
+      }
+    } else if (request.task != nullptr) {
+      for (const TimedPoint& at : request.task->points) {
+        if (at.input_angle) input_deg.push_back(*at.input_angle * kDegree);
+      }
+    }
+    for (const double at : input_deg) {
+      task_values.push_back(first_value + (at - input_deg.front()) / kDegree);
+    }
   }
-  const DyadFourBarKinematics kinematics =
-      AnalyzeDyadFourBarKinematics(input, output, point, PlanarPose(), options, length);
-  if (kinematics.states.empty()) {
+  std::optional<std::pair<double, double>> task;
+  if (task_values.size() >= 2) {
+    const auto [low, high] = std::minmax_element(task_values.begin(), task_values.end());
+    if (*high - *low > 1e-9 * (slider_input ? length : 1.0)) task = std::pair{*low, *high};
+  }
+  if (request.task_range && !task) {
     throw InputError(
-        (request.range_deg
-             ? "--range " + Short(request.range_deg->first) + "," + Short(request.range_deg->second)
-             : item) +
-        ": " + kinematics.note + " (its input runs from " + Short(kinematics.range_start * unit) +
-        " to " + Short(kinematics.range_end * unit) + (slider_input ? ")" : " degrees)"));
+        "--range task: the result does not give the input's values at the task's poses or "
+        "points: give its task with --task (motion and timed path tasks), or --range FROM,TO");
   }
+  bool sampled_task = false;
+  const DyadFourBarKinematics kinematics = AnalyzeOverTheRange<DyadFourBarKinematics>(
+      request, task, item,
+      [&](const std::optional<std::pair<double, double>>& range) {
+        options.range = range;
+        return AnalyzeDyadFourBarKinematics(input, output, point, PlanarPose(), options, length);
+      },
+      &sampled_task, unit, slider_input ? "" : " degrees");
   const bool loaded = request.load.coupler_force.norm() > 0.0 ||
                       request.load.output_torque != 0.0 || request.load.slider_force != 0.0 ||
                       massive;
@@ -846,11 +890,15 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
                  : input.type == DyadType::kRP ? "block (turning with the coupler)"
                                                : "crank";
   out["input_speed"] = request.input_speed;
-  out["input_rotates_fully"] = kinematics.input_turns_fully;
+  out["input_rotates_fully"] = kinematics.input_rotates_fully;
   out[slider_input ? "input_range" : "input_range_deg"] =
       Json::array({Number(kinematics.range_start * unit), Number(kinematics.range_end * unit)});
   out[slider_input ? "sampled_range" : "sampled_range_deg"] =
       SampledRange(kinematics.states, input_value);
+  if (task) {
+    out[slider_input ? "task_range" : "task_range_deg"] =
+        Json::array({Number(task->first * unit), Number(task->second * unit)});
+  }
   Json inputs = Json::array(), transmission = Json::array(), advantage = Json::array();
   Json effort = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
   Json values[3][3];
@@ -935,7 +983,11 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
   AddDefectsNote(mechanism, &notes);
-  if (!kinematics.input_turns_fully && !request.range_deg) {
+  if (sampled_task && !request.task_range) {
+    notes.push_back(
+        "the input rocks: sampled over the task's range (its values from the first task pose "
+        "to the last); --range whole samples all of it");
+  } else if (!kinematics.input_rotates_fully && !request.range_deg && !sampled_task) {
     notes.push_back(
         kinematics.range_bounded
             ? "the input's range runs between its two dead points (listed), sampled inside "

@@ -245,7 +245,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
   runaway = false;
   bool behind = true;
   if (ahead && angle_input) {
-    kinematics.input_turns_fully = true;
+    kinematics.input_rotates_fully = true;
   } else {
     behind = advance(&low, &low_pose, reference - reach);
   }
@@ -253,7 +253,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
   const bool dead_ahead = !ahead && !ahead_runs_off, dead_behind = !behind && !runaway;
   ahead = ahead || ahead_runs_off;
   behind = behind || runaway;
-  if (kinematics.input_turns_fully) {
+  if (kinematics.input_rotates_fully) {
     kinematics.range_start = reference;
     kinematics.range_end = reference + 2.0 * M_PI;
   } else {
@@ -266,7 +266,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
   double start = kinematics.range_start, span = kinematics.range_end - kinematics.range_start;
   if (options.range) {
     double from = options.range->first;
-    if (kinematics.input_turns_fully) {
+    if (kinematics.input_rotates_fully) {
       from = start + std::fmod(from - start, 2.0 * M_PI);
       if (from < start) from += 2.0 * M_PI;
       if (from > start + 2.0 * M_PI - 1e-9) from = start;  // (just before the start: rounding)
@@ -438,7 +438,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
     return true;
   };
 
-  if (!kinematics.input_turns_fully && dead_behind) {
+  if (!kinematics.input_rotates_fully && dead_behind) {
     DyadFourBarState dead;
     place(low, low_pose, &dead);
     kinematics.dead_points.push_back(dead);
@@ -448,7 +448,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
   PlanarPose pose = first;
   for (int k = 0; k < steps; ++k) {
     const double at = options.range ? start + (steps > 1 ? span * k / (steps - 1) : 0.0)
-                      : kinematics.input_turns_fully ? start + span * k / steps
+                      : kinematics.input_rotates_fully ? start + span * k / steps
                                                      : start + span * (k + 0.5) / steps;
     if (!advance(&value, &pose, at)) {
       kinematics.note = "a dead point inside the input's range stopped the analysis";
@@ -468,7 +468,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
         std::max(kinematics.peak_input_effort, std::abs(state.input_effort));
     kinematics.states.push_back(state);
   }
-  if (!kinematics.input_turns_fully && dead_ahead) {
+  if (!kinematics.input_rotates_fully && dead_ahead) {
     DyadFourBarState dead;
     place(high, high_pose, &dead);
     kinematics.dead_points.push_back(dead);

@@ -84,7 +84,7 @@ struct DyadFourBarState {
 };
 
 struct DyadFourBarKinematics {
-  bool input_turns_fully = false;  // an angle input with no dead point in a whole turn
+  bool input_rotates_fully = false;  // an angle input with no dead point in a whole turn
   double range_start = 0.0, range_end = 0.0;
   // Both ends are dead points (else one is where a slider left its +-10 lengths from the first
   // value, or where the coupler runs off toward infinity).

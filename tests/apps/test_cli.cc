@@ -525,6 +525,23 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfOtherFourBarTypes) {
                          10.0 * v[1].get<double>();
     EXPECT_NEAR(power, 0.0, 1e-9 * (1.0 + std::abs(by_slider["input_force"][k].get<double>())));
   }
+  // With its task, the task's range: the slider's positions from the first pose to the last; at
+  // either end of it the coupler point (the tool frame's origin) is at a pose's origin.
+  const std::string task_path = std::string(LINKFIT_SOURCE_DIR) + "/data/slider_crank_5_poses.json";
+  const RunResult on_task =
+      Run("analyze '" + driven_path + "' --task '" + task_path + "' --range task --steps 3");
+  ASSERT_EQ(on_task.status, 0) << on_task.err;
+  const nlohmann::json over_task = nlohmann::json::parse(on_task.out);
+  const nlohmann::json task = nlohmann::json::parse(ReadFile(task_path));
+  for (const int end : {0, 2}) {
+    const nlohmann::json& p = over_task["coupler_point"][end];
+    double nearest = 1e300;
+    for (const auto& pose : task["poses"]) {
+      nearest = std::min(nearest, std::hypot(p[0].get<double>() - pose["x"].get<double>(),
+                                             p[1].get<double>() - pose["y"].get<double>()));
+    }
+    EXPECT_LT(nearest, 1e-6 * result["scale"].get<double>()) << end;
+  }
   // The slider stops where the coupler and the crank align (its dead points, listed).
   ASSERT_EQ(by_slider["dead_points"].size(), 2u);
   for (const auto& dead : by_slider["dead_points"]) {

@@ -194,7 +194,7 @@ TEST(DyadFourBarKinematics, AgreesWithTheClosedFormFourBar) {
       options.input_speed = 1.4;
       const DyadFourBarKinematics general =
           AnalyzeDyadFourBarKinematics(input, output, point, PlanarPose(), options, 1.0);
-      EXPECT_EQ(general.input_turns_fully, closed.input_rotates_fully);
+      EXPECT_EQ(general.input_rotates_fully, closed.input_rotates_fully);
       EXPECT_NEAR(general.range_start, closed.range_start, 1e-9);
       EXPECT_NEAR(general.range_end, closed.range_end, 1e-9);
       if (general.states.size() != closed.states.size()) continue;  // a dead point sampled

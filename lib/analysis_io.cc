@@ -1019,14 +1019,29 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
 
 }  // namespace
 
-ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
-                                int mechanism_index) {
-  Json result;
+// The result's JSON text parsed; InputError naming `source` where it is not JSON.
+static Json ParseResult(const std::string& result_text, const std::string& source) {
   try {
-    result = Json::parse(result_text);
+    return Json::parse(result_text);
   } catch (const Json::parse_error& error) {
     throw InputError(source + ": not a JSON result file (" + std::string(error.what()) + ")");
   }
+}
+
+// ReadResultFourBar of a parsed result.
+static ResultFourBar FourBarOfResult(const Json& result, const std::string& source,
+                                     int mechanism_index);
+// ReadResultDyadFourBar of a parsed result.
+static std::optional<ResultDyadFourBar> DyadFourBarOfResult(const Json& result,
+                                                            const std::string& source, int index);
+
+ResultFourBar ReadResultFourBar(const std::string& result_text, const std::string& source,
+                                int mechanism_index) {
+  return FourBarOfResult(ParseResult(result_text, source), source, mechanism_index);
+}
+
+static ResultFourBar FourBarOfResult(const Json& result, const std::string& source,
+                                     int mechanism_index) {
   if (!result.is_object()) throw InputError(source + ": expected a JSON object (a result file)");
   const auto six_bars = result.find("six_bars");
   if (six_bars != result.end() && six_bars->is_array() && !six_bars->empty()) {
@@ -1074,6 +1089,11 @@ std::optional<ResultDyadFourBar> ReadResultDyadFourBar(const std::string& result
   } catch (const Json::parse_error&) {
     return std::nullopt;  // (ReadResultFourBar says what is wrong)
   }
+  return DyadFourBarOfResult(result, source, index);
+}
+
+static std::optional<ResultDyadFourBar> DyadFourBarOfResult(const Json& result,
+                                                            const std::string& source, int index) {
   const auto mechanisms = result.is_object() ? result.find("mechanisms") : result.end();
   if (result.value("space", std::string("planar")) != "planar" || mechanisms == result.end() ||
       !mechanisms->is_array() || index < 0 || index >= static_cast<int>(mechanisms->size())) {
@@ -1211,13 +1231,8 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     }
     masses.length_unit_m = unit->second;
   }
+  const Json result = ParseResult(result_text, source);
   {
-    Json result;
-    try {
-      result = Json::parse(result_text);
-    } catch (const Json::parse_error& error) {
-      throw InputError(source + ": not a JSON result file (" + std::string(error.what()) + ")");
-    }
     const auto six_bars = result.find("six_bars");
     if (result.is_object() && six_bars != result.end() && six_bars->is_array() &&
         !six_bars->empty()) {
@@ -1227,7 +1242,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       return SphericalAnalysisText(result, source, request);
     }
     // A planar four-bar the closed form does not take: another type, or driven by a slider.
-    if (ReadResultDyadFourBar(result_text, source, request.mechanism)) {
+    if (DyadFourBarOfResult(result, source, request.mechanism)) {
       return DyadFourBarAnalysisText(
           result, result["mechanisms"][request.mechanism], source,
           source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request, masses);
@@ -1236,11 +1251,12 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   if (request.mass_list.size() != 3 && !request.mass_list.empty()) {
     throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
   }
-  const ResultFourBar four_bar = ReadResultFourBar(result_text, source, request.mechanism);
+  const ResultFourBar four_bar = FourBarOfResult(result, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;
   const double length = four_bar.length;
+  const Json& mechanism = result["mechanisms"][request.mechanism];
   const std::optional<std::pair<double, double>> task =
-      ResultFourBarTaskRange(result_text, source, request.mechanism, request.task);
+      FourBarTaskRange(result, mechanism, joints, length, request.task, source);
   if (request.task_range && !task) {
     throw InputError(
         "--range task: the result does not give the crank's angles at the task's poses or "
@@ -1412,7 +1428,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   out["dead_points"] = dead;
   Json notes = Json::array();
   if (!kinematics.note.empty()) notes.push_back(kinematics.note);
-  AddDefectsNote(Json::parse(result_text)["mechanisms"][request.mechanism], &notes);
+  AddDefectsNote(mechanism, &notes);
   if (sampled_task && !request.task_range) {
     notes.push_back(
         "the input is a rocker: sampled over the task's range (the crank's angles from the "

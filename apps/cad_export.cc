@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <unistd.h>
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -25,6 +26,8 @@
 #include "lib/four_bar_kinematics.h"
 #include "lib/six_bar.h"
 #include "lib/six_bar_kinematics.h"
+#include "lib/spatial_pose.h"
+#include "lib/spherical_four_bar_kinematics.h"
 #include "lib/task_io.h"
 
 namespace linkfit {
@@ -60,6 +63,11 @@ class Drawing {
   // An aligned dimension of the length from a to b, its line `offset` to the left of a -> b,
   // its text the length.
   virtual void Dimension(const Eigen::Vector2d& a, const Eigen::Vector2d& b, double offset) = 0;
+  // In space (a spherical four-bar): a polyline through `points`, a text of `height` at `at`.
+  virtual void Polyline3(const char* layer, const std::vector<Eigen::Vector3d>& points,
+                         bool closed) = 0;
+  virtual void Text3(const char* layer, const Eigen::Vector3d& at, double height,
+                     const std::string& text) = 0;
 };
 
 // The length as a dimension's text.
@@ -116,6 +124,24 @@ class DxfDrawing : public Drawing {
     dxf_->writeDimLinear(*writer_, dimension,
                          DL_DimLinearData(a.x(), a.y(), 0.0, b.x(), b.y(), 0.0, angle, 0.0),
                          On("DIMENSIONS"));
+  }
+
+  void Polyline3(const char* layer, const std::vector<Eigen::Vector3d>& points,
+                 bool closed) override {
+    // As lines: dxflib writes an AutoCAD 2000 polyline as a flat LWPOLYLINE (no z per vertex).
+    for (size_t k = 0; k + 1 < points.size() + (closed ? 1 : 0); ++k) {
+      const Eigen::Vector3d& a = points[k];
+      const Eigen::Vector3d& b = points[(k + 1) % points.size()];
+      dxf_->writeLine(*writer_, DL_LineData(a.x(), a.y(), a.z(), b.x(), b.y(), b.z()), On(layer));
+    }
+  }
+  void Text3(const char* layer, const Eigen::Vector3d& at, double height,
+             const std::string& text) override {
+    // Centred (1) on its middle (2) at `at`.
+    dxf_->writeText(*writer_,
+                    DL_TextData(at.x(), at.y(), at.z(), at.x(), at.y(), at.z(), height, 1.0, 0, 1,
+                                2, text, "Standard", 0.0),
+                    On(layer));
   }
 
  private:
@@ -177,6 +203,29 @@ class SvgDrawing : public Drawing {
                           LengthText(along.norm()) + "</text>");
   }
 
+  // Space drawn as an orthographic view: a point p at view (p - origin) (2 x 3 rows: the
+  // screen's x and y axes in Sigma).
+  void SetView(const Eigen::Matrix<double, 2, 3>& view, const Eigen::Vector3d& origin) {
+    view_ = view;
+    origin_ = origin;
+  }
+  void Polyline3(const char* layer, const std::vector<Eigen::Vector3d>& points,
+                 bool closed) override {
+    std::vector<Eigen::Vector2d> seen;
+    for (const Eigen::Vector3d& p : points) seen.push_back(view_ * (p - origin_));
+    Polyline(layer, seen, closed);
+  }
+  void Text3(const char* layer, const Eigen::Vector3d& at, double height,
+             const std::string& text) override {
+    const Eigen::Vector2d seen = view_ * (at - origin_);
+    Extend(seen);
+    Add(layer, "<text transform=\"translate(" + N(seen.x()) + "," + N(seen.y()) + ") scale(" +
+                   N(height / 10.0) + "," + N(-height / 10.0) +
+                   ")\" text-anchor=\"middle\" dominant-baseline=\"middle\" font-size=\"10\" "
+                   "stroke=\"none\" fill=\"currentColor\">" +
+                   text + "</text>");
+  }
+
   // The SVG document: the drawing's extent plus a margin, the layers in kLayers' order.
   std::string Document() const {
     Eigen::Vector2d low = low_, high = high_;
@@ -217,6 +266,8 @@ class SvgDrawing : public Drawing {
   }
 
   double stroke_, tiny_;
+  Eigen::Matrix<double, 2, 3> view_ = Eigen::Matrix<double, 2, 3>::Identity();
+  Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   std::map<std::string, std::string> groups_;
   Eigen::Vector2d low_ = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d high_ = Eigen::Vector2d::Constant(-std::numeric_limits<double>::infinity());
@@ -642,23 +693,182 @@ void DrawDyadFourBar(const DyadSketch& sketch, const Task* task, Drawing* drawin
   if (task != nullptr) DrawTask(*task, 0.1 * links, 0.5 * r, drawing);
 }
 
+// A spherical four-bar of a result: its axes (unit, through the centre) in the configuration
+// drawn, the sphere it is drawn on (about the result's centre, through the tool frame's origin),
+// the path of a coupler point.
+struct SphericalSketch {
+  SphericalFourBarJoints axes;  // drawn
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 1.0;
+  std::vector<Eigen::Vector3d> curve;
+  bool closed_curve = false;
+  std::array<double, 4> links_deg = {0.0, 0.0, 0.0, 0.0};  // ground, input, coupler, output
+};
+
+SphericalSketch PrepareSpherical(const nlohmann::json& result, const std::string& source,
+                                 const CadExportRequest& request) {
+  const auto& mechanisms = result.at("mechanisms");
+  const int index = request.mechanism;
+  if (!mechanisms.is_array() || index < 0 || index >= static_cast<int>(mechanisms.size())) {
+    throw InputError(source + ": no mechanism ranked " + std::to_string(index + 1) +
+                     " (counted from 1): the result lists " +
+                     std::to_string(mechanisms.is_array() ? mechanisms.size() : 0));
+  }
+  const std::string item = source + ": mechanisms[" + std::to_string(index) + "]";
+  const auto vector = [&](const nlohmann::json& value, const std::string& what) {
+    if (!value.is_array() || value.size() != 3 || !value[0].is_number() || !value[1].is_number() ||
+        !value[2].is_number()) {
+      throw InputError(what + ": expected [x, y, z]");
+    }
+    return Eigen::Vector3d(value[0].get<double>(), value[1].get<double>(), value[2].get<double>());
+  };
+  const nlohmann::json& joints = mechanisms[index]["linkage"]["joints"];
+  const std::string at = item + ".linkage.joints";
+  SphericalFourBarJoints first;
+  first.input_pivot = vector(joints["input_pivot"], at + ".input_pivot").normalized();
+  first.input_pin = vector(joints["input_pin"], at + ".input_pin").normalized();
+  first.output_pin = vector(joints["output_pin"], at + ".output_pin").normalized();
+  first.output_pivot = vector(joints["output_pivot"], at + ".output_pivot").normalized();
+  SphericalSketch sketch;
+  sketch.centre = vector(result["center"], source + ".center");
+  // The tool frame's origin's sphere: |center_in_moving| (the centre seen from the tool frame).
+  Eigen::Vector3d centre_in_moving = Eigen::Vector3d::Zero();
+  if (result.contains("spherical") && result["spherical"].contains("center_in_moving")) {
+    centre_in_moving =
+        vector(result["spherical"]["center_in_moving"], source + ".spherical.center_in_moving");
+  }
+  sketch.radius = centre_in_moving.norm() > 0.0 ? centre_in_moving.norm()
+                                                : std::max(result.value("scale", 1.0), 1e-9);
+  // The coupler point drawn: the tool frame's origin where the task gives its first pose (which
+  // must put the centre where the result has it), else the coupler's arc's middle.
+  Eigen::Vector3d point =
+      sketch.centre + sketch.radius * (first.input_pin + first.output_pin).normalized();
+  if (request.task != nullptr) {
+    const std::vector<DualQuaternion>& poses = request.task->spatial_poses;
+    if (poses.empty() ||
+        (poses[0].Rotation() * centre_in_moving + poses[0].Translation() - sketch.centre).norm() >
+            1e-6 * std::max(1.0, sketch.radius)) {
+      throw InputError(
+          "--task: its first pose does not carry the result's centre to where the "
+          "result has it (is it the task of " +
+          source + "?)");
+    }
+    point = poses[0].Translation();
+  }
+  SphericalFourBarKinematicsOptions sweep;
+  sweep.steps = request.curve_steps;
+  const SphericalFourBarKinematics kinematics = AnalyzeSphericalFourBarKinematics(first, sweep);
+  for (const SphericalFourBarState& state : kinematics.states) {
+    sketch.curve.push_back(sketch.centre + state.coupler_rotation_matrix * (point - sketch.centre));
+  }
+  sketch.closed_curve = kinematics.input_rotates_fully;
+  sketch.axes = first;
+  if (request.input_deg) {
+    SphericalFourBarState placed;
+    if (!PlaceSphericalFourBar(first, *request.input_deg / kDegree, &placed)) {
+      char text[200];
+      std::snprintf(text, sizeof(text),
+                    "--input-deg %.6g: the four-bar does not reach it on its circuit (its input "
+                    "turns from %.6g to %.6g degrees)",
+                    *request.input_deg, kinematics.range_start * kDegree,
+                    kinematics.range_end * kDegree);
+      throw InputError(text);
+    }
+    sketch.axes.input_pin = placed.input_pin;
+    sketch.axes.output_pin = placed.output_pin;
+  }
+  const auto degrees = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::atan2(a.cross(b).norm(), a.dot(b)) * kDegree;
+  };
+  const SphericalFourBarJoints& axes = sketch.axes;
+  sketch.links_deg = {
+      degrees(axes.input_pivot, axes.output_pivot), degrees(axes.input_pivot, axes.input_pin),
+      degrees(axes.input_pin, axes.output_pin), degrees(axes.output_pin, axes.output_pivot)};
+  return sketch;
+}
+
+// The four-bar on its sphere: each axis a line from the centre, each link the arc between its
+// two axes, the coupler point's path, the links' angles as text, the task's frames.
+void DrawSpherical(const SphericalSketch& sketch, const Task* task, Drawing* drawing) {
+  const Eigen::Vector3d& c = sketch.centre;
+  const double r = sketch.radius;
+  const SphericalFourBarJoints& axes = sketch.axes;
+  const auto arc = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    std::vector<Eigen::Vector3d> points;
+    const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+    for (int k = 0; k <= 32; ++k) {
+      const double t = k / 32.0;
+      const Eigen::Vector3d direction =
+          angle > 1e-12
+              ? (std::sin((1.0 - t) * angle) * a + std::sin(t * angle) * b) / std::sin(angle)
+              : a;
+      points.push_back(c + r * direction);
+    }
+    return points;
+  };
+  const auto axis = [&](const char* layer, const Eigen::Vector3d& u) {
+    drawing->Polyline3(layer, {c, c + 1.15 * r * u}, false);
+  };
+  axis("GROUND", axes.input_pivot);
+  axis("GROUND", axes.output_pivot);
+  axis("INPUT", axes.input_pin);
+  axis("OUTPUT", axes.output_pin);
+  drawing->Polyline3("GROUND", arc(axes.input_pivot, axes.output_pivot), false);
+  drawing->Polyline3("INPUT", arc(axes.input_pivot, axes.input_pin), false);
+  drawing->Polyline3("COUPLER", arc(axes.input_pin, axes.output_pin), false);
+  drawing->Polyline3("OUTPUT", arc(axes.output_pin, axes.output_pivot), false);
+  drawing->Polyline3("CURVE", sketch.curve, sketch.closed_curve);
+  // The links' angles, at each arc's middle a little outside the sphere.
+  const std::pair<Eigen::Vector3d, Eigen::Vector3d> links[4] = {
+      {axes.input_pivot, axes.output_pivot},
+      {axes.input_pivot, axes.input_pin},
+      {axes.input_pin, axes.output_pin},
+      {axes.output_pin, axes.output_pivot}};
+  for (int l = 0; l < 4; ++l) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.6g deg", sketch.links_deg[l]);
+    drawing->Text3("DIMENSIONS", c + 1.1 * r * (links[l].first + links[l].second).normalized(),
+                   r / 15.0, text);
+  }
+  if (task != nullptr) {
+    for (const DualQuaternion& pose : task->spatial_poses) {
+      const Eigen::Matrix3d rotation = pose.Rotation();
+      const Eigen::Vector3d origin = pose.Translation();
+      drawing->Polyline3("TASK", {origin, origin + 0.15 * r * rotation.col(0)}, false);
+      drawing->Polyline3("TASK", {origin, origin + 0.075 * r * rotation.col(1)}, false);
+    }
+  }
+}
+
 // What a result's mechanism draws: its scale (the text's and the lines' size) and its entities.
 struct Sketch {
   double scale = 1.0;
   std::function<void(Drawing*)> draw;
+  std::shared_ptr<SphericalSketch> spherical;  // a spherical four-bar: the SVG's view
 };
 
 Sketch PrepareSketch(const std::string& result_text, const std::string& source,
                      const CadExportRequest& request) {
-  bool six_bar = false;
+  bool six_bar = false, spherical = false;
+  nlohmann::json result;
   try {
-    const nlohmann::json result = nlohmann::json::parse(result_text);
+    result = nlohmann::json::parse(result_text);
     six_bar = result.is_object() && result.contains("six_bars") && result["six_bars"].is_array() &&
               !result["six_bars"].empty();
+    spherical = result.is_object() && result.value("model", std::string()) == "spherical" &&
+                result.contains("center") && result.contains("mechanisms");
   } catch (const nlohmann::json::parse_error&) {
     // ReadResultFourBar says what is wrong.
   }
   Sketch sketch;
+  if (spherical) {
+    auto prepared = std::make_shared<SphericalSketch>(PrepareSpherical(result, source, request));
+    sketch.scale = prepared->radius;
+    sketch.spherical = prepared;
+    const Task* task = request.task;
+    sketch.draw = [prepared, task](Drawing* drawing) { DrawSpherical(*prepared, task, drawing); };
+    return sketch;
+  }
   if (six_bar) {
     auto prepared = std::make_shared<SixBarSketch>(PrepareSixBar(result_text, source, request));
     sketch.scale = prepared->links;
@@ -749,6 +959,20 @@ std::string ResultSvg(const std::string& result_text, const std::string& source,
                       const CadExportRequest& request) {
   const Sketch sketch = PrepareSketch(result_text, source, request);
   SvgDrawing drawing(sketch.scale / 300.0, 1e-9 * sketch.scale);
+  if (sketch.spherical) {
+    // Seen from outside along the mean of its axes, Sigma's z (else y) up, the centre at 0.
+    const SphericalFourBarJoints& axes = sketch.spherical->axes;
+    Eigen::Vector3d toward =
+        axes.input_pivot + axes.output_pivot + axes.input_pin + axes.output_pin;
+    toward = toward.norm() > 1e-9 ? toward.normalized() : axes.input_pivot;
+    Eigen::Vector3d up = Eigen::Vector3d::UnitZ() - toward.z() * toward;
+    if (up.norm() < 1e-6) up = Eigen::Vector3d::UnitY() - toward.y() * toward;
+    up.normalize();
+    Eigen::Matrix<double, 2, 3> view;
+    view.row(0) = up.cross(toward).transpose();
+    view.row(1) = up.transpose();
+    drawing.SetView(view, sketch.spherical->centre);
+  }
   sketch.draw(&drawing);
   return drawing.Document();
 }

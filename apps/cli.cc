@@ -716,7 +716,8 @@ int Run(int argc, char** argv) {
   double export_input_deg = 0.0;
   CLI::App* export_command = app.add_subcommand(
       "export",
-      "Write a listed four-bar or six-bar as a DXF drawing for CAD (--dxf) or as SVG (--svg): "
+      "Write a listed four-bar, six-bar or spherical four-bar as a DXF drawing for CAD (--dxf) or "
+      "as SVG (--svg): "
       "each link on its own layer with its pivots as circles, the coupler body, the coupler "
       "curve, the task's poses or points, dimensions of the link lengths.");
   export_command->add_option("RESULT", export_result, "result file of `linkfit solve` (.json)")

@@ -694,8 +694,9 @@ TEST_F(CliTest, ExportWritesADxfDrawing) {
                   "--task: its first pose does not put the crank pin where"},
                  {"'" + Solved("six_bar_5_poses.json") + "' --input-deg 10",
                   "--input-deg 10: the six-bar does not reach it on its assembly"},
-                 {"'" + Solved("spherical_four_bar_5_poses.json") + "'",
-                  "spherical four-bars are not drawn yet"}});
+                 {"'" + Solved("spherical_four_bar_5_poses.json") + "' --task '" +
+                      std::string(LINKFIT_SOURCE_DIR) + "/data/platform_7_poses.json'",
+                  "--task: its first pose does not carry the result's centre"}});
   const RunResult neither = Run("export '" + result_path + "'");
   EXPECT_EQ(neither.status, 2);
   EXPECT_NE(neither.err.find("give --dxf FILE, --svg FILE or both"), std::string::npos);

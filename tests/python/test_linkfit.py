@@ -653,6 +653,54 @@ def test_export_other_four_bar_types(tmp_path):
             assert len(msp.query('LINE[layer=="GROUND"]')) == 1  # the slider's line
 
 
+def test_export_a_spherical_four_bar_on_its_sphere(tmp_path):
+    """`linkfit export` of a spherical four-bar (issue 37): a 3D DXF (read back with ezdxf) with
+    each axis a line from the result's centre along the result's joint, each link the arc between
+    its axes on the sphere through the tool frame's origin, the links' angles as text; the SVG
+    (an orthographic view) the same from Python and the CLI; another task is refused."""
+    ezdxf = pytest.importorskip("ezdxf")
+    task_path = DATA / "spherical_four_bar_5_poses.json"
+    task = json.loads(task_path.read_text())
+    result = linkfit.solve(task)
+    result_path = tmp_path / "sph.json"
+    result_path.write_text(json.dumps(result))
+    dxf, svg = tmp_path / "sph.dxf", tmp_path / "sph.svg"
+    subprocess.run([CLI, "export", str(result_path), "--dxf", str(dxf), "--svg", str(svg),
+                    "--task", str(task_path)], check=True)
+    linkfit.export_svg(result, tmp_path / "python.svg", task=task)
+    assert (tmp_path / "python.svg").read_bytes() == svg.read_bytes()
+    centre = result["center"]
+    radius = math.sqrt(sum(c * c for c in result["spherical"]["center_in_moving"]))
+    joints = result["mechanisms"][0]["linkage"]["joints"]
+    msp = ezdxf.readfile(str(dxf)).modelspace()
+
+    def lines(layer):
+        return [(tuple(l.dxf.start), tuple(l.dxf.end)) for l in msp.query('LINE[layer=="%s"]' % layer)]
+
+    def on(point, axis, scale):
+        return math.dist(point, [c + scale * radius * a for c, a in zip(centre, axis)]) < 1e-9
+
+    for layer, axes in {"GROUND": ["input_pivot", "output_pivot"], "INPUT": ["input_pin"],
+                        "OUTPUT": ["output_pin"]}.items():
+        drawn = lines(layer)
+        for axis in axes:
+            # Its axis from the centre (in space: the drawing is 3D), and an arc ending on the
+            # sphere along it.
+            assert any(math.dist(start, centre) < 1e-9 and on(end, joints[axis], 1.15)
+                       for start, end in drawn), (layer, axis)
+            assert any(on(start, joints[axis], 1.0) or on(end, joints[axis], 1.0)
+                       for start, end in drawn), (layer, axis)
+    assert any(abs(end[2] - centre[2]) > 0.1 * radius for _, end in lines("GROUND"))
+    texts = sorted(float(t.dxf.text.split()[0]) for t in msp.query('TEXT[layer=="DIMENSIONS"]'))
+    links = result["mechanisms"][0]["linkage"]["links"]
+    assert texts == pytest.approx(sorted(links[k] for k in ("ground", "input", "coupler", "output")),
+                                  rel=1e-5)
+    assert len(lines("CURVE")) >= 100  # the tool point's path
+    with pytest.raises(linkfit.InputError, match="--task: its first pose does not carry"):
+        linkfit.export_dxf(result, tmp_path / "x.dxf",
+                           task=json.loads((DATA / "platform_7_poses.json").read_text()))
+
+
 def test_analyze_a_part_of_the_range():
     """input_range_deg samples that part from end to end; outside the circuit: InputError."""
     result = linkfit.solve(json.loads((DATA / "four_bar_5_poses.json").read_text()))

@@ -412,7 +412,7 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
 
 // `linkfit analyze` of spherical four-bar `request.mechanism` of a result.
 std::string SphericalAnalysisText(const Json& result, const std::string& source,
-                                  const AnalysisRequest& request) {
+                                  const AnalysisRequest& request, const FourBarMasses& units) {
   const auto mechanisms = result.find("mechanisms");
   if (mechanisms == result.end() || !mechanisms->is_array()) {
     throw InputError(source + ": no \"mechanisms\" (a result file of `linkfit solve` lists them)");
@@ -423,11 +423,30 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
                      " (counted from 1): the result lists " + std::to_string(mechanisms->size()));
   }
   const std::string item = source + ": mechanisms[" + std::to_string(index) + "]";
-  if (request.masses.Any() || std::any_of(request.mass_list.begin(), request.mass_list.end(),
-                                          [](double mass) { return mass > 0.0; })) {
-    throw InputError(
-        "--mass: the links' masses are taken for planar four-bars only (yet), not spherical");
+  SphericalFourBarMasses masses;
+  if (!request.mass_list.empty()) {
+    if (request.mass_list.size() != 3) {
+      throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
+    }
+    masses.input = request.mass_list[0];
+    masses.coupler = request.mass_list[1];
+    masses.output = request.mass_list[2];
   }
+  masses.length_unit_m = units.length_unit_m;
+  masses.gravity = units.gravity;
+  // The links' sphere: through the tool frame's origin (|center_in_moving|), else the scale.
+  masses.radius = std::max(1e-300, result.value("scale", 1.0));
+  const auto spherical = result.find("spherical");
+  if (spherical != result.end() && spherical->is_object() &&
+      spherical->contains("center_in_moving") && (*spherical)["center_in_moving"].is_array() &&
+      (*spherical)["center_in_moving"].size() == 3) {
+    double squared = 0.0;
+    for (const Json& c : (*spherical)["center_in_moving"]) {
+      if (c.is_number()) squared += c.get<double>() * c.get<double>();
+    }
+    if (squared > 0.0) masses.radius = std::sqrt(squared);
+  }
+  const bool massive = masses.Any();
   if (request.load.coupler_force.norm() > 0.0 || request.load.slider_force != 0.0) {
     throw InputError(
         "--force, --slider-force: a spherical four-bar's load is a torque about its output's "
@@ -466,6 +485,7 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
   options.input_speed = request.input_speed;
   options.steps = request.steps;
   options.output_torque = request.load.output_torque;
+  options.masses = masses;
   bool sampled_task = false;
   const SphericalFourBarKinematics kinematics = AnalyzeOverTheRange<SphericalFourBarKinematics>(
       request, std::nullopt, item,
@@ -474,7 +494,7 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
         return AnalyzeSphericalFourBarKinematics(axes, options);
       },
       &sampled_task);
-  const bool loaded = request.load.output_torque != 0.0;
+  const bool loaded = request.load.output_torque != 0.0 || massive;
   const auto vector = [](const Eigen::Vector3d& v) {
     return Json::array({Number(v.x()), Number(v.y()), Number(v.z())});
   };
@@ -485,7 +505,10 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
         "coupler_angular_velocity_z,coupler_angular_acceleration_x,"
         "coupler_angular_acceleration_y,coupler_angular_acceleration_z,output_angle_deg,"
         "output_angular_velocity,output_angular_acceleration,transmission_angle_deg,"
-        "mechanical_advantage,input_torque\n";
+        "mechanical_advantage,input_torque";
+    if (massive) csv += ",inertial_torque";
+    if (massive && masses.gravity) csv += ",weight_torque";
+    csv += "\n";
     for (const SphericalFourBarState& state : kinematics.states) {
       std::vector<std::optional<double>> row = {state.input_angle * kDegree,
                                                 state.coupler_rotation * kDegree};
@@ -498,6 +521,8 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
       row.push_back(state.transmission_angle_deg);
       row.push_back(state.mechanical_advantage);
       row.push_back(state.input_torque);
+      if (massive) row.push_back(state.inertial_torque);
+      if (massive && masses.gravity) row.push_back(state.weight_torque);
       for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
       csv += "\n";
     }
@@ -563,6 +588,20 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
     out["input_torque"] = torque;
     out["peak_input_torque"] = Number(kinematics.peak_input_torque);
   }
+  if (massive) {
+    Json inertial = Json::array(), weight = Json::array();
+    for (const SphericalFourBarState& state : kinematics.states) {
+      inertial.push_back(Number(state.inertial_torque));
+      weight.push_back(Number(state.weight_torque));
+    }
+    out["masses"] = {{"input", Number(masses.input)},
+                     {"coupler", Number(masses.coupler)},
+                     {"output", Number(masses.output)},
+                     {"radius", Number(masses.radius)},
+                     {"gravity", masses.gravity}};
+    out["inertial_torque"] = inertial;
+    if (masses.gravity) out["weight_torque"] = weight;
+  }
   Json dead = Json::array();
   for (const SphericalFourBarState& state : kinematics.dead_points) {
     dead.push_back({{"input_deg", Number(state.input_angle * kDegree)},
@@ -587,10 +626,19 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
       "counter-clockwise about its axis); the coupler's angle_deg is its rotation from the "
       "first pose, its angular velocity and acceleration vectors [x, y, z] in the fixed "
       "frame; the pins are unit axes through the centre");
-  out["units"] = {{"angles", "degrees"},
-                  {"angular_velocity", "rad/s"},
-                  {"angular_acceleration", "rad/s^2"},
-                  {"mechanical_advantage", "output torque / input torque"}};
+  if (massive) {
+    notes.push_back(
+        "the links are taken as uniform thin arcs of the sphere through the tool frame's origin "
+        "(masses.radius) between their axes" +
+        std::string(masses.gravity ? "; gravity along -z of the fixed frame" : ""));
+  }
+  out["units"] = {
+      {"angles", "degrees"},
+      {"angular_velocity", "rad/s"},
+      {"angular_acceleration", "rad/s^2"},
+      {"torque", request.length_unit.empty() ? std::string("N times the result's length unit")
+                                             : "N " + request.length_unit},
+      {"mechanical_advantage", "output torque / input torque"}};
   out["notes"] = notes;
   return out.dump(2) + "\n";
 }
@@ -1239,7 +1287,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       return SixBarAnalysisText(result_text, source, request, masses);
     }
     if (result.is_object() && result.value("model", std::string()) == "spherical") {
-      return SphericalAnalysisText(result, source, request);
+      return SphericalAnalysisText(result, source, request, masses);
     }
     // A planar four-bar the closed form does not take: another type, or driven by a slider.
     if (DyadFourBarOfResult(result, source, request.mechanism)) {

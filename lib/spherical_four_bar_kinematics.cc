@@ -132,6 +132,26 @@ bool PlaceOnLoop(const Loop& loop, double phi, bool clamp, std::optional<double>
 
 }  // namespace
 
+void SphericalArcMoments(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         Eigen::Matrix3d* mean_outer, Eigen::Vector3d* mean_direction) {
+  // n(s) = cos(s) e1 + sin(s) e2, s in [0, t]: <cos^2> = 1/2 + sin(2t)/(4t),
+  // <sin^2> = 1/2 - sin(2t)/(4t), <cos sin> = sin^2(t)/(2t), <n> = (sin t e1 + (1 - cos t) e2)/t.
+  const Eigen::Vector3d e1 = a.normalized();
+  const Eigen::Vector3d across = b - b.dot(e1) * e1;
+  const double t = std::atan2(across.norm(), b.dot(e1));
+  if (!(t > 1e-9)) {
+    *mean_outer = e1 * e1.transpose();
+    *mean_direction = e1;
+    return;
+  }
+  const Eigen::Vector3d e2 = across.normalized();
+  const double cc = 0.5 + std::sin(2.0 * t) / (4.0 * t), ss = 0.5 - std::sin(2.0 * t) / (4.0 * t);
+  const double cs = std::sin(t) * std::sin(t) / (2.0 * t);
+  *mean_outer = cc * e1 * e1.transpose() + ss * e2 * e2.transpose() +
+                cs * (e1 * e2.transpose() + e2 * e1.transpose());
+  *mean_direction = (std::sin(t) * e1 + (1.0 - std::cos(t)) * e2) / t;
+}
+
 bool PlaceSphericalFourBar(const SphericalFourBarJoints& joints, double input_angle,
                            SphericalFourBarState* state) {
   std::string note;
@@ -196,6 +216,30 @@ SphericalFourBarKinematics AnalyzeSphericalFourBarKinematics(
     state->coupler_acceleration = acceleration[0] * w1 + lambda * w * loop.u1.cross(w1);
     // Power balance: T_in phi' + T_out psi' = 0.
     state->input_torque = -options.output_torque * psi_rate / w + 0.0;
+    if (options.masses.Any()) {
+      // dT/dt = omega^T I alpha per link (I about the centre, in its current place), the weight's
+      // power m g . (omega x r_G).
+      const SphericalFourBarMasses& masses = options.masses;
+      const double r2 = masses.radius * masses.radius;
+      const Eigen::Vector3d gravity(0.0, 0.0, masses.gravity ? -9.80665 : 0.0);
+      double energy_rate = 0.0, weight_power = 0.0;
+      const auto link = [&](double m, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                            const Eigen::Vector3d& omega, const Eigen::Vector3d& alpha) {
+        if (!(m > 0.0)) return;
+        Eigen::Matrix3d mean_outer;
+        Eigen::Vector3d mean_direction;
+        SphericalArcMoments(a, b, &mean_outer, &mean_direction);
+        const Eigen::Matrix3d inertia = m * r2 * (Eigen::Matrix3d::Identity() - mean_outer);
+        energy_rate += omega.dot(inertia * alpha);
+        weight_power += m * gravity.dot(omega.cross(masses.radius * mean_direction));
+      };
+      link(masses.input, loop.u1, w1, w * loop.u1, Eigen::Vector3d::Zero());
+      link(masses.coupler, w1, w2, state->coupler_velocity, state->coupler_acceleration);
+      link(masses.output, w2, loop.u2, psi_rate * loop.u2, state->output_acceleration * loop.u2);
+      state->inertial_torque = energy_rate * masses.length_unit_m / w;
+      state->weight_torque = -weight_power / w + 0.0;
+      state->input_torque += state->inertial_torque + state->weight_torque;
+    }
     state->mechanical_advantage.reset();
     if (std::abs(psi_rate) > 1e-12 * std::abs(w)) state->mechanical_advantage = w / psi_rate;
     return true;

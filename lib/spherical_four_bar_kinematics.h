@@ -35,6 +35,25 @@ struct SphericalFourBarJoints {
   Eigen::Vector3d output_pivot = Eigen::Vector3d::UnitZ();  // u2
 };
 
+// The links' masses (kg), for the torque that drives them at the constant input speed (their
+// inertia) and, with `gravity`, holds their weight. Each link is a uniform thin arc of the sphere
+// of `radius` between its two axes (the input from u1 to w1, the coupler from w1 to w2, the
+// output from w2 to u2): about the centre its inertia tensor is m r^2 (I - <n n^T>), the mean of
+// n n^T over the arc's directions n, and its centre of mass r <n>. A body turning about the
+// fixed centre has dT/dt = omega^T I alpha. The result's lengths are `length_unit_m` metres.
+struct SphericalFourBarMasses {
+  double input = 0.0, coupler = 0.0, output = 0.0;
+  double radius = 1.0;
+  double length_unit_m = 1.0;
+  bool gravity = false;  // along -z of Sigma, g = 9.80665
+  bool Any() const { return input > 0.0 || coupler > 0.0 || output > 0.0; }
+};
+
+// A uniform thin arc of the unit sphere from direction a to b: the mean of n n^T over its
+// directions, and the mean direction (its centre of mass on the unit sphere's scale).
+void SphericalArcMoments(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         Eigen::Matrix3d* mean_outer, Eigen::Vector3d* mean_direction);
+
 struct SphericalFourBarKinematicsOptions {
   double input_speed = 1.0;  // rad/s, not 0
   int steps = 360;
@@ -42,6 +61,7 @@ struct SphericalFourBarKinematicsOptions {
   // sampled), on the first pose's circuit.
   std::optional<std::pair<double, double>> range;
   double output_torque = 0.0;  // a load on the output crank, about u2 (right hand)
+  SphericalFourBarMasses masses;
 };
 
 struct SphericalFourBarState {
@@ -56,7 +76,10 @@ struct SphericalFourBarState {
   Eigen::Matrix3d coupler_rotation_matrix = Eigen::Matrix3d::Identity();
   double transmission_angle_deg = 90.0;        // at w2, 0 .. 180
   std::optional<double> mechanical_advantage;  // phi' / psi'; none where the output stands still
-  double input_torque = 0.0;                   // holding the output torque (virtual work)
+  // Holding the output torque (virtual work), plus with masses the links' inertia and weight
+  // (their parts below).
+  double input_torque = 0.0;
+  double inertial_torque = 0.0, weight_torque = 0.0;
 };
 
 struct SphericalFourBarKinematics {

@@ -390,7 +390,8 @@ def analyze(result, mechanism=0, input_speed=1.0, steps=360, load=None, input_ra
             torque that drives them at the constant input speed: the crank and the rocker as
             uniform bars, the coupler as a plate on its pins and the coupler point, the slider
             as a block; a six-bar's ``upper_link``, ``forearm``, ``task_body``, ``first_link``
-            and ``second_link``, each uniform over its joints. Needs ``length_unit``.
+            and ``second_link``, each uniform over its joints; a spherical four-bar's links as
+            thin arcs of its sphere. Needs ``length_unit``.
         length_unit (str or None): the result's length unit, ``"m"``, ``"cm"``, ``"mm"``,
             ``"in"`` or ``"ft"``: torques are then in newtons times it.
         gravity (bool): with masses, their weight too (gravity along -y of the result's

@@ -620,10 +620,23 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASphericalFourBar) {
   const RunResult csv = Run("analyze '" + result_path + "' --steps 5 --csv");
   ASSERT_EQ(csv.status, 0) << csv.err;
   EXPECT_EQ(std::count(csv.out.begin(), csv.out.end(), '\n'), 6);
+  // With the links' masses (arcs of the sphere): the inertial and the weight's torques.
+  const RunResult heavy = Run("analyze '" + result_path +
+                              "' --steps 4 --input-speed 10 --mass 0.2,0.4,0.3 --length-unit m "
+                              "--gravity");
+  ASSERT_EQ(heavy.status, 0) << heavy.err;
+  const nlohmann::json massive = nlohmann::json::parse(heavy.out);
+  EXPECT_GT(massive["masses"]["radius"].get<double>(), 0.0);
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_NEAR(
+        massive["input_torque"][k].get<double>(),
+        massive["inertial_torque"][k].get<double>() + massive["weight_torque"][k].get<double>(),
+        1e-12 * (1.0 + std::abs(massive["input_torque"][k].get<double>())));
+  }
   ExpectRefused("analyze", "-o",
                 {{"'" + result_path + "' --force 1,0", "give --output-torque"},
-                 {"'" + result_path + "' --mass 1,1,1 --length-unit m",
-                  "--mass: the links' masses are taken for planar four-bars only"},
+                 {"'" + result_path + "' --mass 1,1,1,1,1 --length-unit m",
+                  "--mass: a four-bar takes three masses"},
                  {"'" + result_path + "' --mechanism 999", "no mechanism ranked 999"}});
 }
 

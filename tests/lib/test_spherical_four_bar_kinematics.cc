@@ -150,6 +150,110 @@ TEST(SphericalFourBarKinematics, RatesAreTheDerivativesOfThePositions) {
   EXPECT_GT(rockers, 20);
 }
 
+// With the links' masses (thin arcs of the sphere), the inertial and the weight's torques are
+// the rates of the links' kinetic and potential energy over the input angle: against nested
+// central differences of the positions alone (the output's angle and the coupler's rotation at
+// phi +- h give their angular velocities; the energies at phi +- H, H / 2 their rates). The arcs'
+// moments against a quadrature.
+TEST(SphericalFourBarKinematics, InertialTorqueIsTheRateOfTheLinksEnergy) {
+  std::mt19937_64 rng(kSeed + 2);
+  {
+    const Eigen::Vector3d a = RandomUnit(rng), b = RandomUnit(rng);
+    Eigen::Matrix3d mean_outer;
+    Eigen::Vector3d mean_direction;
+    SphericalArcMoments(a, b, &mean_outer, &mean_direction);
+    Eigen::Matrix3d outer = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+    const int n = 20000;
+    const double t = std::atan2(a.cross(b).norm(), a.dot(b));
+    for (int k = 0; k < n; ++k) {
+      const double s = (k + 0.5) / n;
+      const Eigen::Vector3d d = (std::sin((1.0 - s) * t) * a + std::sin(s * t) * b) / std::sin(t);
+      outer += d * d.transpose() / n;
+      direction += d / n;
+    }
+    EXPECT_LT((outer - mean_outer).norm(), 1e-8);
+    EXPECT_LT((direction - mean_direction).norm(), 1e-8);
+  }
+  int checked = 0;
+  double worst = 0.0;
+  for (int trial = 0; trial < 60; ++trial) {
+    const SphericalFourBarJoints joints = RandomSphericalFourBar(rng);
+    SphericalFourBarKinematicsOptions options;
+    options.steps = 12;
+    options.input_speed = 2.5;
+    options.masses.input = 0.4;
+    options.masses.coupler = 1.2;
+    options.masses.output = 0.7;
+    options.masses.radius = 0.8;
+    options.masses.gravity = true;
+    const SphericalFourBarKinematics kinematics =
+        AnalyzeSphericalFourBarKinematics(joints, options);
+    const double w = options.input_speed, r = options.masses.radius;
+    const auto inertia = [&](double m, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                             Eigen::Vector3d* centre) {
+      Eigen::Matrix3d mean_outer;
+      Eigen::Vector3d mean_direction;
+      SphericalArcMoments(a, b, &mean_outer, &mean_direction);
+      *centre = r * mean_direction;
+      return Eigen::Matrix3d(m * r * r * (Eigen::Matrix3d::Identity() - mean_outer));
+    };
+    for (const SphericalFourBarState& state : kinematics.states) {
+      if (std::min(state.transmission_angle_deg, 180.0 - state.transmission_angle_deg) < 15.0) {
+        continue;
+      }
+      // The energies at input angle u from positions at u +- h.
+      const auto energies = [&](double u, double* kinetic, double* potential) {
+        const double h = 1e-5;
+        SphericalFourBarState plus, minus, here;
+        if (!PlaceSphericalFourBar(joints, u + h, &plus) ||
+            !PlaceSphericalFourBar(joints, u - h, &minus) ||
+            !PlaceSphericalFourBar(joints, u, &here)) {
+          return false;
+        }
+        const double psi_turn =
+            std::remainder(plus.output_angle - minus.output_angle, 2.0 * M_PI) / (2.0 * h) * w;
+        const Eigen::Matrix3d rate =
+            (plus.coupler_rotation_matrix - minus.coupler_rotation_matrix) / (2.0 * h) * w;
+        const Eigen::Matrix3d spin = rate * here.coupler_rotation_matrix.transpose();
+        const Eigen::Vector3d coupler(spin(2, 1), spin(0, 2), spin(1, 0));
+        const Eigen::Vector3d u1 = joints.input_pivot.normalized();
+        const Eigen::Vector3d u2 = joints.output_pivot.normalized();
+        Eigen::Vector3d g_in, g_coupler, g_out;
+        const Eigen::Matrix3d i_in = inertia(options.masses.input, u1, here.input_pin, &g_in);
+        const Eigen::Matrix3d i_coupler =
+            inertia(options.masses.coupler, here.input_pin, here.output_pin, &g_coupler);
+        const Eigen::Matrix3d i_out = inertia(options.masses.output, here.output_pin, u2, &g_out);
+        const Eigen::Vector3d omega_in = w * u1, omega_out = psi_turn * u2;
+        *kinetic = 0.5 * (omega_in.dot(i_in * omega_in) + coupler.dot(i_coupler * coupler) +
+                          omega_out.dot(i_out * omega_out));
+        *potential =
+            9.80665 * (options.masses.input * g_in.z() + options.masses.coupler * g_coupler.z() +
+                       options.masses.output * g_out.z());
+        return true;
+      };
+      const double big = 2.5e-4;
+      double k[4], p[4];
+      const double at[4] = {state.input_angle + big, state.input_angle - big,
+                            state.input_angle + 0.5 * big, state.input_angle - 0.5 * big};
+      bool placed = true;
+      for (int i = 0; i < 4; ++i) placed = placed && energies(at[i], &k[i], &p[i]);
+      if (!placed) continue;
+      const double inertial = (4.0 * (k[2] - k[3]) / big - (k[0] - k[1]) / (2.0 * big)) / 3.0;
+      const double weight = (4.0 * (p[2] - p[3]) / big - (p[0] - p[1]) / (2.0 * big)) / 3.0;
+      const double scale = 1.0 + std::abs(inertial) + std::abs(weight);
+      worst = std::max({worst, std::abs(state.inertial_torque - inertial) / scale,
+                        std::abs(state.weight_torque - weight) / scale});
+      EXPECT_NEAR(state.inertial_torque, inertial, 1e-5 * scale);
+      EXPECT_NEAR(state.weight_torque, weight, 1e-5 * scale);
+      EXPECT_NEAR(state.input_torque, state.inertial_torque + state.weight_torque, 1e-12 * scale);
+      ++checked;
+    }
+  }
+  std::cout << checked << " states checked; worst difference " << worst << " (relative)\n";
+  EXPECT_GT(checked, 300);
+}
+
 // A rocker's range ends at its dead points: the transmission angle there is 0 or 180 degrees,
 // the loop does not close a little beyond, the states lie between them.
 TEST(SphericalFourBarKinematics, ARockersRangeEndsAtItsDeadPoints) {

@@ -89,8 +89,14 @@
 #include "fitting/spherical_motion.h"
 #include "fitting/timed_path.h"
 #include "lib/design_constraints.h"
+#include "lib/dyad_four_bar_kinematics.h"
+#include "lib/four_bar_kinematics.h"
+#include "lib/mechanism.h"
 #include "lib/path_motion.h"
 #include "lib/result_io.h"
+#include "lib/six_bar.h"
+#include "lib/six_bar_kinematics.h"
+#include "lib/spherical_four_bar_kinematics.h"
 #include "lib/task_io.h"
 #include "optimizers/task_solver.h"
 #include "tests/support/long_tasks.h"
@@ -1288,6 +1294,228 @@ void RunCurves(int tasks, uint64_t seed, bool detail, const std::string& only_ro
   }
 }
 
+namespace linkfit {
+namespace {
+
+// Kinematic analysis (--only analysis; issue 37): random mechanisms of each kind analyzed over
+// 360 steps of their input (a crank's whole turn, a rocker's range between its dead points):
+// the time per analysis (one thread), and the worst relative difference of a rate from
+// Richardson-extrapolated central differences of the positions, at three states of each analysis
+// away from its dead points (the coupler's or the output's angular velocity; a six-bar's task
+// body's).
+struct AnalysisRow {
+  std::vector<double> micros;
+  double worst = 0.0;
+  int analyses = 0, checked = 0;
+  void Print(const char* kind) const {
+    std::printf("%-34s %9d %10.1f %10.1f %9d %14.2e\n", kind, analyses, Percentile(micros, 0.5),
+                Percentile(micros, 0.99), checked, worst);
+  }
+};
+
+// f'(t) from f at t +- h, t +- h/2 (Richardson); false where f is not defined there.
+template <typename F>
+bool RichardsonRate(const F& f, double t, double h, double* rate) {
+  double v[4];
+  const double at[4] = {t + h, t - h, t + 0.5 * h, t - 0.5 * h};
+  for (int i = 0; i < 4; ++i) {
+    if (!f(at[i], &v[i])) return false;
+  }
+  *rate = (4.0 * (v[2] - v[3]) / h - (v[0] - v[1]) / (2.0 * h)) / 3.0;
+  return true;
+}
+
+template <typename F>
+double Timed(const F& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+      .count();
+}
+
+void RunAnalysis(int tasks, uint64_t seed) {
+  std::printf(
+      "\nkinematic analysis (linkfit analyze), %d random mechanisms per kind, 360 steps each, one "
+      "thread; rates against Richardson differences of the positions at 3 states each\n",
+      tasks);
+  std::printf("%-34s %9s %10s %10s %9s %14s\n", "kind", "analyses", "median_us", "p99_us",
+              "checked", "worst_rel_err");
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0), size(0.3, 1.5);
+  const auto check = [](AnalysisRow* row, double got, double want) {
+    row->worst = std::max(row->worst, std::abs(got - want) / std::max(1.0, std::abs(want)));
+    ++row->checked;
+  };
+  // Planar 4Rs and slider-cranks, closed form.
+  for (const bool slider : {false, true}) {
+    AnalysisRow row;
+    while (row.analyses < tasks) {
+      FourBarJoints joints;
+      joints.input_pivot = Eigen::Vector2d(unit(rng), unit(rng));
+      const double angle = M_PI * unit(rng);
+      joints.input_pin =
+          joints.input_pivot + size(rng) * Eigen::Vector2d(std::cos(angle), std::sin(angle));
+      const double turn = M_PI * unit(rng);
+      joints.output_pin =
+          joints.input_pin + (size(rng) + 0.5) * Eigen::Vector2d(std::cos(turn), std::sin(turn));
+      joints.coupler_point = joints.input_pin + Eigen::Vector2d(unit(rng), unit(rng));
+      if (slider) {
+        joints.slider = true;
+        const double line = M_PI * unit(rng);
+        joints.slider_direction = Eigen::Vector2d(std::cos(line), std::sin(line));
+        joints.slider_point = joints.output_pin - 0.5 * joints.slider_direction;
+      } else {
+        const double at = M_PI * unit(rng);
+        joints.output_pivot =
+            joints.output_pin - size(rng) * Eigen::Vector2d(std::cos(at), std::sin(at));
+      }
+      FourBarKinematics kinematics;
+      row.micros.push_back(Timed([&] { kinematics = AnalyzeFourBarKinematics(joints, {}, 1.0); }));
+      ++row.analyses;
+      for (size_t k = 0; k < kinematics.states.size(); k += kinematics.states.size() / 3 + 1) {
+        const FourBarState& state = kinematics.states[k];
+        if (std::min(state.transmission_angle_deg, 180.0 - state.transmission_angle_deg) < 10.0)
+          continue;
+        double rate = 0.0;
+        const auto coupler = [&](double t, double* value) {
+          FourBarState placed;
+          if (!PlaceFourBar(joints, t, 1.0, &placed)) return false;
+          *value =
+              placed.coupler_angle +
+              2.0 * M_PI * std::round((state.coupler_angle - placed.coupler_angle) / (2.0 * M_PI));
+          return true;
+        };
+        if (RichardsonRate(coupler, state.input_angle, 2.5e-4, &rate)) {
+          check(&row, state.coupler_velocity, rate);
+        }
+      }
+    }
+    row.Print(slider ? "slider-crank (closed form)" : "4R (closed form)");
+  }
+  // The other planar types and slider inputs (general closure rows).
+  {
+    AnalysisRow row;
+    const DyadType types[] = {DyadType::kRR, DyadType::kPR, DyadType::kRP};
+    while (row.analyses < tasks) {
+      PlanarDyad dyads[2];
+      for (PlanarDyad& dyad : dyads) {
+        const DyadType type = types[rng() % 3];
+        const Eigen::Vector2d fixed(unit(rng), unit(rng)), moving(unit(rng) + 0.3, unit(rng) + 0.8);
+        const double line = M_PI * unit(rng);
+        const Eigen::Vector2d direction(std::cos(line), std::sin(line));
+        dyad = type == DyadType::kRR   ? PlanarDyad::RR(fixed, moving, (moving - fixed).norm())
+               : type == DyadType::kPR ? PlanarDyad::PR(moving, moving - 0.3 * direction, direction)
+                                       : PlanarDyad::RP(fixed, fixed - 0.3 * direction, direction);
+      }
+      if (dyads[0].type == DyadType::kRR && dyads[1].type != DyadType::kRP) continue;  // above
+      DyadFourBarKinematics kinematics;
+      row.micros.push_back(Timed([&] {
+        kinematics = AnalyzeDyadFourBarKinematics(dyads[0], dyads[1], Eigen::Vector2d(0.3, -0.5),
+                                                  PlanarPose(), {}, 1.0);
+      }));
+      ++row.analyses;
+      for (size_t k = 0; k < kinematics.states.size(); k += kinematics.states.size() / 3 + 1) {
+        const DyadFourBarState& state = kinematics.states[k];
+        if (std::min(state.transmission_angle_deg, 180.0 - state.transmission_angle_deg) < 10.0)
+          continue;
+        if (state.velocity.cwiseAbs().maxCoeff() > 20.0) continue;
+        const auto theta = [&](double t, double* value) {
+          std::vector<PlanarPose> poses;
+          if (AssembleFourBar(dyads[0], dyads[1], t, 0.0, &poses) == 0) return false;
+          double best = std::numeric_limits<double>::infinity();
+          for (const PlanarPose& pose : poses) {
+            const double continued =
+                pose.theta +
+                2.0 * M_PI * std::round((state.coupler.theta - pose.theta) / (2.0 * M_PI));
+            const double distance = (pose.origin_in_fixed - state.coupler.origin_in_fixed).norm() +
+                                    std::abs(continued - state.coupler.theta);
+            if (distance < best) {
+              best = distance;
+              *value = continued;
+            }
+          }
+          return true;
+        };
+        double rate = 0.0;
+        if (RichardsonRate(theta, state.input, 2.5e-4, &rate)) check(&row, state.velocity[2], rate);
+      }
+    }
+    row.Print("other types, slider inputs (general)");
+  }
+  // Spherical four-bars.
+  {
+    AnalysisRow row;
+    while (row.analyses < tasks) {
+      const SphericalFourBar made = testing::RandomSphericalFourBar(rng);
+      const std::vector<Eigen::Matrix3d> rotations =
+          testing::SphericalFourBarRotations(rng, made, 1);
+      if (rotations.empty()) continue;
+      SphericalFourBarJoints joints;
+      joints.input_pivot = made.input.fixed_axis.normalized();
+      joints.output_pivot = made.output.fixed_axis.normalized();
+      joints.input_pin = (rotations[0] * made.input.moving_axis).normalized();
+      joints.output_pin = (rotations[0] * made.output.moving_axis).normalized();
+      SphericalFourBarKinematics kinematics;
+      row.micros.push_back(
+          Timed([&] { kinematics = AnalyzeSphericalFourBarKinematics(joints, {}); }));
+      ++row.analyses;
+      for (size_t k = 0; k < kinematics.states.size(); k += kinematics.states.size() / 3 + 1) {
+        const SphericalFourBarState& state = kinematics.states[k];
+        if (std::min(state.transmission_angle_deg, 180.0 - state.transmission_angle_deg) < 10.0)
+          continue;
+        const auto psi = [&](double t, double* value) {
+          SphericalFourBarState placed;
+          if (!PlaceSphericalFourBar(joints, t, &placed)) return false;
+          *value =
+              placed.output_angle +
+              2.0 * M_PI * std::round((state.output_angle - placed.output_angle) / (2.0 * M_PI));
+          return true;
+        };
+        double rate = 0.0;
+        if (RichardsonRate(psi, state.input_angle, 2.5e-4, &rate))
+          check(&row, state.output_velocity, rate);
+      }
+    }
+    row.Print("spherical four-bar");
+  }
+  // Six-bars of every layout, driven by their upper link.
+  {
+    AnalysisRow row;
+    int layout = 0;
+    while (row.analyses < tasks) {
+      const testing::GeneratedSixBarTask task = testing::RandomSixBarTask(
+          rng, testing::SixBarLayouts()[layout++ % testing::SixBarLayouts().size()]);
+      const SixBar& six_bar = task.six_bar;
+      SixBarKinematics kinematics;
+      row.micros.push_back(
+          Timed([&] { kinematics = AnalyzeSixBarKinematics(six_bar, kSixBarUpperLink, {}, 1.0); }));
+      ++row.analyses;
+      const SixBarDriver driver(six_bar, kSixBarUpperLink, 1.0);
+      for (size_t k = 0; k < kinematics.states.size(); k += kinematics.states.size() / 3 + 1) {
+        const SixBarState& state = kinematics.states[k];
+        if (std::min(state.transmission_deg[0], state.transmission_deg[1]) < 10.0) continue;
+        if (state.angular_velocity.cwiseAbs().maxCoeff() > 20.0) continue;
+        SixBarAssembly assembly;
+        if (!driver.AssemblyOf(state.turns, &assembly)) continue;
+        const auto task_body = [&](double t, double* value) {
+          SixBarAngles turns = state.turns;
+          if (!driver.Place(assembly, t, &turns, 1e-13)) return false;
+          *value = turns[kSixBarTaskBody - 1];
+          return true;
+        };
+        double rate = 0.0;
+        if (RichardsonRate(task_body, state.turns[kSixBarUpperLink - 1], 2.5e-4, &rate)) {
+          check(&row, state.angular_velocity[kSixBarTaskBody - 1], rate);
+        }
+      }
+    }
+    row.Print("six-bar (upper link input)");
+  }
+}
+
+}  // namespace
+}  // namespace linkfit
+
 int main(int argc, char** argv) {
   // Ceres reports steps the refiners handle through glog at ERROR level (the CLI silences it the
   // same way, apps/cli.cc RunCli): the tables stay clean.
@@ -1303,6 +1531,7 @@ int main(int argc, char** argv) {
   int spherical_tasks = 200;
   int curve_tasks = 24;
   int six_bar_tasks = 200;
+  int analysis_tasks = 1000;
   bool curve_detail = false;
   std::string curve_rows;  // the curve rows run (their first words: closed, open, partial)
   std::vector<int> scale_counts = {1000, 10000, 100000};
@@ -1327,6 +1556,8 @@ int main(int argc, char** argv) {
       curve_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--six-bar-tasks") && i + 1 < argc) {
       six_bar_tasks = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--analysis-tasks") && i + 1 < argc) {
+      analysis_tasks = std::atoi(argv[++i]);
     } else if (!std::strcmp(argv[i], "--curve-detail")) {
       curve_detail = true;
     } else if (!std::strcmp(argv[i], "--curve-rows") && i + 1 < argc) {
@@ -1344,8 +1575,9 @@ int main(int argc, char** argv) {
                    "usage: linkfit_bench [--tasks N] [--spatial-tasks M] [--path-tasks P] "
                    "[--refine-tasks R] [--four-tasks F] [--stage-tasks T] "
                    "[--spherical-tasks K] [--curve-tasks C] [--curve-detail] [--curve-rows R] "
-                   "[--scale-items N,N,...] [--six-bar-tasks X] [--seed S] "
-                   "[--only planar|spatial|path|refine|stages|spherical|scale|curves|six-bar]\n"
+                   "[--scale-items N,N,...] [--six-bar-tasks X] [--analysis-tasks A] [--seed S] "
+                   "[--only planar|spatial|path|refine|stages|spherical|scale|curves|six-bar|"
+                   "analysis]\n"
                    "(the least-squares paths and the extremes: linkfit bench)\n");
       return 2;
     }
@@ -1376,6 +1608,10 @@ int main(int argc, char** argv) {
   }
   if (only == "curves") {
     RunCurves(curve_tasks, seed, curve_detail, curve_rows);
+    return 0;
+  }
+  if (only == "analysis") {
+    linkfit::RunAnalysis(analysis_tasks, seed);
     return 0;
   }
   if (only == "six-bar") {
@@ -1415,6 +1651,7 @@ int main(int argc, char** argv) {
     RunSixBarChosen(six_bar_tasks, seed);
     RunSixBarLeastSquares(std::max(1, six_bar_tasks / 10), seed + 1, false);
     RunSixBarLeastSquares(std::max(1, six_bar_tasks / 10), seed + 1, true);
+    linkfit::RunAnalysis(analysis_tasks, seed);
   }
   return 0;
 }

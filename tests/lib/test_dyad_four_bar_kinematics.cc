@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -15,6 +16,7 @@
 #include "lib/four_bar_kinematics.h"
 #include "lib/mechanism.h"
 #include "lib/uniform_body.h"
+#include "tests/support/richardson.h"
 
 namespace linkfit {
 namespace {
@@ -105,7 +107,7 @@ TEST(DyadFourBarKinematics, RatesAreTheDerivativesOfThePositions) {
             return true;
           };
           const double h = 2.5e-4;
-          Sample s[5];
+          std::array<Sample, 5> s;
           const double offsets[5] = {-h, -0.5 * h, 0.0, 0.5 * h, h};
           bool placed = true;
           for (int k = 0; k < 5; ++k) placed = placed && at(state.input + offsets[k], &s[k]);
@@ -115,17 +117,13 @@ TEST(DyadFourBarKinematics, RatesAreTheDerivativesOfThePositions) {
               s[k].output += 2.0 * M_PI * std::round((s[2].output - s[k].output) / (2.0 * M_PI));
             }
           }
+          // Richardson-extrapolated central differences in the input's value, times w (w^2).
           const auto first = [&](auto get) {
-            using Value = decltype(get(s[0]));
-            const Value d1 = (get(s[4]) - get(s[0])) / (2.0 * h);
-            const Value d2 = (get(s[3]) - get(s[1])) / h;
-            return Value((4.0 * d2 - d1) / 3.0 * w);
+            return decltype(get(s[0]))(testing::RichardsonFirst(testing::EachOf(s, get), h) * w);
           };
           const auto second = [&](auto get) {
-            using Value = decltype(get(s[0]));
-            const Value d1 = (get(s[4]) - 2.0 * get(s[2]) + get(s[0])) / (h * h);
-            const Value d2 = (get(s[3]) - 2.0 * get(s[2]) + get(s[1])) / (0.25 * h * h);
-            return Value((4.0 * d2 - d1) / 3.0 * w * w);
+            return decltype(get(s[0]))(testing::RichardsonSecond(testing::EachOf(s, get), h) * w *
+                                       w);
           };
           const auto expect = [&](double got, double want, double tolerance, const char* what) {
             const double scaled = tolerance * std::max(1.0, std::abs(want));

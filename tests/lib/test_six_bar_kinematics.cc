@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <random>
@@ -12,6 +13,7 @@
 #include "lib/six_bar.h"
 #include "lib/six_bar_kinematics.h"
 #include "tests/support/random_six_bar.h"
+#include "tests/support/richardson.h"
 
 namespace linkfit {
 namespace {
@@ -68,25 +70,17 @@ TEST(SixBarKinematics, RatesAreTheDerivativesOfThePositions) {
         return true;
       };
       const double t = state.turns[in], h = 2.5e-4;
-      Sampled plus, minus, plus2, minus2, middle;
-      if (!at(t + h, &plus) || !at(t - h, &minus) || !at(t + 0.5 * h, &plus2) ||
-          !at(t - 0.5 * h, &minus2) || !at(t, &middle)) {
-        continue;
-      }
-      // Richardson-extrapolated central differences in the input's turn, times w (and w^2).
-      // (Each difference evaluated into a vector: Eigen's expressions would keep references to
-      // the temporaries `get` returns.)
+      std::array<Sampled, 5> s;  // t - h, t - h/2, t, t + h/2, t + h
+      const double offsets[5] = {-h, -0.5 * h, 0.0, 0.5 * h, h};
+      bool placed = true;
+      for (int k = 0; k < 5; ++k) placed = placed && at(t + offsets[k], &s[k]);
+      if (!placed) continue;
+      // Richardson-extrapolated central differences in the input's turn, times w (w^2).
       const auto first = [&](auto get) {
-        using Vector = decltype(get(plus));
-        const Vector d1 = (get(plus) - get(minus)) / (2.0 * h);
-        const Vector d2 = (get(plus2) - get(minus2)) / h;
-        return Vector((4.0 * d2 - d1) / 3.0 * w);
+        return decltype(get(s[0]))(testing::RichardsonFirst(testing::EachOf(s, get), h) * w);
       };
       const auto second = [&](auto get) {
-        using Vector = decltype(get(plus));
-        const Vector d1 = (get(plus) - 2.0 * get(middle) + get(minus)) / (h * h);
-        const Vector d2 = (get(plus2) - 2.0 * get(middle) + get(minus2)) / (0.25 * h * h);
-        return Vector((4.0 * d2 - d1) / 3.0 * w * w);
+        return decltype(get(s[0]))(testing::RichardsonSecond(testing::EachOf(s, get), h) * w * w);
       };
       const auto turns = [](const Sampled& s) -> SixBarAngles { return s.turns; };
       const auto tool = [](const Sampled& s) -> Eigen::Vector2d { return s.tool; };

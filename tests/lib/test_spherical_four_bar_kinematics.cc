@@ -7,11 +7,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <random>
 
 #include "lib/spherical_four_bar_kinematics.h"
+#include "tests/support/richardson.h"
 
 namespace linkfit {
 namespace {
@@ -89,7 +91,7 @@ TEST(SphericalFourBarKinematics, RatesAreTheDerivativesOfThePositions) {
         return true;
       };
       const double h = 2e-4, phi = state.input_angle;
-      Sample s[5];  // phi - h, phi - h/2, phi, phi + h/2, phi + h
+      std::array<Sample, 5> s;  // phi - h, phi - h/2, phi, phi + h/2, phi + h
       const double offsets[5] = {-h, -0.5 * h, 0.0, 0.5 * h, h};
       bool placed = true;
       for (int k = 0; k < 5; ++k) placed = placed && at(phi + offsets[k], &s[k]);
@@ -98,19 +100,12 @@ TEST(SphericalFourBarKinematics, RatesAreTheDerivativesOfThePositions) {
       for (int k = 0; k < 5; ++k) {
         s[k].psi += 2.0 * M_PI * std::round((s[2].psi - s[k].psi) / (2.0 * M_PI));
       }
-      // (Each difference evaluated into a value: Eigen's expressions would keep references to
-      // the temporaries `get` returns.)
+      // Richardson-extrapolated central differences in the input angle, times w (w^2).
       const auto first = [&](auto get) {
-        using Value = decltype(get(s[0]));
-        const Value d1 = (get(s[4]) - get(s[0])) / (2.0 * h);
-        const Value d2 = (get(s[3]) - get(s[1])) / h;
-        return Value((4.0 * d2 - d1) / 3.0 * w);
+        return decltype(get(s[0]))(testing::RichardsonFirst(testing::EachOf(s, get), h) * w);
       };
       const auto second = [&](auto get) {
-        using Value = decltype(get(s[0]));
-        const Value d1 = (get(s[4]) - 2.0 * get(s[2]) + get(s[0])) / (h * h);
-        const Value d2 = (get(s[3]) - 2.0 * get(s[2]) + get(s[1])) / (0.25 * h * h);
-        return Value((4.0 * d2 - d1) / 3.0 * w * w);
+        return decltype(get(s[0]))(testing::RichardsonSecond(testing::EachOf(s, get), h) * w * w);
       };
       const auto expect = [&](double got, double want, double tolerance, const char* what) {
         const double scaled = tolerance * std::max(1.0, std::abs(want));

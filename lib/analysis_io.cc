@@ -103,6 +103,29 @@ std::string CsvNumber(const std::optional<double>& value) {
   return text;
 }
 
+// One CSV row of numbers (empty where there is none) and its line end.
+void AppendCsvRow(const std::vector<std::optional<double>>& row, std::string* csv) {
+  for (size_t c = 0; c < row.size(); ++c) *csv += (c ? "," : "") + CsvNumber(row[c]);
+  *csv += "\n";
+}
+
+// With the links' masses: `named` (their masses by link, and gravity) as "masses", and per state
+// the inertia's and the weight's parts of the input's effort ("inertial_" and "weight_" with
+// `effort`, "torque" or "force"; the weight's only with gravity).
+template <typename States, typename Inertial, typename Weight>
+void PutMassParts(const States& states, Json named, bool gravity, const std::string& effort,
+                  const Inertial& inertial, const Weight& weight, Json* out) {
+  Json inertial_parts = Json::array(), weight_parts = Json::array();
+  for (const auto& state : states) {
+    inertial_parts.push_back(Number(inertial(state)));
+    weight_parts.push_back(Number(weight(state)));
+  }
+  named["gravity"] = gravity;
+  (*out)["masses"] = named;
+  (*out)["inertial_" + effort] = inertial_parts;
+  if (gravity) (*out)["weight_" + effort] = weight_parts;
+}
+
 // The defects the result lists for a mechanism, as a note (none without).
 void AddDefectsNote(const Json& listed, Json* notes) {
   const auto defects = listed.is_object() ? listed.find("defects") : listed.end();
@@ -289,8 +312,7 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
       row.push_back(state.input_torque);
       if (massive) row.push_back(state.inertial_torque);
       if (massive && masses.gravity) row.push_back(state.weight_torque);
-      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
-      csv += "\n";
+      AppendCsvRow(row, &csv);
     }
     return csv;
   }
@@ -354,16 +376,12 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
     out["peak_input_torque"] = Number(kinematics.peak_input_torque);
   }
   if (massive) {
-    Json named = Json::object(), inertial = Json::array(), weight = Json::array();
+    Json named = Json::object();
     for (int body = 0; body < 5; ++body) named[kSixBarLinkNames[body]] = masses.mass[body];
-    named["gravity"] = masses.gravity;
-    for (const SixBarState& state : kinematics.states) {
-      inertial.push_back(Number(state.inertial_torque));
-      weight.push_back(Number(state.weight_torque));
-    }
-    out["masses"] = named;
-    out["inertial_torque"] = inertial;
-    if (masses.gravity) out["weight_torque"] = weight;
+    PutMassParts(
+        kinematics.states, named, masses.gravity, "torque",
+        [](const SixBarState& state) { return state.inertial_torque; },
+        [](const SixBarState& state) { return state.weight_torque; }, &out);
   }
   Json dead = Json::array();
   for (const SixBarState& state : kinematics.dead_points) {
@@ -523,8 +541,7 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
       row.push_back(state.input_torque);
       if (massive) row.push_back(state.inertial_torque);
       if (massive && masses.gravity) row.push_back(state.weight_torque);
-      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
-      csv += "\n";
+      AppendCsvRow(row, &csv);
     }
     return csv;
   }
@@ -589,18 +606,15 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
     out["peak_input_torque"] = Number(kinematics.peak_input_torque);
   }
   if (massive) {
-    Json inertial = Json::array(), weight = Json::array();
-    for (const SphericalFourBarState& state : kinematics.states) {
-      inertial.push_back(Number(state.inertial_torque));
-      weight.push_back(Number(state.weight_torque));
-    }
-    out["masses"] = {{"input", Number(masses.input)},
-                     {"coupler", Number(masses.coupler)},
-                     {"output", Number(masses.output)},
-                     {"radius", Number(masses.radius)},
-                     {"gravity", masses.gravity}};
-    out["inertial_torque"] = inertial;
-    if (masses.gravity) out["weight_torque"] = weight;
+    PutMassParts(
+        kinematics.states,
+        {{"input", Number(masses.input)},
+         {"coupler", Number(masses.coupler)},
+         {"output", Number(masses.output)},
+         {"radius", Number(masses.radius)}},
+        masses.gravity, "torque",
+        [](const SphericalFourBarState& state) { return state.inertial_torque; },
+        [](const SphericalFourBarState& state) { return state.weight_torque; }, &out);
   }
   Json dead = Json::array();
   for (const SphericalFourBarState& state : kinematics.dead_points) {
@@ -925,8 +939,7 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
       row.push_back(state.transmission_angle_deg);
       row.push_back(state.mechanical_advantage);
       row.push_back(state.input_effort);
-      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
-      csv += "\n";
+      AppendCsvRow(row, &csv);
     }
     return csv;
   }
@@ -1008,17 +1021,14 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
         Number(kinematics.peak_input_effort);
   }
   if (massive) {
-    Json inertial = Json::array(), weight = Json::array();
-    for (const DyadFourBarState& state : kinematics.states) {
-      inertial.push_back(Number(state.inertial_effort));
-      weight.push_back(Number(state.weight_effort));
-    }
-    out["masses"] = {{"input", Number(masses.input)},
-                     {"coupler", Number(masses.coupler)},
-                     {output_name, Number(masses.output)},
-                     {"gravity", masses.gravity}};
-    out[slider_input ? "inertial_force" : "inertial_torque"] = inertial;
-    if (masses.gravity) out[slider_input ? "weight_force" : "weight_torque"] = weight;
+    PutMassParts(
+        kinematics.states,
+        {{"input", Number(masses.input)},
+         {"coupler", Number(masses.coupler)},
+         {output_name, Number(masses.output)}},
+        masses.gravity, slider_input ? "force" : "torque",
+        [](const DyadFourBarState& state) { return state.inertial_effort; },
+        [](const DyadFourBarState& state) { return state.weight_effort; }, &out);
   }
   Json dead = Json::array();
   for (const DyadFourBarState& state : kinematics.dead_points) {
@@ -1371,8 +1381,7 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
       row.push_back(state.input_torque);
       if (massive) row.push_back(state.inertial_torque);
       if (masses.gravity) row.push_back(state.weight_torque);
-      for (size_t c = 0; c < row.size(); ++c) csv += (c ? "," : "") + CsvNumber(row[c]);
-      csv += "\n";
+      AppendCsvRow(row, &csv);
     }
     return csv;
   }
@@ -1392,7 +1401,6 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
   }
   Json input_deg = Json::array(), transmission = Json::array(), advantage = Json::array();
   Json torque = Json::array(), p = Json::array(), v = Json::array(), a = Json::array();
-  Json inertial = Json::array(), weight = Json::array();
   Json links = {
       {"input", Json::object()}, {"coupler", Json::object()}, {output_name, Json::object()}};
   Json angles[3] = {Json::array(), Json::array(), Json::array()};
@@ -1418,8 +1426,6 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     advantage.push_back(state.mechanical_advantage ? Number(*state.mechanical_advantage)
                                                    : Json(nullptr));
     torque.push_back(Number(state.input_torque));
-    inertial.push_back(Number(state.inertial_torque));
-    weight.push_back(Number(state.weight_torque));
   }
   out["input_deg"] = input_deg;
   const char* names[3] = {"input", "coupler", output_name};
@@ -1457,12 +1463,13 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
     out["peak_input_torque"] = Number(kinematics.peak_input_torque);
   }
   if (massive) {
-    out["masses"] = {{"input", Number(masses.input)},
-                     {"coupler", Number(masses.coupler)},
-                     {joints.slider ? "slider" : "output", Number(masses.output)},
-                     {"gravity", masses.gravity}};
-    out["inertial_torque"] = inertial;
-    if (masses.gravity) out["weight_torque"] = weight;
+    PutMassParts(
+        kinematics.states,
+        {{"input", Number(masses.input)},
+         {"coupler", Number(masses.coupler)},
+         {joints.slider ? "slider" : "output", Number(masses.output)}},
+        masses.gravity, "torque", [](const FourBarState& state) { return state.inertial_torque; },
+        [](const FourBarState& state) { return state.weight_torque; }, &out);
   }
   Json dead = Json::array();
   for (const FourBarState& state : kinematics.dead_points) {

@@ -449,7 +449,7 @@ DyadFourBarKinematics AnalyzeDyadFourBarKinematics(
   for (int k = 0; k < steps; ++k) {
     const double at = options.range ? start + (steps > 1 ? span * k / (steps - 1) : 0.0)
                       : kinematics.input_rotates_fully ? start + span * k / steps
-                                                     : start + span * (k + 0.5) / steps;
+                                                       : start + span * (k + 0.5) / steps;
     if (!advance(&value, &pose, at)) {
       kinematics.note = "a dead point inside the input's range stopped the analysis";
       break;

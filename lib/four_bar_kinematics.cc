@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "lib/input_range.h"
+
 namespace linkfit {
 namespace {
 
@@ -180,22 +182,8 @@ bool PlaceOnLoop(const Loop& loop, double input_angle, bool clamp, double previo
 // a whole turn from it.
 void InputRange(const Loop& loop, double* start, double* end, bool* full) {
   const Eigen::Vector2d r2_reference = loop.joints.input_pin - loop.joints.input_pivot;
-  const double reference = std::atan2(r2_reference.y(), r2_reference.x());
-  double ahead = 2.0 * M_PI, behind = 2.0 * M_PI;
-  for (const double critical : loop.CriticalAngles()) {
-    // Its offset ahead of the reference in [0, 2 pi): 0 puts the reference at the range's start.
-    double offset = std::fmod(critical - reference, 2.0 * M_PI);
-    if (offset < 0.0) offset += 2.0 * M_PI;
-    if (offset < 1e-12) {
-      behind = 0.0;
-      continue;
-    }
-    ahead = std::min(ahead, offset);
-    behind = std::min(behind, 2.0 * M_PI - offset);
-  }
-  *full = ahead == 2.0 * M_PI && behind == 2.0 * M_PI;
-  *start = reference - (*full ? 0.0 : behind);
-  *end = reference + ahead;
+  RangeAbout(std::atan2(r2_reference.y(), r2_reference.x()), loop.CriticalAngles(), start, end,
+             full);
 }
 
 // The links' inertia and weight at a state whose rates are known: each link's centre of mass G
@@ -257,9 +245,7 @@ bool PlaceFourBar(const FourBarJoints& joints, double input_angle, double length
   double start = 0.0, end = 0.0;
   bool full = false;
   InputRange(*loop, &start, &end, &full);
-  double offset = std::fmod(input_angle - start, 2.0 * M_PI);
-  if (offset < 0.0) offset += 2.0 * M_PI;
-  if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
+  const double offset = TurnAhead(input_angle, start);
   if (!full && offset > end - start) return false;
   return PlaceOnLoop(*loop, start + offset, false, loop->coupler_reference_angle, std::nullopt,
                      state);
@@ -278,16 +264,10 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
   double first = kinematics.range_start, span = kinematics.range_end - kinematics.range_start;
   if (options.range) {
     // The part asked for, on the circuit: its start within the range, its end too.
-    double offset = std::fmod(options.range->first - kinematics.range_start, 2.0 * M_PI);
-    if (offset < 0.0) offset += 2.0 * M_PI;
-    if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
-    const double part = options.range->second - options.range->first;
-    if (!(part > 0.0) || offset + part > span + 1e-12) {
+    if (!PartOfRange(*options.range, kinematics.range_start, &first, &span)) {
       kinematics.note = "the range asked for leaves the input's range on its circuit";
       return kinematics;
     }
-    first = kinematics.range_start + offset;
-    span = part;
   }
 
   // Positions at a crank angle (clamped at the range's ends), the angles continued.
@@ -372,9 +352,8 @@ FourBarKinematics AnalyzeFourBarKinematics(const FourBarJoints& joints,
   for (int k = 0; k < steps; ++k) {
     // A crank from the reference through a whole turn; a rocker's range inside its dead points;
     // a part asked for from end to end.
-    const double input_angle = options.range ? first + (steps > 1 ? span * k / (steps - 1) : 0.0)
-                               : kinematics.input_rotates_fully ? first + span * k / steps
-                                                                : first + span * (k + 0.5) / steps;
+    const double input_angle = SampledInput(k, steps, options.range.has_value(),
+                                            kinematics.input_rotates_fully, first, span);
     FourBarState state;
     if (!place(input_angle, false, &state)) continue;
     previous_coupler = state.coupler_angle;

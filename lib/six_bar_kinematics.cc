@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "lib/input_range.h"
 #include "lib/six_bar_frames.h"
 
 namespace linkfit {
@@ -173,24 +174,20 @@ SixBarKinematics AnalyzeSixBarKinematics(const SixBar& six_bar, int input,
   double first = low, span = high - low;
   if (options.range) {
     // The part asked for, within the range (a whole turn: wherever it starts).
-    double offset = std::fmod(options.range->first - reference - low, 2.0 * M_PI);
-    if (offset < 0.0) offset += 2.0 * M_PI;
-    if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
-    const double part = options.range->second - options.range->first;
-    if (!(part > 0.0) || offset + part > span + 1e-12) {
+    // (In turns from the reference: the directions asked for less the reference's.)
+    const std::pair<double, double> asked = {options.range->first - reference,
+                                             options.range->second - reference};
+    if (!PartOfRange(asked, low, &first, &span)) {
       kinematics.note = "the range asked for leaves the input's range on its circuit";
       return kinematics;
     }
-    first = low + offset;
-    span = part;
   }
 
   const BodyShapes shapes = Shapes(six_bar);
   SixBarAngles angles = start;
   for (int k = 0; k < steps; ++k) {
-    const double turn = options.range ? first + (steps > 1 ? span * k / (steps - 1) : 0.0)
-                        : kinematics.input_rotates_fully ? first + span * k / steps
-                                                         : first + span * (k + 0.5) / steps;
+    const double turn = SampledInput(k, steps, options.range.has_value(),
+                                     kinematics.input_rotates_fully, first, span);
     if (!driver.Drive(turn, &angles, kSixBarDriveStep)) {
       kinematics.note = "a dead point inside the input's range stopped the analysis";
       break;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "lib/input_range.h"
+
 namespace linkfit {
 namespace {
 
@@ -94,20 +96,7 @@ std::optional<Loop> MakeLoop(const SphericalFourBarJoints& joints, std::string* 
 
 // The input's range about the first pose (as lib/four_bar_kinematics.cc's planar one).
 void InputRange(const Loop& loop, double* start, double* end, bool* full) {
-  double ahead = 2.0 * M_PI, behind = 2.0 * M_PI;
-  for (const double critical : loop.CriticalAngles()) {
-    double offset = std::fmod(critical - loop.reference, 2.0 * M_PI);
-    if (offset < 0.0) offset += 2.0 * M_PI;
-    if (offset < 1e-12) {
-      behind = 0.0;
-      continue;
-    }
-    ahead = std::min(ahead, offset);
-    behind = std::min(behind, 2.0 * M_PI - offset);
-  }
-  *full = ahead == 2.0 * M_PI && behind == 2.0 * M_PI;
-  *start = loop.reference - (*full ? 0.0 : behind);
-  *end = loop.reference + ahead;
+  RangeAbout(loop.reference, loop.CriticalAngles(), start, end, full);
 }
 
 // Positions at input angle phi (angles continued from `previous_output`).
@@ -160,9 +149,7 @@ bool PlaceSphericalFourBar(const SphericalFourBarJoints& joints, double input_an
   double start = 0.0, end = 0.0;
   bool full = false;
   InputRange(*loop, &start, &end, &full);
-  double offset = std::fmod(input_angle - start, 2.0 * M_PI);
-  if (offset < 0.0) offset += 2.0 * M_PI;
-  if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
+  const double offset = TurnAhead(input_angle, start);
   if (!full && offset > end - start) return false;
   return PlaceOnLoop(*loop, start + offset, false, std::nullopt, state);
 }
@@ -182,16 +169,10 @@ SphericalFourBarKinematics AnalyzeSphericalFourBarKinematics(
   const int steps = std::max(1, options.steps);
   double first = kinematics.range_start, span = kinematics.range_end - kinematics.range_start;
   if (options.range) {
-    double offset = std::fmod(options.range->first - kinematics.range_start, 2.0 * M_PI);
-    if (offset < 0.0) offset += 2.0 * M_PI;
-    if (offset > 2.0 * M_PI - 1e-9) offset = 0.0;  // (just before the start: rounding)
-    const double part = options.range->second - options.range->first;
-    if (!(part > 0.0) || offset + part > span + 1e-12) {
+    if (!PartOfRange(*options.range, kinematics.range_start, &first, &span)) {
       kinematics.note = "the range asked for leaves the input's range on its circuit";
       return kinematics;
     }
-    first = kinematics.range_start + offset;
-    span = part;
   }
 
   std::optional<double> previous_output;
@@ -252,9 +233,8 @@ SphericalFourBarKinematics AnalyzeSphericalFourBarKinematics(
     }
   }
   for (int k = 0; k < steps; ++k) {
-    const double phi = options.range ? first + (steps > 1 ? span * k / (steps - 1) : 0.0)
-                       : kinematics.input_rotates_fully ? first + span * k / steps
-                                                        : first + span * (k + 0.5) / steps;
+    const double phi = SampledInput(k, steps, options.range.has_value(),
+                                    kinematics.input_rotates_fully, first, span);
     SphericalFourBarState state;
     if (!PlaceOnLoop(loop, phi, false, previous_output, &state)) continue;
     previous_output = state.output_angle;

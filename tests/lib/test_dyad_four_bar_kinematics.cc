@@ -310,15 +310,14 @@ TEST(DyadFourBarKinematics, InertialEffortIsTheRateOfTheLinksEnergy) {
             return true;
           };
           const double big = 2.5e-4;  // (near dead points the energy's higher derivatives grow)
-          double k[4], p[4];
-          const double at[4] = {state.input + big, state.input - big, state.input + 0.5 * big,
-                                state.input - 0.5 * big};
+          std::array<double, 5> k = {}, p = {};  // at t - H, t - H/2, (t: not read), t + H/2, t + H
+          const double offsets[5] = {-big, -0.5 * big, 0.0, 0.5 * big, big};
           bool placed = true;
-          for (int i = 0; i < 4; ++i) placed = placed && energies(at[i], &k[i], &p[i]);
+          for (int i : {0, 1, 3, 4})
+            placed = placed && energies(state.input + offsets[i], &k[i], &p[i]);
           if (!placed) continue;
-          // Richardson-extrapolated central differences; per unit of the input's value.
-          const double inertial = (4.0 * (k[2] - k[3]) / big - (k[0] - k[1]) / (2.0 * big)) / 3.0;
-          const double weight = (4.0 * (p[2] - p[3]) / big - (p[0] - p[1]) / (2.0 * big)) / 3.0;
+          const double inertial = testing::RichardsonFirst(k, big);
+          const double weight = testing::RichardsonFirst(p, big);
           const double scale = 1.0 + std::abs(inertial) + std::abs(weight);
           worst = std::max({worst, std::abs(state.inertial_effort - inertial) / scale,
                             std::abs(state.weight_effort - weight) / scale});

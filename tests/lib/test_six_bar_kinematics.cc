@@ -184,13 +184,13 @@ TEST(SixBarKinematics, InertialTorqueIsTheRateOfTheBodiesEnergy) {
       };
       // Richardson-extrapolated central differences over H = 1e-3 and H / 2.
       const double big = 1e-3;
-      double k[4], p[4];
-      const double at[4] = {t + big, t - big, t + 0.5 * big, t - 0.5 * big};
+      std::array<double, 5> k = {}, p = {};  // at t - H, t - H/2, (t: not read), t + H/2, t + H
+      const double offsets[5] = {-big, -0.5 * big, 0.0, 0.5 * big, big};
       bool placed = true;
-      for (int i = 0; i < 4; ++i) placed = placed && energies(at[i], &k[i], &p[i]);
+      for (int i : {0, 1, 3, 4}) placed = placed && energies(t + offsets[i], &k[i], &p[i]);
       if (!placed) continue;
-      const double inertial = (4.0 * (k[2] - k[3]) / big - (k[0] - k[1]) / (2.0 * big)) / 3.0;
-      const double weight = (4.0 * (p[2] - p[3]) / big - (p[0] - p[1]) / (2.0 * big)) / 3.0;
+      const double inertial = testing::RichardsonFirst(k, big);
+      const double weight = testing::RichardsonFirst(p, big);
       const double scale = 1.0 + std::abs(inertial) + std::abs(weight);
       worst = std::max({worst, std::abs(state.inertial_torque - inertial) / scale,
                         std::abs(state.weight_torque - weight) / scale});

@@ -23,6 +23,7 @@
 #include "apps/cad_export.h"
 #include "apps/output_file.h"
 #include "apps/picture.h"
+#include "apps/serve.h"
 #include "bench/trade_bench.h"
 #include "lib/analysis_io.h"
 #include "lib/parallel.h"
@@ -466,30 +467,6 @@ int Refine(const std::string& task_path, const std::string& design_path,
   return kExitOk;
 }
 
-// `--range FROM,TO | task | whole` of `linkfit analyze` into `request`.
-void SetAnalysisRange(const std::string& range, AnalysisRequest* request) {
-  if (range == "task" || range == "whole") {
-    (range == "task" ? request->task_range : request->whole_range) = true;
-    return;
-  }
-  const size_t comma = range.find(',');
-  double bounds[2];
-  for (int k = 0; k < 2; ++k) {
-    const std::string text = k == 0                       ? range.substr(0, comma)
-                             : comma == std::string::npos ? ""
-                                                          : range.substr(comma + 1);
-    char* end = nullptr;
-    bounds[k] = std::strtod(text.c_str(), &end);
-    if (text.empty() || end != text.c_str() + text.size() || comma == std::string::npos) {
-      throw InputError(
-          "--range: expected FROM,TO (the input's angles in degrees), task or whole, "
-          "got '" +
-          range + "'");
-    }
-  }
-  request->range_deg = std::pair{bounds[0], bounds[1]};
-}
-
 // `linkfit analyze`: the kinematics (and statics, with a load) of one mechanism of a result file
 // (lib/analysis_io.h), JSON or CSV to -o or stdout.
 int Analyze(const std::string& result_path, const std::string& output_path,
@@ -734,6 +711,39 @@ int Run(int argc, char** argv) {
   export_command->add_option("--task", export_task,
                              "the result's task file: its poses or points drawn too");
 
+  ServeOptions serve_options;
+  long long serve_request_bytes = static_cast<long long>(serve_options.max_request_bytes);
+  CLI::App* serve = app.add_subcommand(
+      "serve",
+      "Start the interactive designer: a local web server with the page (open the URL it "
+      "prints) and a JSON API (POST /api/solve, /api/refine, /api/analyze, /api/export); "
+      "Ctrl-C stops it.");
+  serve->add_option("--port", serve_options.port, "the port to listen on (0: any free one)")
+      ->check(WholeNumber(0, 65535));
+  serve->add_option("--host", serve_options.host,
+                    "the address to listen on (default 127.0.0.1, this machine only; 0.0.0.0 "
+                    "serves the network, without authentication)");
+  serve->add_option("--web-dir", serve_options.web_dir,
+                    "serve the page from this directory (default: the installed page)");
+  serve
+      ->add_option("--max-request-bytes", serve_request_bytes,
+                   "a request's body at most, in bytes (default 8 MiB)")
+      ->check(WholeNumber(1024, 1LL << 32));
+  serve
+      ->add_option("--solve-time-limit", serve_options.solve_time_limit_s,
+                   "seconds a solve or refinement of more than the minimal data may run before "
+                   "it is stopped (default 120); five poses or fewer are exact and immediate")
+      ->check(CLI::Range(0.1, 86400.0));
+  serve
+      ->add_option("--long-solves", serve_options.long_solves,
+                   "long solves run at a time, each in its own process (default: the cores); "
+                   "more wait their turn")
+      ->check(WholeNumber(0, kMaxJobs));
+  serve
+      ->add_option("--threads", serve_options.threads,
+                   "connections served at once (default 256; a browser holds up to six)")
+      ->check(WholeNumber(2, 4096));
+
   BenchOptions bench_options;
   bool trade_only = false, extremes_only = false, constrained_only = false;
   CLI::App* bench = app.add_subcommand(
@@ -772,10 +782,11 @@ int Run(int argc, char** argv) {
   // A first word that is no command (CLI11 would say "A subcommand is required").
   const std::string first = argc > 1 ? argv[1] : "";
   if (!first.empty() && first[0] != '-' && first != "solve" && first != "refine" &&
-      first != "bench" && first != "show" && first != "analyze" && first != "export") {
+      first != "bench" && first != "show" && first != "analyze" && first != "export" &&
+      first != "serve") {
     PrintError("error", std::string("unknown command '") + argv[1] +
-                            "': solve, refine, analyze, export, show or bench (see 'linkfit "
-                            "--help')");
+                            "': solve, refine, analyze, export, show, serve or bench (see "
+                            "'linkfit --help')");
     return kExitBadInput;
   }
   try {
@@ -799,10 +810,14 @@ int Run(int argc, char** argv) {
   }
   if (analyze->parsed()) {
     analysis.mechanism = analyze_index - 1;
-    if (!analyze_range.empty()) SetAnalysisRange(analyze_range, &analysis);
+    if (!analyze_range.empty()) SetAnalysisRange(analyze_range, "--range", &analysis);
     analysis.mass_list = analyze_mass;
     return Analyze(analyze_result, analyze_output, analyze_svg, analyze_task, analysis,
                    analyze_force);
+  }
+  if (serve->parsed()) {
+    serve_options.max_request_bytes = static_cast<size_t>(serve_request_bytes);
+    return RunServe(serve_options);
   }
   if (bench->parsed()) {
     bench_options.trade = !extremes_only && !constrained_only;

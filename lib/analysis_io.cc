@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -1517,6 +1518,29 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
        joints.slider ? "output force / input torque (1/length)" : "output torque / input torque"}};
   out["notes"] = notes;
   return out.dump(2) + "\n";
+}
+
+void SetAnalysisRange(const std::string& range, const std::string& item, AnalysisRequest* request) {
+  if (range == "task" || range == "whole") {
+    (range == "task" ? request->task_range : request->whole_range) = true;
+    return;
+  }
+  const size_t comma = range.find(',');
+  double bounds[2];
+  for (int k = 0; k < 2; ++k) {
+    const std::string text = k == 0                       ? range.substr(0, comma)
+                             : comma == std::string::npos ? ""
+                                                          : range.substr(comma + 1);
+    char* end = nullptr;
+    bounds[k] = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || comma == std::string::npos) {
+      throw InputError(item +
+                       ": expected FROM,TO (the input's angles in degrees), task or whole, "
+                       "got '" +
+                       range + "'");
+    }
+  }
+  request->range_deg = std::pair{bounds[0], bounds[1]};
 }
 
 }  // namespace linkfit

@@ -114,6 +114,11 @@ std::optional<std::pair<double, double>> ResultFourBarTaskRange(const std::strin
 std::string AnalyzeResultText(const std::string& result_text, const std::string& source,
                               const AnalysisRequest& request);
 
+// The part of the input's range `range` names into `request`: "FROM,TO" (the input's angles in
+// degrees), "task" or "whole" (`linkfit analyze --range`, the server's ?range=); InputError
+// naming `item` otherwise.
+void SetAnalysisRange(const std::string& range, const std::string& item, AnalysisRequest* request);
+
 }  // namespace linkfit
 
 #endif  // LINKFIT_LIB_ANALYSIS_IO_H_

@@ -10,7 +10,8 @@ packages=(build-essential cmake libeigen3-dev libceres-dev libnlopt-cxx-dev libg
           nlohmann-json3-dev libcli11-dev librsvg2-bin libxml2-utils libpng-dev
           python3-dev pybind11-dev python3-numpy python3-pytest python3-dask python3-distributed
           python3-matplotlib libnanoflann-dev python3-sphinx python3-myst-parser
-          libjs-mathjax pkgconf libdxflib-dev python3-ezdxf)
+          libjs-mathjax pkgconf libdxflib-dev python3-ezdxf
+          libcpp-httplib-dev chromium chromium-driver python3-selenium)
 ./scripts/install_packages.sh "${packages[@]}"
 
 [ "${1:-}" = "--deps-only" ] && exit 0

@@ -1,0 +1,85 @@
+// The JSON API of `linkfit serve` (apps/serve.h), independent of HTTP: each route takes a request
+// (its body, its multipart parts, its query parameters) and gives a reply (status, type, body).
+// The bodies are the CLI's task, design and result JSON; the query parameters are the CLI's
+// options. Bad input answers 400 with the CLI's one-line message (the parts named "task",
+// "design" and "result" where the CLI names files).
+//   POST /api/solve    body: a task; ?effort=, &curve_points=  -> the result (as `linkfit solve`)
+//   POST /api/refine   parts task, design; ?mechanism=         -> the result (`linkfit refine`)
+//   POST /api/analyze  parts result [, task]; ?mechanism=, steps, range, input_speed, force,
+//                      output_torque, slider_force, mass, length_unit, gravity, format=json|csv|svg
+//   POST /api/export   parts result [, task]; ?mechanism=, format=dxf|svg, input_deg
+//   GET  /api/version  the version and the server's limits
+// Planar motion through at most five poses (exact, microseconds: what the page recomputes while a
+// pose is dragged), analyses and drawings run in the request's thread. Every other solve and every
+// refinement runs in a child `linkfit` process (apps/child_process.h), at most `long_solves` at a
+// time, killed at `solve_time_limit_s`: a long solve neither stalls the others nor outlives its
+// limit.
+#ifndef LINKFIT_APPS_WEB_API_H_
+#define LINKFIT_APPS_WEB_API_H_
+
+#include <condition_variable>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+namespace linkfit {
+
+struct WebApiOptions {
+  std::string program;              // the `linkfit` executable long solves run in
+  double solve_time_limit_s = 120;  // a long solve's or refinement's limit
+  int long_solves = 0;              // long solves at a time (0: the machine's cores)
+  int max_waiting = 64;             // long solves waiting for their turn; more answer 503
+  int max_steps = 20000;            // an analysis's samples at most
+  size_t max_request_bytes = size_t{8} << 20;  // reported by /api/version (the server enforces it)
+};
+
+struct WebRequest {
+  std::string body;                                // a plain body (solve)
+  std::map<std::string, std::string> parts;        // multipart/form-data parts by name
+  std::multimap<std::string, std::string> params;  // query parameters
+};
+
+struct WebReply {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::string filename;  // a download's name (Content-Disposition), when set
+};
+
+// The message of an error reply: {"error": message}.
+WebReply ErrorReply(int status, const std::string& message);
+
+class WebApi {
+ public:
+  explicit WebApi(WebApiOptions options);
+
+  WebReply Solve(const WebRequest& request);
+  WebReply Refine(const WebRequest& request);
+  WebReply Analyze(const WebRequest& request);
+  WebReply Export(const WebRequest& request);
+  WebReply Version() const;
+
+  const WebApiOptions& options() const { return options_; }
+
+ private:
+  // Runs `linkfit args...` with `inputs` on its descriptors (0: stdin, 3: /dev/fd/3) in its turn
+  // among the long solves; its result JSON, or the error reply its failure calls for.
+  WebReply RunLong(const std::vector<std::string>& args, const std::map<int, std::string>& inputs);
+
+  WebApiOptions options_;
+  // The live solves running, at most one a core: more would only share the cores in smaller
+  // slices, and every one of a burst would finish late (the last no sooner).
+  std::mutex live_mutex_;
+  std::condition_variable live_turn_;
+  int live_running_ = 0;
+  int live_slots_ = 1;
+  std::mutex mutex_;
+  std::condition_variable turn_;
+  int running_ = 0;
+  int waiting_ = 0;
+};
+
+}  // namespace linkfit
+
+#endif  // LINKFIT_APPS_WEB_API_H_

@@ -1,0 +1,1185 @@
+// linkfit serve: the interactive linkage designer.
+//
+// The task is held as a JSON tree whose numbers keep the text they were typed
+// or loaded with (rawjson.js): the server reads the data's precision from those
+// digits. Every solve sends that text; results are kept as the server's text.
+//
+// Solving paths:
+// - live (planar motion with 3–5 poses, a path of 5 timed points): every drag
+//   event solves, throttled to one request per animation frame, at most one in
+//   flight, the latest state winning;
+// - staged (more data): fast, then balanced, then thorough, each shown as it
+//   finishes, cancellable.
+
+import { Num, num, numRounded, parse, stringify, toPlain } from './rawjson.js';
+import * as api from './api.js';
+import { View, el } from './view.js';
+import {
+  DEG, poseMap, frameFromDyads, frameFromLinkage, canAnimate, drawDyads, drawFrame,
+  drawFixedPivot, drawPolyline, nearestOnPolylines,
+} from './draw.js';
+
+const $ = (id) => document.getElementById(id);
+const svg = $('canvas');
+const view = new View(svg);
+const layers = {
+  grid: $('layer-grid'), curves: $('layer-curves'), boxes: $('layer-boxes'),
+  dyads: $('layer-dyads'), mechanism: $('layer-mechanism'), items: $('layer-items'),
+};
+
+const state = {
+  task: null, // the task tree (numbers as Num)
+  result: null, // the last result, parsed
+  resultText: null, // ... as the server wrote it
+  resultTaskText: null, // the task text that result was solved from
+  selected: 0, // index in result.mechanisms
+  analysis: null, // {result, index, data}: linkfit analyze of the selected mechanism
+  frame: 0, // animation step
+  playing: false,
+  tool: 'select',
+  selectedItem: null, // index of the selected pose / point
+  dragPose: null, // pose being dragged: the four-bars are drawn at it
+  version: null,
+  solveCount: 0,
+};
+
+// What tests (and curious designers in the console) can read.
+let resolveReady;
+const linkfit = {
+  state: {
+    get task() { return state.task && toPlain(state.task); },
+    get result() { return state.result; },
+    get resultText() { return state.resultText; },
+    get selected() { return state.selected; },
+    get analysis() { return state.analysis?.data ?? null; },
+  },
+  lastLatencyMs: null,
+  ready: new Promise((resolve) => { resolveReady = resolve; }),
+  isReady: false,
+  get frame() { return state.frame; },
+  get playing() { return state.playing; },
+  get solveCount() { return state.solveCount; },
+  // A live solve queued or in flight: tests wait for it to settle.
+  get busy() { return live.inFlight || live.dirty || live.rafPending || staged !== null; },
+  lastExport: null,
+  taskText: () => taskText(),
+  openTask: (text) => openTaskText(text),
+  // Where a point of the fixed frame is drawn, in canvas pixels.
+  toScreen: (x, y) => { view.measure(); return view.toScreen([x, y]); },
+};
+window.linkfit = linkfit;
+
+/* ---------- the task ---------- */
+
+const isPath = () => state.task?.problem === 'path';
+const itemsKey = () => (isPath() ? 'points' : 'poses');
+const angleKey = () => (isPath() ? 'input_deg' : 'theta_deg');
+const items = () => (Array.isArray(state.task?.[itemsKey()]) ? state.task[itemsKey()] : []);
+const val = (n) => (n instanceof Num ? n.value : typeof n === 'number' ? n : NaN);
+const taskText = () => stringify(state.task) + '\n';
+
+const isPlanarMotion = () => state.task && !isPath() && (state.task.problem ?? 'motion') === 'motion' &&
+  (state.task.space ?? 'planar') === 'planar' && state.task.linkage !== 'six-bar' &&
+  items().every((p) => 'x' in p && 'y' in p);
+const isEditable = () => isPlanarMotion() || (isPath() && items().every((p) => 'x' in p && 'y' in p));
+const isTimedPath = () => isPath() && items().length > 0 && items().every((p) => p.input_deg !== undefined);
+
+// Tasks solved in about a millisecond: solved on every drag event.
+function isLive() {
+  const n = items().length;
+  if (isPlanarMotion()) return n >= 3 && n <= 5;
+  return isTimedPath() && n === 5;
+}
+
+function enoughData() {
+  const n = items().length;
+  if (isPlanarMotion()) return n >= 3;
+  if (isPath()) return n >= 5;
+  return true; // other kinds: let the server say
+}
+
+function poseAt(i) {
+  const p = items()[i];
+  if (!p) return null;
+  const pose = { x: val(p.x), y: val(p.y), theta: (val(p.theta_deg ?? new Num('0')) || 0) * DEG };
+  return Number.isFinite(pose.x) && Number.isFinite(pose.y) ? pose : null;
+}
+
+function setTask(tree, { fit = true } = {}) {
+  if (!tree || typeof tree !== 'object' || Array.isArray(tree)) throw new Error('a task is a JSON object');
+  if ('mechanisms' in tree && !('poses' in tree) && !('points' in tree)) {
+    throw new Error('this is a result file: open it with "Open result…"');
+  }
+  state.task = tree;
+  state.selectedItem = null;
+  state.result = null;
+  state.resultText = null;
+  state.analysis = null;
+  stopPlaying();
+  $('problem').value = isPath() ? 'path' : 'motion';
+  const effort = tree.options?.effort;
+  if (['fast', 'balanced', 'thorough'].includes(effort)) $('effort').value = effort;
+  syncConstraintPanel();
+  $('stages').replaceChildren();
+  $('items-body').dataset.kind = ''; // a new task: the table is rebuilt
+  $('elapsed').textContent = '';
+  renderTable();
+  renderMechList();
+  if (fit) fitView();
+  draw();
+}
+
+/* ---------- editing ---------- */
+
+// Every change of the task goes through here.
+function taskEdited({ source = 'canvas', eventTime = null, dragging = false } = {}) {
+  if (source !== 'table') renderTable();
+  draw();
+  updateHint();
+  if (!enoughData()) {
+    clearResult();
+    return;
+  }
+  // Latency is reported for pointer events only (a typed value has no pointer event).
+  if (isLive()) queueLiveSolve(eventTime ?? performance.now(), eventTime !== null);
+  else if (!dragging) scheduleAutoSolve();
+}
+
+function clearResult() {
+  state.result = null;
+  state.resultText = null;
+  state.analysis = null;
+  stopPlaying();
+  renderMechList();
+  renderStatus();
+  draw();
+}
+
+const roundLength = (x) => numRounded(x, view.decimals);
+const roundAngle = (a) => numRounded(a, 3);
+
+function addItem(world) {
+  const list = items();
+  const last = list[list.length - 1];
+  const item = { x: roundLength(world[0]), y: roundLength(world[1]) };
+  if (!isPath()) {
+    item.theta_deg = last?.theta_deg instanceof Num ? new Num(last.theta_deg.text) : new Num('0');
+  } else if (list.length && isTimedPath()) {
+    // Continue the crank's step between the last two points (30° at first).
+    const a = val(last.input_deg);
+    const step = list.length >= 2 ? a - val(list[list.length - 2].input_deg) : 30;
+    item.input_deg = roundAngle(a + (Number.isFinite(step) ? step : 30));
+  }
+  state.task[itemsKey()] = [...list, item];
+  state.selectedItem = list.length;
+  taskEdited();
+}
+
+function deleteItem(i) {
+  const list = items();
+  if (i === null || i < 0 || i >= list.length) return;
+  list.splice(i, 1);
+  state.selectedItem = null;
+  taskEdited();
+}
+
+function addPivot(world) {
+  const n = items().length;
+  if (!isPlanarMotion() || n < 3 || n > 4) {
+    showError('fixed pivots are picked for three or four poses (five poses give every dyad by themselves)');
+    return;
+  }
+  let p = world;
+  if (n === 4) {
+    const curves = state.result?.burmester_curves?.center_points;
+    if (!curves) { showError('no center-point curve yet: wait for the solve'); return; }
+    const near = nearestOnPolylines(curves, world);
+    if (!near.point || near.distance * view.scale > 30) {
+      showError('click on or near the center-point curve (green): four poses allow fixed pivots only there');
+      return;
+    }
+    p = near.point;
+  }
+  state.task.fixed_pivots = [...(state.task.fixed_pivots || []), [roundLength(p[0]), roundLength(p[1])]];
+  taskEdited();
+}
+
+function movePivot(i, world) {
+  let p = world;
+  const curves = state.result?.burmester_curves?.center_points;
+  if (items().length === 4 && curves) p = nearestOnPolylines(curves, world).point || world;
+  state.task.fixed_pivots[i] = [roundLength(p[0]), roundLength(p[1])];
+}
+
+function clearPivots() {
+  delete state.task.fixed_pivots;
+  delete state.task.moving_pivots;
+  taskEdited();
+}
+
+/* ---------- constraints ---------- */
+
+const constraints = () => (state.task.constraints ||= {});
+
+function pruneConstraints() {
+  if (state.task.constraints && Object.keys(state.task.constraints).length === 0) delete state.task.constraints;
+}
+
+// A box [[xmin, ymin], [xmax, ymax]] as numbers, ordered.
+function boxValues(box) {
+  const [[a, b], [c, d]] = box.map((p) => p.map(val));
+  return [Math.min(a, c), Math.min(b, d), Math.max(a, c), Math.max(b, d)];
+}
+
+// A new box spans the middle of the view (fixed) or E's origin at the task's
+// scale (moving): on screen at once, to be dragged and resized from there.
+function defaultBox(kind) {
+  const L = state.result?.scale || 20;
+  if (kind === 'moving_pivots_box') return [[-L, -L], [L, L]];
+  view.measure();
+  const a = view.toWorld([view.width * 0.2, view.height * 0.8]);
+  const b = view.toWorld([view.width * 0.8, view.height * 0.2]);
+  return [a, b];
+}
+
+function syncConstraintPanel() {
+  const c = state.task?.constraints || {};
+  const text = (v) => (v instanceof Num ? v.text : v === undefined ? '' : String(v));
+  $('c-fixed-box').checked = Array.isArray(c.fixed_pivots_box);
+  $('c-moving-box').checked = Array.isArray(c.moving_pivots_box);
+  $('c-max-link').value = text(c.max_link_length);
+  $('c-min-link').value = text(c.min_link_length);
+  $('c-min-trans').value = text(c.min_transmission_angle_deg);
+  $('c-grashof').value = c.grashof || '';
+  $('c-input-full').checked = c.input_rotates_fully === true;
+}
+
+function bindConstraintPanel() {
+  const boxToggle = (id, key) => $(id).addEventListener('change', (e) => {
+    if (e.target.checked) {
+      constraints()[key] = defaultBox(key).map((p) => p.map(roundLength));
+    } else if (state.task.constraints) {
+      delete state.task.constraints[key];
+      pruneConstraints();
+    }
+    taskEdited();
+  });
+  boxToggle('c-fixed-box', 'fixed_pivots_box');
+  boxToggle('c-moving-box', 'moving_pivots_box');
+  let timer = null;
+  const numberField = (id, key) => $(id).addEventListener('input', (e) => {
+    const text = e.target.value.trim();
+    if (text) constraints()[key] = num(text);
+    else if (state.task.constraints) delete state.task.constraints[key];
+    pruneConstraints();
+    clearTimeout(timer);
+    timer = setTimeout(() => taskEdited({ source: 'panel' }), 250); // solve once typing pauses
+  });
+  numberField('c-max-link', 'max_link_length');
+  numberField('c-min-link', 'min_link_length');
+  numberField('c-min-trans', 'min_transmission_angle_deg');
+  $('c-grashof').addEventListener('change', (e) => {
+    if (e.target.value) constraints().grashof = e.target.value;
+    else if (state.task.constraints) delete state.task.constraints.grashof;
+    pruneConstraints();
+    taskEdited();
+  });
+  $('c-input-full').addEventListener('change', (e) => {
+    if (e.target.checked) constraints().input_rotates_fully = true;
+    else if (state.task.constraints) delete state.task.constraints.input_rotates_fully;
+    pruneConstraints();
+    taskEdited();
+  });
+}
+
+// A box's frame: Σ for the fixed pivots, E at the first pose for the moving ones.
+function boxFrame(key) {
+  if (key !== 'moving_pivots_box') return { toWorld: (p) => p, toLocal: (p) => p };
+  const pose = poseAt(0) || { x: 0, y: 0, theta: 0 };
+  const T = poseMap(pose);
+  const c = Math.cos(pose.theta);
+  const s = Math.sin(pose.theta);
+  return {
+    toWorld: T,
+    toLocal: ([x, y]) => {
+      const dx = x - pose.x;
+      const dy = y - pose.y;
+      return [c * dx + s * dy, -s * dx + c * dy];
+    },
+  };
+}
+
+/* ---------- solving ---------- */
+
+const live = { inFlight: false, dirty: false, since: null, pointer: false, rafPending: false, sentThisFrame: false };
+
+// At most one request a frame and one in flight. The first change of a frame
+// is sent at once (Chrome already delivers pointer moves once a frame, so
+// waiting for the next frame would only add up to 16 ms of latency); later
+// ones wait for the next frame or for the reply in flight, the latest winning.
+function queueLiveSolve(eventTime, pointer) {
+  live.since ??= eventTime; // the oldest change not yet on screen
+  live.pointer ||= pointer;
+  live.dirty = true;
+  if (!live.inFlight && !live.sentThisFrame) pumpLive();
+  else if (!live.rafPending) {
+    live.rafPending = true;
+    requestAnimationFrame(() => {
+      live.rafPending = false;
+      pumpLive();
+    });
+  }
+}
+
+function pumpLive() {
+  if (live.inFlight || !live.dirty) return; // the reply in flight pumps again
+  live.dirty = false;
+  live.sentThisFrame = true;
+  requestAnimationFrame(() => { live.sentThisFrame = false; });
+  const since = live.since;
+  const pointer = live.pointer;
+  live.since = null;
+  live.pointer = false;
+  const text = taskText();
+  cancelStaged();
+  live.inFlight = true;
+  const sent = performance.now();
+  api.solve(text)
+    .then((resultText) => {
+      const received = performance.now();
+      applyResult(resultText, text);
+      const drawn = performance.now();
+      if (pointer) {
+        // Where the time went: waiting for the frame, the request, the redraw.
+        linkfit.lastLatencyParts = { wait: sent - since, request: received - sent, redraw: drawn - received };
+        reportLatency(drawn - since);
+      }
+      clearError('solve');
+    })
+    .catch((err) => showError(err.message, 'solve'))
+    .finally(() => {
+      live.inFlight = false;
+      if (live.dirty) pumpLive();
+    });
+}
+
+function reportLatency(ms) {
+  linkfit.lastLatencyMs = ms;
+  const box = $('live');
+  box.textContent = `live: ${ms.toFixed(1)} ms (pointer event → redrawn picture)`;
+  box.classList.toggle('slow', ms > 30);
+}
+
+let autoTimer = null;
+function scheduleAutoSolve() {
+  clearTimeout(autoTimer);
+  autoTimer = setTimeout(() => runStaged(['fast']), 300);
+}
+
+let staged = null; // {controller, timer}
+
+function cancelStaged() {
+  if (staged) staged.controller.abort();
+}
+
+// Fast first, its list shown at once, then the finer levels up to the chosen
+// one; each stage is marked with its time as it finishes.
+async function runStaged(levels) {
+  if (!enoughData()) { updateHint(); return; }
+  cancelStaged();
+  const controller = new AbortController();
+  const me = { controller, timer: null };
+  staged = me;
+  const list = $('stages');
+  list.replaceChildren();
+  const rows = levels.map((level) => {
+    const li = document.createElement('li');
+    li.dataset.testid = `stage-${level}`;
+    li.setAttribute('data-testid', `stage-${level}`);
+    li.textContent = `${level}: waiting`;
+    list.appendChild(li);
+    return li;
+  });
+  const start = performance.now();
+  me.timer = setInterval(() => {
+    $('elapsed').textContent = `elapsed ${((performance.now() - start) / 1000).toFixed(1)} s`;
+  }, 100);
+  $('cancel').disabled = false;
+  $('solve').disabled = true;
+  const text = taskText();
+  try {
+    for (const [i, level] of levels.entries()) {
+      const li = rows[i];
+      li.className = 'running';
+      li.textContent = `${level}: solving…`;
+      const t0 = performance.now();
+      try {
+        const resultText = await api.solve(text, { effort: level, signal: controller.signal });
+        applyResult(resultText, text);
+        clearError('solve');
+        const r = state.result;
+        li.className = 'done';
+        li.textContent = `${level}: done in ${(performance.now() - t0).toFixed(0)} ms` +
+          ` (solve ${fmtMs(r.solve_time_ms)}), ${r.mechanisms?.length ?? 0} mechanisms` +
+          (r.mechanisms?.[0] ? `, best fit ${fmtFit(r.mechanisms[0])}` : '');
+      } catch (err) {
+        if (err.name === 'AbortError') {
+          li.className = 'cancelled';
+          li.textContent = `${level}: cancelled after ${(performance.now() - t0).toFixed(0)} ms`;
+        } else {
+          li.className = 'failed';
+          li.textContent = `${level}: failed`;
+          showError(err.message, 'solve');
+        }
+        for (const rest of rows.slice(i + 1)) { rest.className = 'cancelled'; rest.textContent = `${rest.dataset.testid.slice(6)}: not run`; }
+        break;
+      }
+    }
+  } finally {
+    clearInterval(me.timer);
+    $('elapsed').textContent = `total ${((performance.now() - start) / 1000).toFixed(2)} s`;
+    if (staged === me) {
+      staged = null;
+      $('cancel').disabled = true;
+      $('solve').disabled = false;
+    }
+  }
+}
+
+function solveButton() {
+  const all = ['fast', 'balanced', 'thorough'];
+  runStaged(all.slice(0, all.indexOf($('effort').value) + 1));
+}
+
+function applyResult(resultText, sentTaskText) {
+  const result = JSON.parse(resultText);
+  const previous = state.result;
+  state.result = result;
+  state.resultText = resultText;
+  state.resultTaskText = sentTaskText;
+  state.solveCount++;
+  const n = result.mechanisms?.length ?? 0;
+  if (state.selected >= n) state.selected = 0;
+  state.analysis = null;
+  if (!previous) fitViewOnce();
+  renderMechList();
+  renderStatus();
+  draw();
+  if (state.dragPose === null) scheduleAnalysis();
+  if (!linkfit.isReady) {
+    linkfit.isReady = true;
+    resolveReady(true);
+  }
+}
+
+/* ---------- analysis and animation ---------- */
+
+let analysisTimer = null;
+let analysisController = null;
+
+function scheduleAnalysis() {
+  clearTimeout(analysisTimer);
+  analysisTimer = setTimeout(fetchAnalysis, 80);
+}
+
+async function fetchAnalysis() {
+  const result = state.result;
+  const index = state.selected;
+  const m = result?.mechanisms?.[index];
+  if (!m?.linkage || result.space === 'spatial') return null;
+  analysisController?.abort();
+  analysisController = new AbortController();
+  try {
+    const text = await api.analyze(state.resultText, state.resultTaskText, index, { steps: 180 }, analysisController.signal);
+    if (state.result !== result || state.selected !== index) return null; // superseded
+    const data = JSON.parse(text);
+    state.analysis = { result, index, data };
+    const steps = data.input_deg?.length ?? 0;
+    $('scrub').max = Math.max(0, steps - 1);
+    state.frame = Math.min(state.frame, Math.max(0, steps - 1));
+    if (!state.playing) state.frame = 0;
+    $('scrub').value = state.frame;
+    drawMechanism();
+    return state.analysis;
+  } catch (err) {
+    if (err.name !== 'AbortError') showError(`analysis: ${err.message}`, 'analysis');
+    return null;
+  }
+}
+
+function currentAnalysis() {
+  const a = state.analysis;
+  return a && a.result === state.result && a.index === state.selected ? a.data : null;
+}
+
+let lastTick = 0;
+let direction = 1;
+
+async function togglePlay() {
+  if (state.playing) { stopPlaying(); return; }
+  if (!currentAnalysis() && !(await fetchAnalysis())) {
+    if (!currentAnalysis()) { showError('this mechanism cannot be animated (no analysis)', 'analysis'); return; }
+  }
+  state.playing = true;
+  $('play').textContent = '❚❚ Pause';
+  $('play').classList.add('active');
+  lastTick = performance.now();
+  requestAnimationFrame(tick);
+}
+
+function stopPlaying() {
+  state.playing = false;
+  $('play').textContent = '▶ Play';
+  $('play').classList.remove('active');
+}
+
+// About 60 analysis steps a second; a rocking input swings back and forth.
+function tick(now) {
+  if (!state.playing) return;
+  const a = currentAnalysis();
+  if (!a) { stopPlaying(); return; }
+  const n = a.input_deg.length;
+  const advance = Math.floor((now - lastTick) / (1000 / 60));
+  if (advance > 0 && n > 1) {
+    lastTick += advance * (1000 / 60);
+    for (let i = 0; i < advance; i++) {
+      if (a.input_rotates_fully) state.frame = (state.frame + 1) % n;
+      else {
+        if (state.frame + direction < 0 || state.frame + direction >= n) direction = -direction;
+        state.frame += direction;
+      }
+    }
+    $('scrub').value = state.frame;
+    drawMechanism();
+  }
+  requestAnimationFrame(tick);
+}
+
+/* ---------- drawing ---------- */
+
+function draw() {
+  view.measure();
+  view.drawGrid(layers.grid);
+  drawCurves();
+  drawBoxes();
+  drawMechanism();
+  drawItems();
+}
+
+function drawCurves() {
+  layers.curves.replaceChildren();
+  const curves = state.result?.burmester_curves;
+  if (!curves || !isPlanarMotion()) return;
+  for (const line of curves.center_points || []) drawPolyline(layers.curves, view, line, 'curve-center', { 'data-testid': 'center-point-curve' });
+  const first = poseAt(0);
+  if (first) {
+    // Circle points are in E: shown where they are at the first pose.
+    const T = poseMap(first);
+    for (const line of curves.circle_points || []) drawPolyline(layers.curves, view, line.map(T), 'curve-circle', { 'data-testid': 'circle-point-curve' });
+  }
+}
+
+function drawBoxes() {
+  layers.boxes.replaceChildren();
+  const c = state.task?.constraints;
+  if (!c || !isEditable()) return;
+  for (const key of ['fixed_pivots_box', 'moving_pivots_box']) {
+    if (!Array.isArray(c[key])) continue;
+    const b = boxValues(c[key]);
+    if (!b.every(Number.isFinite)) continue;
+    const F = boxFrame(key);
+    const corners = [[b[0], b[1]], [b[2], b[1]], [b[2], b[3]], [b[0], b[3]]].map((p) => view.toScreen(F.toWorld(p)));
+    el('polygon', { points: corners.map((p) => p.join(',')).join(' '), class: 'box', 'data-drag': 'box-move', 'data-box': key, 'data-testid': key }, layers.boxes);
+    const label = el('text', { x: corners[3][0] + 4, y: corners[3][1] - 4, class: 'box-label' }, layers.boxes);
+    label.textContent = key === 'fixed_pivots_box' ? 'fixed pivots' : 'moving pivots (E at pose 1)';
+    // Corner k: bit 0 → the x edge is the max one, bit 1 → the y edge.
+    [[0, 0], [1, 0], [1, 1], [0, 1]].forEach(([ix, iy], k) => {
+      el('rect', {
+        x: corners[k][0] - 5, y: corners[k][1] - 5, width: 10, height: 10, class: 'box-handle',
+        'data-drag': 'box-corner', 'data-box': key, 'data-cx': ix, 'data-cy': iy, 'data-testid': `${key}-corner-${k}`,
+      }, layers.boxes);
+    });
+  }
+}
+
+function drawMechanism() {
+  layers.dyads.replaceChildren();
+  layers.mechanism.replaceChildren();
+  const r = state.result;
+  if (!r || r.space === 'spatial' || !isEditable()) return;
+  const motion = r.problem !== 'path' && Array.isArray(r.dyads);
+  const poseIndex = state.dragPose ?? 0;
+  const pose = motion ? poseAt(poseIndex) : null;
+  if (motion && pose) drawDyads(layers.dyads, view, r, pose);
+  const m = r.mechanisms?.[state.selected];
+  if (!m) { $('anim-angle').textContent = ''; return; }
+  const a = currentAnalysis();
+  const firstTheta = motion ? poseAt(0)?.theta ?? null : null;
+  let frame = null;
+  if (state.dragPose !== null && motion && pose && m.dyads) {
+    frame = frameFromDyads(r, m, pose); // live: exactly at the pose being dragged
+  } else if (m.linkage && a && canAnimate(m, a)) {
+    drawPolyline(layers.mechanism, view, a.coupler_point || [], 'coupler-curve', { 'data-testid': 'coupler-curve' });
+    const k = Math.min(state.frame, a.input_deg.length - 1);
+    frame = frameFromLinkage(m, a, k, firstTheta);
+    $('anim-angle').textContent = `input ${a.input_deg[k].toFixed(1)}°, step ${k + 1}/${a.input_deg.length}`;
+  } else if (m.linkage) {
+    frame = frameFromLinkage(m, null, null, firstTheta);
+  } else if (motion && pose && m.dyads) {
+    frame = frameFromDyads(r, m, pose);
+  }
+  if (frame) drawFrame(layers.mechanism, view, frame);
+  if (!a) $('anim-angle').textContent = '';
+}
+
+function drawItems() {
+  const layer = layers.items;
+  layer.replaceChildren();
+  if (!state.task || !isEditable()) return;
+  // Picked fixed pivots (three or four poses).
+  (state.task.fixed_pivots || []).forEach((p, i) => {
+    const w = [val(p[0]), val(p[1])];
+    if (!w.every(Number.isFinite)) return;
+    const [x, y] = view.toScreen(w);
+    el('path', {
+      d: `M${x},${y - 8}l8,8l-8,8l-8,-8z`, class: 'picked-pivot', 'data-drag': 'pivot', 'data-index': i,
+      'data-testid': `picked-pivot-${i}`,
+    }, layer);
+  });
+  const first = poseAt(0);
+  (state.task.moving_pivots || []).forEach((p, i) => {
+    const w = [val(p[0]), val(p[1])];
+    if (!first || !w.every(Number.isFinite)) return;
+    const [x, y] = view.toScreen(poseMap(first)(w));
+    el('rect', { x: x - 5, y: y - 5, width: 10, height: 10, class: 'picked-pivot', 'data-testid': `given-moving-pivot-${i}` }, layer);
+  });
+  items().forEach((item, i) => {
+    const wx = val(item.x);
+    const wy = val(item.y);
+    if (!Number.isFinite(wx) || !Number.isFinite(wy)) return;
+    const [x, y] = view.toScreen([wx, wy]);
+    const g = el('g', { class: 'pose' + (state.selectedItem === i ? ' selected' : '') }, layer);
+    if (!isPath()) {
+      const t = (val(item.theta_deg) || 0) * DEG;
+      const tip = [x + 48 * Math.cos(t), y - 48 * Math.sin(t)];
+      const yTip = [x - 24 * Math.sin(t), y - 24 * Math.cos(t)];
+      el('line', { x1: x, y1: y, x2: yTip[0], y2: yTip[1], class: 'pose-axis-y' }, g);
+      el('line', { x1: x, y1: y, x2: tip[0], y2: tip[1], class: 'pose-axis' }, g);
+      el('path', { d: arrowHead(tip, t), class: 'pose-axis' }, g);
+      el('circle', { cx: tip[0], cy: tip[1], r: 6, class: 'pose-angle', 'data-drag': 'pose-angle', 'data-index': i, 'data-testid': `pose-${i}-angle` }, g);
+      el('circle', { cx: x, cy: y, r: 7, class: 'pose-origin', 'data-drag': 'pose-origin', 'data-index': i, 'data-testid': `pose-${i}-origin` }, g);
+    } else {
+      el('circle', { cx: x, cy: y, r: 6, class: 'point', 'data-drag': 'point', 'data-index': i, 'data-testid': `point-${i}` }, g);
+    }
+    const label = el('text', { x: x - 14, y: y + 18, class: 'pose-label' }, g);
+    label.textContent = String(i + 1);
+  });
+}
+
+function arrowHead([x, y], t) {
+  const back = (a) => [x - 9 * Math.cos(t + a), y + 9 * Math.sin(t + a)];
+  const [l, r] = [back(0.4), back(-0.4)];
+  return `M${l[0]},${l[1]}L${x},${y}L${r[0]},${r[1]}`;
+}
+
+let fittedOnce = false;
+function fitViewOnce() {
+  if (!fittedOnce) { fittedOnce = true; fitView(); }
+}
+
+function fitView() {
+  view.measure();
+  const pts = items().map((p) => [val(p.x), val(p.y)]);
+  const m = state.result?.mechanisms?.[state.selected];
+  const J = m?.linkage?.joints;
+  if (J) for (const v of Object.values(J)) if (Array.isArray(v)) pts.push(v);
+  for (const p of state.task?.fixed_pivots || []) pts.push(p.map(val));
+  if (pts.length) view.fit(pts);
+  draw();
+}
+
+/* ---------- pointer interaction ---------- */
+
+let drag = null;
+
+function eventTime(e) {
+  // The event's own timestamp (same clock as performance.now()) includes the
+  // time it waited in the input queue: the honest start of the latency.
+  const now = performance.now();
+  return e.timeStamp > 0 && e.timeStamp <= now ? e.timeStamp : now;
+}
+
+svg.addEventListener('pointerdown', (e) => {
+  svg.focus({ preventScroll: true });
+  const p = view.eventPoint(e);
+  const target = e.target.closest('[data-drag]');
+  if (e.button === 1 || (e.button === 0 && !target)) {
+    drag = { kind: 'pan', last: p, start: p, moved: false, button: e.button };
+  } else if (e.button === 0) {
+    const kind = target.dataset.drag;
+    const index = Number(target.dataset.index);
+    drag = { kind, index, start: p, world: view.toWorld(p), moved: false };
+    if (kind === 'pose-origin' || kind === 'point') {
+      const it = items()[index];
+      drag.offset = [val(it.x) - drag.world[0], val(it.y) - drag.world[1]];
+      state.selectedItem = index;
+      renderTable();
+    }
+    if (kind === 'pose-angle') { state.selectedItem = index; renderTable(); }
+    if (kind.startsWith('box')) {
+      drag.box = target.dataset.box;
+      drag.corner = [Number(target.dataset.cx), Number(target.dataset.cy)];
+      drag.orig = boxValues(state.task.constraints[drag.box]);
+      drag.localStart = boxFrame(drag.box).toLocal(drag.world);
+    }
+  } else return;
+  svg.setPointerCapture(e.pointerId);
+  e.preventDefault();
+});
+
+svg.addEventListener('pointermove', (e) => {
+  if (!drag) return;
+  const t = eventTime(e);
+  const p = view.eventPoint(e);
+  if (Math.hypot(p[0] - drag.start[0], p[1] - drag.start[1]) > 3) drag.moved = true;
+  if (drag.kind === 'pan') {
+    if (!drag.moved) return;
+    svg.classList.add('panning');
+    view.panBy(p[0] - drag.last[0], p[1] - drag.last[1]);
+    drag.last = p;
+    draw();
+    return;
+  }
+  if (!drag.moved) return;
+  const w = view.toWorld(p);
+  const it = items()[drag.index];
+  switch (drag.kind) {
+    case 'pose-origin':
+    case 'point':
+      it.x = roundLength(w[0] + drag.offset[0]);
+      it.y = roundLength(w[1] + drag.offset[1]);
+      if (drag.kind === 'pose-origin') state.dragPose = drag.index;
+      break;
+    case 'pose-angle': {
+      const a = Math.atan2(w[1] - val(it.y), w[0] - val(it.x)) / DEG;
+      // Keep the angle near the typed one (no jump from 179° to -179°).
+      const old = val(it.theta_deg) || 0;
+      it.theta_deg = roundAngle(a + 360 * Math.round((old - a) / 360));
+      state.dragPose = drag.index;
+      break;
+    }
+    case 'pivot':
+      movePivot(drag.index, w);
+      break;
+    case 'box-move':
+    case 'box-corner': {
+      const F = boxFrame(drag.box);
+      const l = F.toLocal(w);
+      const [dx, dy] = [l[0] - drag.localStart[0], l[1] - drag.localStart[1]];
+      let [x0, y0, x1, y1] = drag.orig;
+      if (drag.kind === 'box-move') { x0 += dx; x1 += dx; y0 += dy; y1 += dy; } else {
+        if (drag.corner[0]) x1 += dx; else x0 += dx;
+        if (drag.corner[1]) y1 += dy; else y0 += dy;
+      }
+      state.task.constraints[drag.box] = [[roundLength(Math.min(x0, x1)), roundLength(Math.min(y0, y1))],
+        [roundLength(Math.max(x0, x1)), roundLength(Math.max(y0, y1))]];
+      break;
+    }
+    default:
+      return;
+  }
+  taskEdited({ eventTime: t, dragging: true });
+});
+
+function endDrag(e) {
+  if (!drag) return;
+  const d = drag;
+  drag = null;
+  svg.classList.remove('panning');
+  if (svg.hasPointerCapture(e.pointerId)) svg.releasePointerCapture(e.pointerId);
+  if (d.kind === 'pan') {
+    if (!d.moved && d.button === 0 && e.type === 'pointerup') {
+      const w = view.toWorld(d.start);
+      if (state.tool === 'add' && isEditable()) addItem(w);
+      else if (state.tool === 'pivot') addPivot(w);
+      else { state.selectedItem = null; renderTable(); draw(); }
+    }
+    return;
+  }
+  const wasDragging = state.dragPose !== null;
+  state.dragPose = null;
+  if (d.moved) taskEdited({ eventTime: eventTime(e) }); // the final state; analysis follows its result
+  else if (wasDragging) { draw(); scheduleAnalysis(); } else draw();
+}
+svg.addEventListener('pointerup', endDrag);
+svg.addEventListener('pointercancel', endDrag);
+
+svg.addEventListener('wheel', (e) => {
+  e.preventDefault();
+  view.zoomAt(view.eventPoint(e), Math.exp(-e.deltaY * (e.deltaMode === 1 ? 0.05 : 0.0015)));
+  draw();
+}, { passive: false });
+
+new ResizeObserver(() => draw()).observe(svg);
+
+function setTool(tool) {
+  state.tool = tool;
+  document.querySelectorAll('.tool').forEach((b) => b.classList.toggle('active', b.dataset.tool === tool));
+  svg.classList.toggle('mode-add', tool === 'add');
+  svg.classList.toggle('mode-pivot', tool === 'pivot');
+  updateHint();
+}
+
+document.addEventListener('keydown', (e) => {
+  if (e.target.closest('input, textarea, select')) return;
+  if (e.key === 'Delete' || e.key === 'Backspace') { deleteItem(state.selectedItem); e.preventDefault(); }
+  else if (e.key === 'a') setTool('add');
+  else if (e.key === 's' || e.key === 'Escape') setTool('select');
+  else if (e.key === 'p') setTool('pivot');
+  else if (e.key === 'f') fitView();
+  else if (e.key === ' ') { togglePlay(); e.preventDefault(); }
+});
+
+function updateHint() {
+  const n = items().length;
+  let hint = '';
+  if (!isEditable()) hint = 'this task is not drawn on the plane: press Solve for its result';
+  else if (isPath()) hint = n < 5 ? `path: add points (${n} of at least 5)` : isLive() ? 'five timed points: drag them, solved live' : 'path: choose an effort and Solve';
+  else if (n < 3) hint = `add poses (${n} of at least 3): Add, then click`;
+  else if (n === 3) hint = 'three poses: Pick pivot, click anywhere for a fixed pivot (two make a four-bar)';
+  else if (n === 4) hint = 'four poses: Pick pivot, click near the green center-point curve';
+  else if (n === 5) hint = 'five poses: drag a pose, every dyad and four-bar follows live';
+  else hint = `${n} poses, least squares: choose an effort and Solve (fast runs after each edit)`;
+  $('hint').textContent = hint;
+}
+
+/* ---------- table panel ---------- */
+
+function renderTable() {
+  const body = $('items-body');
+  // While the rows stay the same (a drag), only their values change: the
+  // inputs are updated in place instead of rebuilt on every pointer move.
+  if (isEditable() && body.rows.length === items().length && body.dataset.kind === angleKey() && items().length) {
+    items().forEach((item, i) => {
+      const row = body.rows[i];
+      row.className = state.selectedItem === i ? 'selected' : '';
+      ['x', 'y', angleKey()].forEach((key, k) => {
+        const input = row.cells[k + 1].firstChild;
+        const text = item[key] instanceof Num ? item[key].text : item[key] ?? '';
+        if (input.value !== text && document.activeElement !== input) input.value = text;
+      });
+    });
+    return;
+  }
+  body.dataset.kind = angleKey();
+  body.replaceChildren();
+  $('angle-head').textContent = isPath() ? 'input°' : 'θ°';
+  if (!isEditable()) {
+    const tr = body.insertRow();
+    const td = tr.insertCell();
+    td.colSpan = 5;
+    td.textContent = 'not a planar motion or path task: edit it as a file';
+    return;
+  }
+  items().forEach((item, i) => {
+    const tr = body.insertRow();
+    tr.dataset.testid = `item-row-${i}`;
+    tr.setAttribute('data-testid', `item-row-${i}`);
+    if (state.selectedItem === i) tr.className = 'selected';
+    tr.insertCell().textContent = String(i + 1);
+    for (const key of ['x', 'y', angleKey()]) {
+      const input = document.createElement('input');
+      input.value = item[key] instanceof Num ? item[key].text : item[key] ?? '';
+      input.setAttribute('data-testid', `item-${i}-${key}`);
+      input.addEventListener('focus', () => { state.selectedItem = i; drawItems(); });
+      input.addEventListener('input', () => {
+        const text = input.value.trim();
+        const it = items()[i]; // the row's item now (rows outlive a drag's edits)
+        if (!it) return;
+        if (text === '' && key === 'input_deg') delete it[key];
+        else it[key] = num(text);
+        taskEdited({ source: 'table' });
+      });
+      tr.insertCell().appendChild(input);
+    }
+    const del = document.createElement('button');
+    del.textContent = '×';
+    del.title = 'delete';
+    del.addEventListener('click', () => deleteItem(i));
+    tr.insertCell().appendChild(del);
+  });
+}
+
+const COLUMN_NAMES = {
+  x: 'x', y: 'y', theta: 'theta_deg', theta_deg: 'theta_deg', angle: 'theta_deg', angle_deg: 'theta_deg',
+  'θ': 'theta_deg', deg: 'theta_deg', input: 'input_deg', input_deg: 'input_deg', phi: 'input_deg',
+  weight: 'weight',
+};
+
+// A typed or pasted table: whitespace, comma, semicolon or tab separated, an
+// optional header naming the columns. Values stay as typed.
+function parseTable(text) {
+  const lines = text.split(/\r?\n/).map((l, i) => [i + 1, l.trim()]).filter(([, l]) => l && !l.startsWith('#'));
+  if (!lines.length) throw new Error('the table is empty');
+  const split = (l) => l.split(/[\s,;]+/).filter(Boolean);
+  let columns = null;
+  const first = split(lines[0][1]);
+  if (first.some((t) => !/^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/.test(t))) {
+    columns = first.map((t) => {
+      const name = COLUMN_NAMES[t.toLowerCase().replace(/[()°]/g, '')];
+      if (!name) throw new Error(`table header: unknown column "${t}" (x, y, theta_deg, input_deg, weight)`);
+      return name;
+    });
+    lines.shift();
+  }
+  let path = isPath();
+  if (columns) path = columns.includes('input_deg') || (!columns.includes('theta_deg') && path);
+  if (!columns) {
+    const n = split(lines[0][1]).length;
+    if (path) columns = n === 2 ? ['x', 'y'] : ['x', 'y', 'input_deg', 'weight'].slice(0, n);
+    else columns = ['x', 'y', 'theta_deg', 'weight'].slice(0, n);
+    if (n < 2 || n > 4) throw new Error(`table line ${lines[0][0]}: expected 2 to 4 values, got ${n}`);
+  }
+  const rows = lines.map(([no, l]) => {
+    const cells = split(l);
+    if (cells.length !== columns.length) throw new Error(`table line ${no}: expected ${columns.length} values, got ${cells.length}`);
+    return Object.fromEntries(columns.map((c, k) => [c, num(cells[k])]));
+  });
+  return { path, rows };
+}
+
+function tableAsText() {
+  const keys = isPath() ? (isTimedPath() ? ['x', 'y', 'input_deg'] : ['x', 'y']) : ['x', 'y', 'theta_deg'];
+  return keys.join('\t') + '\n' + items().map((p) => keys.map((k) => (p[k] instanceof Num ? p[k].text : '')).join('\t')).join('\n');
+}
+
+function applyTable() {
+  try {
+    const { path, rows } = parseTable($('table-text').value);
+    const keep = state.task.constraints;
+    const tree = path ? { problem: 'path', points: rows } : { problem: 'motion', space: 'planar', poses: rows };
+    if (keep) tree.constraints = keep;
+    setTask(tree);
+    clearError();
+    taskEdited();
+  } catch (err) {
+    showError(err.message);
+  }
+}
+
+function switchProblem(kind) {
+  if (kind === (isPath() ? 'path' : 'motion')) return;
+  const list = items().map((p) => ({ x: p.x, y: p.y }));
+  const tree = kind === 'path' ? { problem: 'path', points: list } :
+    { problem: 'motion', space: 'planar', poses: list.map((p) => ({ ...p, theta_deg: new Num('0') })) };
+  if (state.task.constraints) {
+    tree.constraints = state.task.constraints;
+    if (kind === 'path') delete tree.constraints.moving_pivots_box;
+  }
+  setTask(tree, { fit: false });
+  taskEdited();
+}
+
+/* ---------- mechanism list, status, errors ---------- */
+
+const fmtMs = (ms) => (Number.isFinite(ms) ? `${ms < 10 ? ms.toFixed(3) : ms.toFixed(1)} ms` : '–');
+const fmtNum = (x) => (Number.isFinite(x) ? (Math.abs(x) >= 1e-3 && Math.abs(x) < 1e5 ? x.toPrecision(4) : x.toExponential(2)) : '–');
+
+function fitOf(m) {
+  for (const key of ['max_pose_error', 'max_point_error', 'max_angle_error_deg']) if (Number.isFinite(m[key])) return m[key];
+  return NaN;
+}
+const fmtFit = (m) => fmtNum(fitOf(m));
+
+function transmissionOf(m) {
+  const t = m.transmission_angle_deg;
+  if (Array.isArray(t)) return `${t[0].toFixed(1)}–${t[1].toFixed(1)}`;
+  if (Number.isFinite(m.transmission_angle_min_deg)) return `${m.transmission_angle_min_deg.toFixed(1)}–${m.transmission_angle_max_deg.toFixed(1)}`;
+  return '–';
+}
+
+function renderMechList() {
+  const body = $('mech-body');
+  body.replaceChildren();
+  (state.result?.mechanisms || []).forEach((m, i) => {
+    const tr = body.insertRow();
+    tr.setAttribute('data-testid', `mechanism-row-${i}`);
+    if (i === state.selected) tr.className = 'selected';
+    const cells = [String(i + 1), m.type ?? '', m.grashof ?? '', (m.defects || []).join(', ') || '–',
+      transmissionOf(m), fmtFit(m), (m.violates || []).join(', ') || '–'];
+    cells.forEach((text, k) => {
+      const td = tr.insertCell();
+      td.textContent = text;
+      if (k === 3 && m.defects?.length) td.className = 'defective';
+    });
+    tr.title = m.chosen ? `chosen: ${m.chosen}` : '';
+    tr.addEventListener('click', () => selectMechanism(i));
+  });
+}
+
+function selectMechanism(i) {
+  if (i === state.selected) return;
+  state.selected = i;
+  state.frame = 0;
+  renderMechList();
+  drawMechanism();
+  const wasPlaying = state.playing;
+  stopPlaying();
+  fetchAnalysis().then((a) => { if (a && wasPlaying) togglePlay(); });
+}
+
+function renderStatus() {
+  $('st-version').textContent = state.version ? `linkfit ${state.version}` : '';
+  const r = state.result;
+  $('st-method').textContent = r ? `method: ${r.method ?? '–'}${r.effort ? ` (${r.effort})` : ''}` : '';
+  $('st-time').textContent = r ? `solve_time_ms: ${fmtMs(r.solve_time_ms)}` : '';
+  const notes = r?.notes || [];
+  $('st-notes').textContent = notes.length ? `notes: ${notes.join(' · ')}` : '';
+  $('st-notes').title = notes.join('\n\n');
+}
+
+let errorSource = null;
+function showError(message, source = 'other') {
+  errorSource = source;
+  $('error-text').textContent = message;
+  $('error-bar').hidden = false;
+}
+
+// A success clears only the error of its own kind (a good solve does not hide
+// a file that failed to open).
+function clearError(source) {
+  if (source && errorSource !== source) return;
+  $('error-bar').hidden = true;
+  errorSource = null;
+}
+
+/* ---------- files ---------- */
+
+function download(name, text, type) {
+  const url = URL.createObjectURL(new Blob([text], { type }));
+  const a = document.createElement('a');
+  a.href = url;
+  a.download = name;
+  document.body.appendChild(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 5000);
+  linkfit.lastExport = { name, text, type };
+}
+
+const STYLE_PROPS = ['fill', 'fill-opacity', 'stroke', 'stroke-width', 'stroke-dasharray', 'stroke-linecap',
+  'stroke-linejoin', 'stroke-opacity', 'opacity', 'font-size', 'font-family', 'font-weight'];
+
+// The canvas as a standalone SVG: the stylesheet's rules inlined on every element.
+function pictureSvg() {
+  const clone = svg.cloneNode(true);
+  const from = svg.querySelectorAll('*');
+  const to = clone.querySelectorAll('*');
+  from.forEach((node, i) => {
+    const cs = getComputedStyle(node);
+    to[i].setAttribute('style', STYLE_PROPS.map((p) => `${p}:${cs.getPropertyValue(p)}`).join(';'));
+    to[i].removeAttribute('class');
+  });
+  clone.setAttribute('xmlns', 'http://www.w3.org/2000/svg');
+  clone.setAttribute('width', view.width);
+  clone.setAttribute('height', view.height);
+  clone.setAttribute('viewBox', `0 0 ${view.width} ${view.height}`);
+  clone.removeAttribute('style');
+  clone.insertBefore(el('rect', { width: '100%', height: '100%', fill: '#fff' }), clone.firstChild);
+  return '<?xml version="1.0" encoding="UTF-8"?>\n' + new XMLSerializer().serializeToString(clone) + '\n';
+}
+
+async function exportCad(format) {
+  if (!state.result?.mechanisms?.length) { showError('nothing to export: no mechanism listed'); return; }
+  try {
+    const text = await api.exportDrawing(state.resultText, state.resultTaskText, state.selected, format);
+    download(`mechanism_${state.selected + 1}.${format}`, text, format === 'svg' ? 'image/svg+xml' : 'application/dxf');
+  } catch (err) {
+    showError(`export: ${err.message}`, 'export');
+  }
+}
+
+function readFile(input, handle) {
+  input.addEventListener('change', async () => {
+    const file = input.files[0];
+    input.value = '';
+    if (!file) return;
+    try {
+      handle(await file.text(), file.name);
+    } catch (err) {
+      showError(`${file.name}: ${err.message}`, 'file');
+    }
+  });
+}
+
+// A task file's text: drawn, and solved (live, or its fast stage).
+function openTaskText(text) {
+  setTask(parse(text));
+  clearError();
+  if (isLive() || !enoughData()) taskEdited(); else { updateHint(); runStaged(['fast']); }
+}
+
+function bindFiles() {
+  $('open-task').addEventListener('click', () => $('file-task').click());
+  $('open-result').addEventListener('click', () => $('file-result').click());
+  readFile($('file-task'), openTaskText);
+  readFile($('file-result'), (text) => {
+    const result = JSON.parse(text);
+    if (!Array.isArray(result.mechanisms)) throw new Error('not a linkfit result (no "mechanisms")');
+    stopPlaying();
+    state.selected = 0;
+    applyResult(text, taskText());
+    clearError();
+  });
+  $('save-task').addEventListener('click', () => download('task.json', taskText(), 'application/json'));
+  $('save-result').addEventListener('click', () => {
+    if (!state.resultText) { showError('no result to save yet'); return; }
+    download('result.json', state.resultText.endsWith('\n') ? state.resultText : state.resultText + '\n', 'application/json');
+  });
+  $('save-svg').addEventListener('click', () => download('linkfit_picture.svg', pictureSvg(), 'image/svg+xml'));
+  $('export-dxf').addEventListener('click', () => exportCad('dxf'));
+  $('export-cad-svg').addEventListener('click', () => exportCad('svg'));
+}
+
+/* ---------- start ---------- */
+
+function bindUi() {
+  document.querySelectorAll('.tool').forEach((b) => b.addEventListener('click', () => setTool(b.dataset.tool)));
+  $('clear-pivots').addEventListener('click', clearPivots);
+  $('delete-item').addEventListener('click', () => deleteItem(state.selectedItem));
+  $('fit-view').addEventListener('click', fitView);
+  $('problem').addEventListener('change', (e) => switchProblem(e.target.value));
+  $('solve').addEventListener('click', solveButton);
+  $('cancel').addEventListener('click', cancelStaged);
+  $('play').addEventListener('click', togglePlay);
+  $('scrub').addEventListener('input', (e) => {
+    stopPlaying();
+    state.frame = Number(e.target.value);
+    if (!currentAnalysis()) fetchAnalysis(); else drawMechanism();
+  });
+  $('error-close').addEventListener('click', () => clearError());
+  $('table-apply').addEventListener('click', applyTable);
+  document.querySelector('.paste').addEventListener('toggle', (e) => {
+    if (e.target.open && !$('table-text').value.trim()) $('table-text').value = tableAsText();
+  });
+  bindConstraintPanel();
+  bindFiles();
+  setTool('select');
+}
+
+async function start() {
+  bindUi();
+  api.version().then((v) => { state.version = v.version; renderStatus(); })
+    .catch((err) => showError(`server: ${err.message}`, 'version'));
+  try {
+    const response = await fetch('examples/four_bar_5_poses.json');
+    if (!response.ok) throw new Error(`HTTP ${response.status}`);
+    setTask(parse(await response.text()));
+    taskEdited();
+  } catch (err) {
+    showError(`the bundled example did not load: ${err.message}`);
+    setTask({ problem: 'motion', space: 'planar', poses: [] });
+  }
+}
+
+start();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <future>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -195,10 +196,45 @@ WebReply ErrorReply(int status, const std::string& message) {
 }
 
 WebApi::WebApi(WebApiOptions options) : options_(std::move(options)) {
-  live_slots_ = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+  for (unsigned k = 0; k < cores; ++k) {
+    live_workers_.emplace_back([this] {
+      while (true) {
+        std::function<void()> work;
+        {
+          std::unique_lock<std::mutex> lock(live_mutex_);
+          live_ready_.wait(lock, [this] { return stopping_ || !live_queue_.empty(); });
+          if (live_queue_.empty()) return;
+          work = std::move(live_queue_.front());
+          live_queue_.pop_front();
+        }
+        work();
+      }
+    });
+  }
   if (options_.long_solves <= 0) {
     options_.long_solves = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   }
+}
+
+WebApi::~WebApi() {
+  {
+    std::lock_guard<std::mutex> lock(live_mutex_);
+    stopping_ = true;
+  }
+  live_ready_.notify_all();
+  for (std::thread& worker : live_workers_) worker.join();
+}
+
+WebReply WebApi::OnLiveWorker(const std::function<WebReply()>& work) {
+  std::promise<WebReply> reply;
+  std::future<WebReply> done = reply.get_future();
+  {
+    std::lock_guard<std::mutex> lock(live_mutex_);
+    live_queue_.emplace_back([&work, &reply] { reply.set_value(work()); });
+  }
+  live_ready_.notify_one();
+  return done.get();
 }
 
 WebReply WebApi::Version() const {
@@ -262,49 +298,43 @@ WebReply WebApi::RunLong(const std::vector<std::string>& args,
 }
 
 WebReply WebApi::Solve(const WebRequest& request) {
-  return Guarded([&] {
-    const Params params(request, "solve", {"effort", "curve_points"});
-    const std::string& text =
-        request.parts.count("task") > 0 ? Part(request, "task", "solve") : request.body;
-    if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
-      throw InputError("task: empty request body, expected a task (the JSON of a task file)");
-    }
-    Task task = ParseTask(text, "task");
-    const std::optional<std::string> effort = params.Text("effort");
-    if (effort) params.OneOf("effort", {"fast", "balanced", "thorough"});
-    const long long curve_points =
-        params.Whole("curve_points", 2, kMaxCurvePoints, kDefaultCurvePoints);
-    if (!IsLive(task)) {
-      std::vector<std::string> args = {"solve", "/dev/stdin", "--curve-points",
-                                       std::to_string(curve_points)};
-      if (effort) args.insert(args.end(), {"--effort", *effort});
-      return RunLong(args, {{0, text}});
-    }
-    std::unique_lock<std::mutex> lock(live_mutex_);
-    live_turn_.wait(lock, [this] { return live_running_ < live_slots_; });
-    ++live_running_;
-    lock.unlock();
-    struct LiveTurn {
-      WebApi* api;
-      ~LiveTurn() {
-        std::lock_guard<std::mutex> lock(api->live_mutex_);
-        --api->live_running_;
-        api->live_turn_.notify_one();
+  const std::string& text =
+      request.parts.count("task") > 0 ? request.parts.at("task") : request.body;
+  // Parsed on a live worker, and solved there when it is live; else solved in a child process
+  // from this thread (`long_args`).
+  std::vector<std::string> long_args;
+  WebReply reply = OnLiveWorker([&] {
+    return Guarded([&] {
+      const Params params(request, "solve", {"effort", "curve_points"});
+      if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
+        throw InputError("task: empty request body, expected a task (the JSON of a task file)");
       }
-    } turn{this};
-    if (effort == "fast") task.effort = Effort::kFast;
-    if (effort == "balanced") task.effort = Effort::kBalanced;
-    if (effort == "thorough") task.effort = Effort::kThorough;
-    TaskSolverOptions solver;
-    solver.threads = 1;  // the server's threads serve other requests meanwhile
-    TaskResult result = SolveTask(task, solver);
-    if (auto* planar = std::get_if<PlanarMotionResult>(&result)) {
-      planar->curve_points = static_cast<int>(curve_points);
-    }
-    WebReply reply;
-    reply.body = ResultToJson(result, -1) + "\n";
-    return reply;
+      Task task = ParseTask(text, "task");
+      const std::optional<std::string> effort = params.Text("effort");
+      if (effort) params.OneOf("effort", {"fast", "balanced", "thorough"});
+      const long long curve_points =
+          params.Whole("curve_points", 2, kMaxCurvePoints, kDefaultCurvePoints);
+      if (!IsLive(task)) {
+        long_args = {"solve", "/dev/stdin", "--curve-points", std::to_string(curve_points)};
+        if (effort) long_args.insert(long_args.end(), {"--effort", *effort});
+        return WebReply();
+      }
+      if (effort == "fast") task.effort = Effort::kFast;
+      if (effort == "balanced") task.effort = Effort::kBalanced;
+      if (effort == "thorough") task.effort = Effort::kThorough;
+      TaskSolverOptions solver;
+      solver.threads = 1;  // the other workers solve other requests meanwhile
+      TaskResult result = SolveTask(task, solver);
+      if (auto* planar = std::get_if<PlanarMotionResult>(&result)) {
+        planar->curve_points = static_cast<int>(curve_points);
+      }
+      WebReply live;
+      live.body = ResultToJson(result, -1) + "\n";
+      return live;
+    });
   });
+  if (long_args.empty()) return reply;
+  return Guarded([&] { return RunLong(long_args, {{0, text}}); });
 }
 
 WebReply WebApi::Refine(const WebRequest& request) {

@@ -18,9 +18,12 @@
 #define LINKFIT_APPS_WEB_API_H_
 
 #include <condition_variable>
+#include <deque>
+#include <functional>
 #include <map>
 #include <mutex>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace linkfit {
@@ -53,6 +56,9 @@ WebReply ErrorReply(int status, const std::string& message);
 class WebApi {
  public:
   explicit WebApi(WebApiOptions options);
+  ~WebApi();
+  WebApi(const WebApi&) = delete;
+  WebApi& operator=(const WebApi&) = delete;
 
   WebReply Solve(const WebRequest& request);
   WebReply Refine(const WebRequest& request);
@@ -67,13 +73,19 @@ class WebApi {
   // among the long solves; its result JSON, or the error reply its failure calls for.
   WebReply RunLong(const std::vector<std::string>& args, const std::map<int, std::string>& inputs);
 
+  // Runs `work` on one of the live workers and waits for it.
+  WebReply OnLiveWorker(const std::function<WebReply()>& work);
+
   WebApiOptions options_;
-  // The live solves running, at most one a core: more would only share the cores in smaller
-  // slices, and every one of a burst would finish late (the last no sooner).
+  // The live solves (parsed, solved and written) run on one worker thread a core, in the order
+  // they came: more at once would only share the cores in smaller slices, so every request of
+  // a burst would finish late (the last no sooner); and the same few threads keep their memory
+  // allocator's caches warm, where the server's many connection threads would contend for it.
+  std::vector<std::thread> live_workers_;
+  std::deque<std::function<void()>> live_queue_;
   std::mutex live_mutex_;
-  std::condition_variable live_turn_;
-  int live_running_ = 0;
-  int live_slots_ = 1;
+  std::condition_variable live_ready_;
+  bool stopping_ = false;
   std::mutex mutex_;
   std::condition_variable turn_;
   int running_ = 0;

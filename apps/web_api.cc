@@ -143,6 +143,22 @@ const std::string& Part(const WebRequest& request, const std::string& name, cons
   return found->second;
 }
 
+// What the routes on a result take: the result, its task when given, and the rank of the
+// mechanism (?mechanism, counted from 1) as an index.
+struct OnResult {
+  const std::string& result_text;
+  std::optional<Task> task;
+  int mechanism = 0;
+};
+
+OnResult ReadOnResult(const WebRequest& request, const Params& params, const char* route) {
+  OnResult on{Part(request, "result", route), std::nullopt, 0};
+  const std::string& task_text = Part(request, "task", route, false);
+  if (!task_text.empty()) on.task = ParseTask(task_text, "task");
+  on.mechanism = static_cast<int>(params.Whole("mechanism", 1, kMaxIndex, 1) - 1);
+  return on;
+}
+
 // A route's reply, its errors as replies: bad input 400 with the CLI's line, anything else 500.
 template <typename Route>
 WebReply Guarded(const Route& route) {
@@ -362,13 +378,10 @@ WebReply WebApi::Analyze(const WebRequest& request) {
     const Params params(request, "analyze",
                         {"mechanism", "steps", "range", "input_speed", "force", "output_torque",
                          "slider_force", "mass", "length_unit", "gravity", "format"});
-    const std::string& result_text = Part(request, "result", "analyze");
-    const std::string& task_text = Part(request, "task", "analyze", false);
-    std::optional<Task> task;
-    if (!task_text.empty()) task = ParseTask(task_text, "task");
+    const OnResult on = ReadOnResult(request, params, "analyze");
     AnalysisRequest analysis;
-    analysis.task = task ? &*task : nullptr;
-    analysis.mechanism = static_cast<int>(params.Whole("mechanism", 1, kMaxIndex, 1) - 1);
+    analysis.task = on.task ? &*on.task : nullptr;
+    analysis.mechanism = on.mechanism;
     analysis.steps = static_cast<int>(params.Whole("steps", 1, options_.max_steps, 360));
     if (params.Text("range")) SetAnalysisRange(*params.Text("range"), "?range", &analysis);
     analysis.input_speed = params.Number("input_speed").value_or(1.0);
@@ -383,7 +396,7 @@ WebReply WebApi::Analyze(const WebRequest& request) {
     analysis.masses.gravity = params.Flag("gravity");
     const std::string format = params.OneOf("format", {"json", "csv", "svg"});
     analysis.csv = format == "csv";
-    const std::string text = AnalyzeResultText(result_text, "result", analysis);
+    const std::string text = AnalyzeResultText(on.result_text, "result", analysis);
     WebReply reply;
     if (format == "svg") {
       reply.content_type = "image/svg+xml";
@@ -403,23 +416,20 @@ WebReply WebApi::Analyze(const WebRequest& request) {
 WebReply WebApi::Export(const WebRequest& request) {
   return Guarded([&] {
     const Params params(request, "export", {"mechanism", "format", "input_deg"});
-    const std::string& result_text = Part(request, "result", "export");
-    const std::string& task_text = Part(request, "task", "export", false);
-    std::optional<Task> task;
-    if (!task_text.empty()) task = ParseTask(task_text, "task");
+    const OnResult on = ReadOnResult(request, params, "export");
     CadExportRequest drawing;
-    drawing.task = task ? &*task : nullptr;
-    drawing.mechanism = static_cast<int>(params.Whole("mechanism", 1, kMaxIndex, 1) - 1);
+    drawing.task = on.task ? &*on.task : nullptr;
+    drawing.mechanism = on.mechanism;
     drawing.input_deg = params.Number("input_deg");
     const std::string format = params.OneOf("format", {"dxf", "svg"});
     WebReply reply;
     if (format == "dxf") {
       reply.content_type = "application/dxf";
-      reply.body = ResultDxf(result_text, "result", drawing);
+      reply.body = ResultDxf(on.result_text, "result", drawing);
       reply.filename = "mechanism.dxf";
     } else {
       reply.content_type = "image/svg+xml";
-      reply.body = ResultSvg(result_text, "result", drawing);
+      reply.body = ResultSvg(on.result_text, "result", drawing);
       reply.filename = "mechanism.svg";
     }
     return reply;

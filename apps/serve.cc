@@ -40,8 +40,9 @@ std::string ThisProgram() {
   return self.string();
 }
 
-// The page's files: --web-dir, else the installed ones when this is the installed program, else
-// the source tree's (a build's program), else whichever exists.
+// The page's files: --web-dir, else those installed beside this program (<prefix>/bin/linkfit
+// serves <prefix>/share/linkfit/web, whatever the prefix), else the source tree's (a build's
+// program).
 std::string WebDirectory(const ServeOptions& options, const std::string& program) {
   namespace fs = std::filesystem;
   std::error_code error;
@@ -51,14 +52,13 @@ std::string WebDirectory(const ServeOptions& options, const std::string& program
     }
     return options.web_dir;
   }
-  const bool installed = fs::path(program).parent_path() == fs::path(LINKFIT_INSTALLED_BINDIR);
-  const std::string first = installed ? LINKFIT_WEB_INSTALLED : LINKFIT_WEB_SOURCE;
-  const std::string second = installed ? LINKFIT_WEB_SOURCE : LINKFIT_WEB_INSTALLED;
-  for (const std::string& dir : {first, second}) {
+  const std::string installed =
+      (fs::path(program).parent_path().parent_path() / "share" / "linkfit" / "web").string();
+  for (const std::string& dir : {installed, std::string(LINKFIT_WEB_SOURCE)}) {
     if (fs::is_regular_file(fs::path(dir) / "index.html", error)) return dir;
   }
-  throw InputError("serve: the page's files are missing (looked in " + first + " and " + second +
-                   "); reinstall linkfit or give --web-dir");
+  throw InputError("serve: the page's files are missing (looked in " + installed + " and " +
+                   LINKFIT_WEB_SOURCE + "); reinstall linkfit or give --web-dir");
 }
 
 bool IsLoopback(const std::string& host) {

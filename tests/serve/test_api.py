@@ -331,3 +331,14 @@ def test_sigint_stops_the_server():
         assert request(url + "api/version")[0] == 200
         process.send_signal(2)
         assert process.wait(timeout=10) == 0
+
+
+def test_a_port_in_use_and_a_bad_host_are_refused():
+    with running_server() as (url, _):
+        port = url.rstrip("/").rsplit(":", 1)[1]
+        assert cli_message("serve", "--port", port) == (
+            f"--port {port}: cannot listen on 127.0.0.1:{port} (in use by another program?)")
+    assert cli_message("serve", "--port", "0", "--host", "999.1.1.1") == (
+        "--host 999.1.1.1: cannot listen there")
+    assert cli_message("serve", "--web-dir", "/nonexistent") == (
+        "--web-dir /nonexistent: no index.html there")

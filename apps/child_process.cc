@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -128,7 +129,13 @@ ChildOutcome RunChild(const ChildRun& run) {
       outcome.timed_out = true;
       break;
     }
-    const int ready = ::poll(polled.data(), polled.size(), static_cast<int>(left.count()) + 1);
+    if (run.cancel != nullptr && run.cancel->load()) {
+      outcome.cancelled = true;
+      break;
+    }
+    const int wait_ms = static_cast<int>(left.count()) + 1;
+    const int ready = ::poll(polled.data(), polled.size(),
+                             run.cancel != nullptr ? std::min(wait_ms, 20) : wait_ms);
     if (ready < 0 && errno != EINTR) break;
     for (Feed& feed : feeds) {
       if (feed.fd.get() == -1) continue;
@@ -160,7 +167,7 @@ ChildOutcome RunChild(const ChildRun& run) {
       break;
     }
   }
-  if (outcome.timed_out || outcome.output_too_long) ::kill(pid, SIGKILL);
+  if (outcome.timed_out || outcome.output_too_long || outcome.cancelled) ::kill(pid, SIGKILL);
   int status = 0;
   while (::waitpid(pid, &status, 0) == -1 && errno == EINTR) {
   }

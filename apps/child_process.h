@@ -5,6 +5,7 @@
 #ifndef LINKFIT_APPS_CHILD_PROCESS_H_
 #define LINKFIT_APPS_CHILD_PROCESS_H_
 
+#include <atomic>
 #include <map>
 #include <string>
 #include <vector>
@@ -20,12 +21,15 @@ struct ChildRun {
   double time_limit_s = 60.0;  // killed (SIGKILL) when it runs longer
   int nice = 10;               // its scheduling niceness (below interactive requests)
   size_t max_output_bytes = size_t{512} << 20;  // killed when its standard output passes this
+  // Killed as soon as this turns true (looked at every 20 ms), when given.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 struct ChildOutcome {
   int exit_status = -1;  // the child's exit status; -1 when killed or stopped by a signal
   bool timed_out = false;
   bool output_too_long = false;
+  bool cancelled = false;
   std::string out;  // its standard output
   std::string err;  // its standard error
   double seconds = 0.0;

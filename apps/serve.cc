@@ -141,6 +141,7 @@ int RunServe(const ServeOptions& options) {
   route("/api/refine", [&api](const WebRequest& r) { return api.Refine(r); });
   route("/api/analyze", [&api](const WebRequest& r) { return api.Analyze(r); });
   route("/api/export", [&api](const WebRequest& r) { return api.Export(r); });
+  route("/api/cancel", [&api](const WebRequest& r) { return api.Cancel(r); });
   server.Get("/api/version", [&api](const httplib::Request&, httplib::Response& response) {
     Send(api.Version(), response);
   });
@@ -156,8 +157,8 @@ int RunServe(const ServeOptions& options) {
         } else if (response.status == 404) {
           message = request.path.rfind("/api/", 0) == 0
                         ? request.path +
-                              ": no such route (solve, refine, analyze, export: POST; "
-                              "version: GET)"
+                              ": no such route (solve, refine, analyze, export, cancel: "
+                              "POST; version: GET)"
                         : request.path + ": not found";
         } else {
           message = "HTTP " + std::to_string(response.status);

@@ -253,6 +253,27 @@ WebReply WebApi::OnLiveWorker(const std::function<WebReply()>& work) {
   return done.get();
 }
 
+WebReply WebApi::Cancel(const WebRequest& request) {
+  return Guarded([&] {
+    const Params params(request, "cancel", {"request_id"});
+    const std::optional<std::string> id = params.Text("request_id");
+    if (!id || id->empty()) throw InputError("cancel: expected ?request_id=, the solve's");
+    bool found = false;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      const auto it = cancels_.find(*id);
+      if (it != cancels_.end()) {
+        it->second->store(true);
+        found = true;
+      }
+    }
+    turn_.notify_all();
+    WebReply reply;
+    reply.body = nlohmann::json{{"cancelled", found}}.dump() + "\n";
+    return reply;
+  });
+}
+
 WebReply WebApi::Version() const {
   WebReply reply;
   reply.body = nlohmann::json{{"version", LINKFIT_VERSION},
@@ -267,32 +288,45 @@ WebReply WebApi::Version() const {
 }
 
 WebReply WebApi::RunLong(const std::vector<std::string>& args,
-                         const std::map<int, std::string>& inputs) {
+                         const std::map<int, std::string>& inputs, const std::string& request_id) {
+  const auto cancel = std::make_shared<std::atomic<bool>>(false);
   {
     std::unique_lock<std::mutex> lock(mutex_);
     if (running_ >= options_.long_solves && waiting_ >= options_.max_waiting) {
       return ErrorReply(503, "busy: " + std::to_string(running_) + " long solves running and " +
                                  std::to_string(waiting_) + " waiting; try again later");
     }
+    if (!request_id.empty()) {
+      if (cancels_.count(request_id) > 0) {
+        throw InputError("?request_id=" + Shown(request_id) + ": already in use");
+      }
+      cancels_[request_id] = cancel;
+    }
     ++waiting_;
-    turn_.wait(lock, [this] { return running_ < options_.long_solves; });
+    turn_.wait(lock, [&] { return running_ < options_.long_solves || cancel->load(); });
     --waiting_;
-    ++running_;
+    if (!cancel->load()) ++running_;
   }
   struct Turn {
     WebApi* api;
+    const std::string& id;
+    bool ran;
     ~Turn() {
       std::lock_guard<std::mutex> lock(api->mutex_);
-      --api->running_;
-      api->turn_.notify_one();
+      if (ran) --api->running_;
+      if (!id.empty()) api->cancels_.erase(id);
+      api->turn_.notify_all();
     }
-  } turn{this};
+  } turn{this, request_id, !cancel->load()};
+  if (cancel->load()) return ErrorReply(409, "cancelled (/api/cancel) before it started");
   ChildRun run;
   run.program = options_.program;
   run.args = args;
   run.inputs = inputs;
   run.time_limit_s = options_.solve_time_limit_s;
+  run.cancel = cancel.get();
   const ChildOutcome outcome = RunChild(run);
+  if (outcome.cancelled) return ErrorReply(409, "cancelled (/api/cancel)");
   if (outcome.timed_out) {
     char limit[32];
     std::snprintf(limit, sizeof(limit), "%g", options_.solve_time_limit_s);
@@ -321,7 +355,7 @@ WebReply WebApi::Solve(const WebRequest& request) {
   std::vector<std::string> long_args;
   WebReply reply = OnLiveWorker([&] {
     return Guarded([&] {
-      const Params params(request, "solve", {"effort", "curve_points"});
+      const Params params(request, "solve", {"effort", "curve_points", "request_id"});
       if (text.find_first_not_of(" \t\r\n") == std::string::npos) {
         throw InputError("task: empty request body, expected a task (the JSON of a task file)");
       }
@@ -350,12 +384,15 @@ WebReply WebApi::Solve(const WebRequest& request) {
     });
   });
   if (long_args.empty()) return reply;
-  return Guarded([&] { return RunLong(long_args, {{0, text}}); });
+  const auto id = request.params.find("request_id");
+  return Guarded([&] {
+    return RunLong(long_args, {{0, text}}, id == request.params.end() ? std::string() : id->second);
+  });
 }
 
 WebReply WebApi::Refine(const WebRequest& request) {
   return Guarded([&] {
-    const Params params(request, "refine", {"mechanism"});
+    const Params params(request, "refine", {"mechanism", "request_id"});
     const std::string& task_text = Part(request, "task", "refine");
     const auto found = request.parts.find("design");
     if (found == request.parts.end()) {
@@ -369,7 +406,7 @@ WebReply WebApi::Refine(const WebRequest& request) {
     ParseTaskDesign(design_text, "design", task);
     const long long mechanism = params.Whole("mechanism", 1, kMaxIndex, 1);
     return RunLong({"refine", "/dev/stdin", "/dev/fd/3", "--mechanism", std::to_string(mechanism)},
-                   {{0, task_text}, {3, design_text}});
+                   {{0, task_text}, {3, design_text}}, params.Text("request_id").value_or(""));
   });
 }
 

@@ -8,6 +8,7 @@
 //   POST /api/analyze  parts result [, task]; ?mechanism=, steps, range, input_speed, force,
 //                      output_torque, slider_force, mass, length_unit, gravity, format=json|csv|svg
 //   POST /api/export   parts result [, task]; ?mechanism=, format=dxf|svg, input_deg
+//   POST /api/cancel   ?request_id=: stops the solve or refinement sent with that request_id
 //   GET  /api/version  the version and the server's limits
 // Planar motion through at most five poses (exact, microseconds: what the page recomputes while a
 // pose is dragged), analyses and drawings run in the request's thread. Every other solve and every
@@ -17,10 +18,12 @@
 #ifndef LINKFIT_APPS_WEB_API_H_
 #define LINKFIT_APPS_WEB_API_H_
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <functional>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -64,6 +67,7 @@ class WebApi {
   WebReply Refine(const WebRequest& request);
   WebReply Analyze(const WebRequest& request);
   WebReply Export(const WebRequest& request);
+  WebReply Cancel(const WebRequest& request);
   WebReply Version() const;
 
   const WebApiOptions& options() const { return options_; }
@@ -71,7 +75,9 @@ class WebApi {
  private:
   // Runs `linkfit args...` with `inputs` on its descriptors (0: stdin, 3: /dev/fd/3) in its turn
   // among the long solves; its result JSON, or the error reply its failure calls for.
-  WebReply RunLong(const std::vector<std::string>& args, const std::map<int, std::string>& inputs);
+  // `request_id` (may be empty) names it for Cancel.
+  WebReply RunLong(const std::vector<std::string>& args, const std::map<int, std::string>& inputs,
+                   const std::string& request_id);
 
   // Runs `work` on one of the live workers and waits for it.
   WebReply OnLiveWorker(const std::function<WebReply()>& work);
@@ -90,6 +96,8 @@ class WebApi {
   std::condition_variable turn_;
   int running_ = 0;
   int waiting_ = 0;
+  // The long solves waiting or running by their request_id, each with its cancel flag.
+  std::map<std::string, std::shared_ptr<std::atomic<bool>>> cancels_;
 };
 
 }  // namespace linkfit

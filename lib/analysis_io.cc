@@ -693,10 +693,15 @@ std::optional<std::pair<double, double>> FourBarTaskRange(const Json& result, co
     if (dyad.value("type", std::string()) != "RR") return std::nullopt;
     const Eigen::Vector2d moving =
         ReadPoint(dyad, "moving", source + ": dyads[" + std::to_string(index) + "]");
+    // A fitted mechanism passes its first pose within its max_pose_error e (a length: the origin
+    // within e, the turn within e / L), so its crank pin within e (1 + |moving| / L).
+    const double fit = mechanism.value("max_pose_error", 0.0);
+    const double scale = result.value("scale", length);
+    const double slack = 1e-6 * length + 1.000001 * fit * (1.0 + moving.norm() / scale);
     double previous = first;
     for (size_t k = 0; k < task->planar_poses.size(); ++k) {
       const Eigen::Vector2d pin = task->planar_poses[k].ToFixed(moving);
-      if (k == 0 && (pin - joints.input_pin).norm() > 1e-6 * length) {
+      if (k == 0 && (pin - joints.input_pin).norm() > slack) {
         mismatch("its first pose does not put the crank pin where the result's joints have it");
       }
       const Eigen::Vector2d arm = pin - joints.input_pivot;

@@ -41,8 +41,21 @@ export async function version() {
   return JSON.parse(await call('/api/version'));
 }
 
+// A solve or refinement that may run long carries a request_id: when its fetch is aborted
+// (Cancel), the server is told to stop it (POST /api/cancel), so it frees its place.
+const session = Math.random().toString(36).slice(2);
+let nextRequest = 0;
+function cancellable(route, params, options) {
+  if (!options.signal) return call(route + query(params), options);
+  const id = `${session}-${++nextRequest}`;
+  const stop = () => fetch('/api/cancel' + query({ request_id: id }), { method: 'POST' }).catch(() => {});
+  options.signal.addEventListener('abort', stop, { once: true });
+  return call(route + query({ ...params, request_id: id }), options)
+    .finally(() => options.signal.removeEventListener('abort', stop));
+}
+
 export function solve(taskText, { effort, curvePoints, signal } = {}) {
-  return call('/api/solve' + query({ effort, curve_points: curvePoints }), {
+  return cancellable('/api/solve', { effort, curve_points: curvePoints }, {
     method: 'POST', body: taskText, signal, headers: { 'Content-Type': 'application/json' },
   });
 }
@@ -62,9 +75,10 @@ export function exportDrawing(resultText, taskText, mechanism, format, inputDeg)
   return call('/api/export' + query({ mechanism: mechanism + 1, format, input_deg: inputDeg }), { method: 'POST', body: fd });
 }
 
-export function refine(taskText, resultText, mechanism) {
+// The design is a result text; `mechanism` its list index, from 0.
+export function refine(taskText, resultText, mechanism, signal) {
   const fd = new FormData();
   jsonPart(fd, 'task', taskText);
   jsonPart(fd, 'design', resultText);
-  return call('/api/refine' + query({ mechanism: mechanism + 1 }), { method: 'POST', body: fd });
+  return cancellable('/api/refine', { mechanism: mechanism + 1 }, { method: 'POST', body: fd, signal });
 }

@@ -38,6 +38,8 @@ const state = {
   playing: false,
   tool: 'select',
   selectedItem: null, // index of the selected pose / point
+  selectedPivot: null, // index of the selected picked fixed pivot (Delete removes it)
+  statusNote: '', // said in the status bar with the result (a refinement's before / after)
   dragPose: null, // pose being dragged: the four-bars are drawn at it
   version: null,
   solveCount: 0,
@@ -54,13 +56,17 @@ const linkfit = {
     get analysis() { return state.analysis?.data ?? null; },
   },
   lastLatencyMs: null,
+  lastLatencyParts: null, // {wait, request, redraw, paint} of the last, in ms
+  latencies: [], // the last 64 latencies, in ms
   ready: new Promise((resolve) => { resolveReady = resolve; }),
   isReady: false,
   get frame() { return state.frame; },
   get playing() { return state.playing; },
   get solveCount() { return state.solveCount; },
   // A live solve queued or in flight: tests wait for it to settle.
-  get busy() { return live.inFlight || live.dirty || live.rafPending || staged !== null; },
+  get busy() {
+    return live.inFlight || live.dirty || live.rafPending || live.paintPending || drawLater.frames > 0 || staged !== null;
+  },
   lastExport: null,
   taskText: () => taskText(),
   openTask: (text) => openTaskText(text),
@@ -112,6 +118,7 @@ function setTask(tree, { fit = true } = {}) {
   }
   state.task = tree;
   state.selectedItem = null;
+  state.selectedPivot = null;
   state.result = null;
   state.resultText = null;
   state.analysis = null;
@@ -125,6 +132,8 @@ function setTask(tree, { fit = true } = {}) {
   $('elapsed').textContent = '';
   renderTable();
   renderMechList();
+  renderStatus();
+  updateRefine();
   if (fit) fitView();
   draw();
 }
@@ -134,7 +143,13 @@ function setTask(tree, { fit = true } = {}) {
 // Every change of the task goes through here.
 function taskEdited({ source = 'canvas', eventTime = null, dragging = false } = {}) {
   if (source !== 'table') renderTable();
-  draw();
+  // A live pointer edit is drawn with its solve's reply, which usually comes
+  // before the next frame: the poses and their mechanisms appear together, and
+  // the main thread is not busy painting an intermediate picture while the
+  // reply waits. A late reply: the edit is drawn two frames on, without it.
+  if (eventTime !== null && isLive() && enoughData()) requestDraw(2);
+  else if (dragging) requestDraw(1); // drag events may come faster than frames
+  else draw();
   updateHint();
   if (!enoughData()) {
     clearResult();
@@ -152,6 +167,7 @@ function clearResult() {
   stopPlaying();
   renderMechList();
   renderStatus();
+  updateRefine();
   draw();
 }
 
@@ -183,27 +199,35 @@ function deleteItem(i) {
   taskEdited();
 }
 
+// Fixed pivots are picked for three poses anywhere, for four on the
+// center-point curve (the nearest point of it, within 30 px of the click).
+// Each gives a dyad; two give a four-bar.
 function addPivot(world) {
   const n = items().length;
   if (!isPlanarMotion() || n < 3 || n > 4) {
-    showError('fixed pivots are picked for three or four poses (five poses give every dyad by themselves)');
+    showError('fixed pivots are picked for three or four poses (five poses give every dyad by themselves)', 'pivot');
     return;
   }
   let p = world;
   if (n === 4) {
     const curves = state.result?.burmester_curves?.center_points;
-    if (!curves) { showError('no center-point curve yet: wait for the solve'); return; }
+    if (!curves) { showError('no center-point curve yet: wait for the solve', 'pivot'); return; }
     const near = nearestOnPolylines(curves, world);
     if (!near.point || near.distance * view.scale > 30) {
-      showError('click on or near the center-point curve (green): four poses allow fixed pivots only there');
+      showError('click on or near the center-point curve (green): four poses allow fixed pivots only there', 'pivot');
       return;
     }
     p = near.point;
   }
-  state.task.fixed_pivots = [...(state.task.fixed_pivots || []), [roundLength(p[0]), roundLength(p[1])]];
+  clearError('pivot');
+  const list = Array.isArray(state.task.fixed_pivots) ? state.task.fixed_pivots : [];
+  state.task.fixed_pivots = [...list, [roundLength(p[0]), roundLength(p[1])]];
+  state.selectedPivot = state.task.fixed_pivots.length - 1;
+  state.selectedItem = null;
   taskEdited();
 }
 
+// A picked pivot dragged: for four poses it slides along the center-point curve.
 function movePivot(i, world) {
   let p = world;
   const curves = state.result?.burmester_curves?.center_points;
@@ -211,9 +235,27 @@ function movePivot(i, world) {
   state.task.fixed_pivots[i] = [roundLength(p[0]), roundLength(p[1])];
 }
 
+function deletePivot(i) {
+  const list = state.task?.fixed_pivots;
+  if (!Array.isArray(list) || i === null || i < 0 || i >= list.length) return;
+  list.splice(i, 1);
+  if (!list.length) delete state.task.fixed_pivots;
+  state.selectedPivot = null;
+  taskEdited();
+}
+
+// Delete (key or button): the selected picked pivot, else the selected pose.
+function deleteSelected() {
+  if (state.selectedPivot !== null) deletePivot(state.selectedPivot);
+  else deleteItem(state.selectedItem);
+}
+
 function clearPivots() {
+  if (!state.task || !('fixed_pivots' in state.task || 'moving_pivots' in state.task)) return;
   delete state.task.fixed_pivots;
   delete state.task.moving_pivots;
+  state.selectedPivot = null;
+  clearError('pivot');
   taskEdited();
 }
 
@@ -311,7 +353,10 @@ function boxFrame(key) {
 
 /* ---------- solving ---------- */
 
-const live = { inFlight: false, dirty: false, since: null, pointer: false, rafPending: false, sentThisFrame: false };
+const live = {
+  inFlight: false, dirty: false, since: null, pointer: false, rafPending: false, sentThisFrame: false,
+  paintPending: false, // a latency waiting for the frame that paints its picture
+};
 
 // At most one request a frame and one in flight. The first change of a frame
 // is sent at once (Chrome already delivers pointer moves once a frame, so
@@ -343,18 +388,28 @@ function pumpLive() {
   const text = taskText();
   cancelStaged();
   live.inFlight = true;
+  live.lastText = text;
   const sent = performance.now();
   api.solve(text)
     .then((resultText) => {
       const received = performance.now();
       applyResult(resultText, text);
       const drawn = performance.now();
-      if (pointer) {
-        // Where the time went: waiting for the frame, the request, the redraw.
-        linkfit.lastLatencyParts = { wait: sent - since, request: received - sent, redraw: drawn - received };
-        reportLatency(drawn - since);
-      }
       clearError('solve');
+      if (pointer) {
+        // The picture is on screen with the next frame: its animation-frame
+        // callback runs once the DOM changes above are committed to it.
+        live.paintPending = true;
+        requestAnimationFrame(() => {
+          const painted = performance.now();
+          live.paintPending = false;
+          // Where the time went: waiting to send, the request, the redraw, the frame.
+          linkfit.lastLatencyParts = {
+            wait: sent - since, request: received - sent, redraw: drawn - received, paint: painted - drawn,
+          };
+          reportLatency(painted - since);
+        });
+      }
     })
     .catch((err) => showError(err.message, 'solve'))
     .finally(() => {
@@ -365,8 +420,10 @@ function pumpLive() {
 
 function reportLatency(ms) {
   linkfit.lastLatencyMs = ms;
+  linkfit.latencies.push(ms);
+  if (linkfit.latencies.length > 64) linkfit.latencies.shift();
   const box = $('live');
-  box.textContent = `live: ${ms.toFixed(1)} ms (pointer event → redrawn picture)`;
+  box.textContent = `live: ${ms.toFixed(1)} ms (pointer event → painted picture)`;
   box.classList.toggle('slow', ms > 30);
 }
 
@@ -401,11 +458,13 @@ async function runStaged(levels) {
     return li;
   });
   const start = performance.now();
+  let cancelled = false;
   me.timer = setInterval(() => {
     $('elapsed').textContent = `elapsed ${((performance.now() - start) / 1000).toFixed(1)} s`;
   }, 100);
   $('cancel').disabled = false;
   $('solve').disabled = true;
+  updateRefine();
   const text = taskText();
   try {
     for (const [i, level] of levels.entries()) {
@@ -424,6 +483,7 @@ async function runStaged(levels) {
           (r.mechanisms?.[0] ? `, best fit ${fmtFit(r.mechanisms[0])}` : '');
       } catch (err) {
         if (err.name === 'AbortError') {
+          cancelled = true;
           li.className = 'cancelled';
           li.textContent = `${level}: cancelled after ${(performance.now() - t0).toFixed(0)} ms`;
         } else {
@@ -437,12 +497,70 @@ async function runStaged(levels) {
     }
   } finally {
     clearInterval(me.timer);
-    $('elapsed').textContent = `total ${((performance.now() - start) / 1000).toFixed(2)} s`;
-    if (staged === me) {
-      staged = null;
-      $('cancel').disabled = true;
-      $('solve').disabled = false;
-    }
+    const seconds = ((performance.now() - start) / 1000).toFixed(2);
+    $('elapsed').textContent = cancelled ? `cancelled after ${seconds} s` : `total ${seconds} s`;
+    endLong(me);
+  }
+}
+
+// A staged solve or a refinement ended: the buttons back, unless another one
+// has started meanwhile.
+function endLong(me) {
+  if (staged !== me) return;
+  staged = null;
+  $('cancel').disabled = true;
+  $('solve').disabled = false;
+  updateRefine();
+}
+
+// Refinement (linkfit refine) of the selected mechanism of a result that is
+// not exact: a least-squares fit, a path, a six-bar.
+const canRefine = () => Boolean(state.result?.mechanisms?.[state.selected]) && !isLive() && staged === null;
+
+function updateRefine() {
+  $('refine').disabled = !canRefine();
+}
+
+async function runRefine() {
+  if (!canRefine()) return;
+  const index = state.selected;
+  const before = state.result.mechanisms[index];
+  const designText = state.resultText;
+  const text = taskText();
+  const controller = new AbortController();
+  const me = { controller, timer: null };
+  staged = me;
+  const li = document.createElement('li');
+  li.setAttribute('data-testid', 'stage-refine');
+  li.className = 'running';
+  li.textContent = `refine mechanism ${index + 1}: running…`;
+  $('stages').replaceChildren(li);
+  $('cancel').disabled = false;
+  $('solve').disabled = true;
+  updateRefine();
+  const start = performance.now();
+  me.timer = setInterval(() => {
+    $('elapsed').textContent = `elapsed ${((performance.now() - start) / 1000).toFixed(1)} s`;
+  }, 100);
+  try {
+    const resultText = await api.refine(text, designText, index, controller.signal);
+    const after = JSON.parse(resultText).mechanisms?.[0];
+    const key = fitKey(before) || fitKey(after) || 'fit';
+    const note = `refined mechanism ${index + 1}: ${key.replace(/_/g, ' ')} ${fmtNum(before?.[key])} → ${fmtNum(after?.[key])}`;
+    state.selected = 0;
+    applyResult(resultText, text, { note });
+    clearError('solve');
+    li.className = 'done';
+    li.textContent = `${note} (${(performance.now() - start).toFixed(0)} ms)`;
+  } catch (err) {
+    li.className = err.name === 'AbortError' ? 'cancelled' : 'failed';
+    li.textContent = `refine mechanism ${index + 1}: ${err.name === 'AbortError' ? 'cancelled' : 'failed'}`;
+    if (err.name !== 'AbortError') showError(`refine: ${err.message}`, 'solve');
+  } finally {
+    clearInterval(me.timer);
+    const seconds = ((performance.now() - start) / 1000).toFixed(2);
+    $('elapsed').textContent = li.className === 'cancelled' ? `cancelled after ${seconds} s` : `total ${seconds} s`;
+    endLong(me);
   }
 }
 
@@ -451,8 +569,9 @@ function solveButton() {
   runStaged(all.slice(0, all.indexOf($('effort').value) + 1));
 }
 
-function applyResult(resultText, sentTaskText) {
+function applyResult(resultText, sentTaskText, { note = '' } = {}) {
   const result = JSON.parse(resultText);
+  state.statusNote = note;
   const previous = state.result;
   state.result = result;
   state.resultText = resultText;
@@ -464,6 +583,7 @@ function applyResult(resultText, sentTaskText) {
   if (!previous) fitViewOnce();
   renderMechList();
   renderStatus();
+  updateRefine();
   draw();
   if (state.dragPose === null) scheduleAnalysis();
   if (!linkfit.isReady) {
@@ -490,7 +610,11 @@ async function fetchAnalysis() {
   analysisController?.abort();
   analysisController = new AbortController();
   try {
-    const text = await api.analyze(state.resultText, state.resultTaskText, index, { steps: 180 }, analysisController.signal);
+    const signal = analysisController.signal;
+    // Its whole cycle: a crank's turn, a rocker's swing between its dead points (the task
+    // gives the analysis its task range too, task_range_deg).
+    const text = await api.analyze(state.resultText, state.resultTaskText, index,
+      { steps: 180, range: 'whole' }, signal);
     if (state.result !== result || state.selected !== index) return null; // superseded
     const data = JSON.parse(text);
     state.analysis = { result, index, data };
@@ -557,7 +681,31 @@ function tick(now) {
 
 /* ---------- drawing ---------- */
 
+// A redraw `frames` animation frames on (the sooner request wins); any draw()
+// meanwhile makes it moot.
+const drawLater = { frames: 0, scheduled: false };
+
+function requestDraw(frames = 1) {
+  drawLater.frames = drawLater.frames ? Math.min(drawLater.frames, frames) : frames;
+  if (!drawLater.scheduled) {
+    drawLater.scheduled = true;
+    requestAnimationFrame(drawTick);
+  }
+}
+
+function drawTick() {
+  drawLater.scheduled = false;
+  if (!drawLater.frames) return;
+  if (--drawLater.frames) {
+    drawLater.scheduled = true;
+    requestAnimationFrame(drawTick);
+    return;
+  }
+  draw();
+}
+
 function draw() {
+  drawLater.frames = 0;
   view.measure();
   view.drawGrid(layers.grid);
   drawCurves();
@@ -642,8 +790,8 @@ function drawItems() {
     if (!w.every(Number.isFinite)) return;
     const [x, y] = view.toScreen(w);
     el('path', {
-      d: `M${x},${y - 8}l8,8l-8,8l-8,-8z`, class: 'picked-pivot', 'data-drag': 'pivot', 'data-index': i,
-      'data-testid': `picked-pivot-${i}`,
+      d: `M${x},${y - 8}l8,8l-8,8l-8,-8z`, class: 'picked-pivot' + (state.selectedPivot === i ? ' selected' : ''),
+      'data-drag': 'pivot', 'data-index': i, 'data-testid': `picked-pivot-${i}`,
     }, layer);
   });
   const first = poseAt(0);
@@ -712,7 +860,8 @@ function eventTime(e) {
 svg.addEventListener('pointerdown', (e) => {
   svg.focus({ preventScroll: true });
   const p = view.eventPoint(e);
-  const target = e.target.closest('[data-drag]');
+  let target = e.target.closest('[data-drag]');
+  if (state.tool === 'pivot' && target?.dataset.drag === 'box-move') target = null; // a click in a box picks
   if (e.button === 1 || (e.button === 0 && !target)) {
     drag = { kind: 'pan', last: p, start: p, moved: false, button: e.button };
   } else if (e.button === 0) {
@@ -726,6 +875,8 @@ svg.addEventListener('pointerdown', (e) => {
       renderTable();
     }
     if (kind === 'pose-angle') { state.selectedItem = index; renderTable(); }
+    if (kind === 'pivot') { state.selectedPivot = index; state.selectedItem = null; renderTable(); }
+    else state.selectedPivot = null;
     if (kind.startsWith('box')) {
       drag.box = target.dataset.box;
       drag.corner = [Number(target.dataset.cx), Number(target.dataset.cy)];
@@ -737,7 +888,12 @@ svg.addEventListener('pointerdown', (e) => {
   e.preventDefault();
 });
 
-svg.addEventListener('pointermove', (e) => {
+// Chrome delivers pointermove once a frame, at its start: up to a frame after
+// the pointer moved. pointerrawupdate comes as the move arrives, so a live
+// solve is on its way (and often back) before that frame begins.
+const MOVE_EVENT = 'onpointerrawupdate' in window ? 'pointerrawupdate' : 'pointermove';
+
+svg.addEventListener(MOVE_EVENT, (e) => {
   if (!drag) return;
   const t = eventTime(e);
   const p = view.eventPoint(e);
@@ -747,7 +903,7 @@ svg.addEventListener('pointermove', (e) => {
     svg.classList.add('panning');
     view.panBy(p[0] - drag.last[0], p[1] - drag.last[1]);
     drag.last = p;
-    draw();
+    requestDraw(1);
     return;
   }
   if (!drag.moved) return;
@@ -802,14 +958,19 @@ function endDrag(e) {
       const w = view.toWorld(d.start);
       if (state.tool === 'add' && isEditable()) addItem(w);
       else if (state.tool === 'pivot') addPivot(w);
-      else { state.selectedItem = null; renderTable(); draw(); }
+      else { state.selectedItem = null; state.selectedPivot = null; renderTable(); draw(); }
     }
     return;
   }
   const wasDragging = state.dragPose !== null;
   state.dragPose = null;
-  if (d.moved) taskEdited({ eventTime: eventTime(e) }); // the final state; analysis follows its result
-  else if (wasDragging) { draw(); scheduleAnalysis(); } else draw();
+  if (d.moved && !(isLive() && live.lastText === taskText())) {
+    taskEdited({ eventTime: eventTime(e) }); // the final state; analysis follows its result
+  } else {
+    // Solved already (or on its way: its reply schedules the analysis).
+    draw();
+    if (wasDragging && !live.inFlight && !live.dirty) scheduleAnalysis();
+  }
 }
 svg.addEventListener('pointerup', endDrag);
 svg.addEventListener('pointercancel', endDrag);
@@ -832,7 +993,7 @@ function setTool(tool) {
 
 document.addEventListener('keydown', (e) => {
   if (e.target.closest('input, textarea, select')) return;
-  if (e.key === 'Delete' || e.key === 'Backspace') { deleteItem(state.selectedItem); e.preventDefault(); }
+  if (e.key === 'Delete' || e.key === 'Backspace') { deleteSelected(); e.preventDefault(); }
   else if (e.key === 'a') setTool('add');
   else if (e.key === 's' || e.key === 'Escape') setTool('select');
   else if (e.key === 'p') setTool('pivot');
@@ -846,8 +1007,11 @@ function updateHint() {
   if (!isEditable()) hint = 'this task is not drawn on the plane: press Solve for its result';
   else if (isPath()) hint = n < 5 ? `path: add points (${n} of at least 5)` : isLive() ? 'five timed points: drag them, solved live' : 'path: choose an effort and Solve';
   else if (n < 3) hint = `add poses (${n} of at least 3): Add, then click`;
-  else if (n === 3) hint = 'three poses: Pick pivot, click anywhere for a fixed pivot (two make a four-bar)';
-  else if (n === 4) hint = 'four poses: Pick pivot, click near the green center-point curve';
+  else if (n === 3 || n === 4) {
+    const picked = Array.isArray(state.task.fixed_pivots) ? state.task.fixed_pivots.length : 0;
+    hint = n === 3 ? '3 poses: Pick pivot, click anywhere' : '4 poses: Pick pivot, click on the green curve';
+    hint += picked === 1 ? ' (1 picked: one more for a four-bar)' : picked ? ` (${picked} picked: drag to move)` : ' (two: a four-bar)';
+  }
   else if (n === 5) hint = 'five poses: drag a pose, every dyad and four-bar follows live';
   else hint = `${n} poses, least squares: choose an effort and Solve (fast runs after each edit)`;
   $('hint').textContent = hint;
@@ -891,7 +1055,7 @@ function renderTable() {
       const input = document.createElement('input');
       input.value = item[key] instanceof Num ? item[key].text : item[key] ?? '';
       input.setAttribute('data-testid', `item-${i}-${key}`);
-      input.addEventListener('focus', () => { state.selectedItem = i; drawItems(); });
+      input.addEventListener('focus', () => { state.selectedItem = i; state.selectedPivot = null; drawItems(); });
       input.addEventListener('input', () => {
         const text = input.value.trim();
         const it = items()[i]; // the row's item now (rows outlive a drag's edits)
@@ -985,10 +1149,9 @@ function switchProblem(kind) {
 const fmtMs = (ms) => (Number.isFinite(ms) ? `${ms < 10 ? ms.toFixed(3) : ms.toFixed(1)} ms` : '–');
 const fmtNum = (x) => (Number.isFinite(x) ? (Math.abs(x) >= 1e-3 && Math.abs(x) < 1e5 ? x.toPrecision(4) : x.toExponential(2)) : '–');
 
-function fitOf(m) {
-  for (const key of ['max_pose_error', 'max_point_error', 'max_angle_error_deg']) if (Number.isFinite(m[key])) return m[key];
-  return NaN;
-}
+const FIT_KEYS = ['max_pose_error', 'max_point_error', 'max_angle_error_deg'];
+const fitKey = (m) => FIT_KEYS.find((key) => Number.isFinite(m?.[key])) ?? null;
+const fitOf = (m) => (fitKey(m) ? m[fitKey(m)] : NaN);
 const fmtFit = (m) => fmtNum(fitOf(m));
 
 function transmissionOf(m) {
@@ -1022,6 +1185,7 @@ function selectMechanism(i) {
   state.selected = i;
   state.frame = 0;
   renderMechList();
+  updateRefine();
   drawMechanism();
   const wasPlaying = state.playing;
   stopPlaying();
@@ -1033,6 +1197,7 @@ function renderStatus() {
   const r = state.result;
   $('st-method').textContent = r ? `method: ${r.method ?? '–'}${r.effort ? ` (${r.effort})` : ''}` : '';
   $('st-time').textContent = r ? `solve_time_ms: ${fmtMs(r.solve_time_ms)}` : '';
+  $('st-refine').textContent = r ? state.statusNote : '';
   const notes = r?.notes || [];
   $('st-notes').textContent = notes.length ? `notes: ${notes.join(' · ')}` : '';
   $('st-notes').title = notes.join('\n\n');
@@ -1115,6 +1280,7 @@ function readFile(input, handle) {
 // A task file's text: drawn, and solved (live, or its fast stage).
 function openTaskText(text) {
   setTask(parse(text));
+  fittedOnce = false; // fitted to the poses now, and to them with a mechanism when it comes
   clearError();
   if (isLive() || !enoughData()) taskEdited(); else { updateHint(); runStaged(['fast']); }
 }
@@ -1146,11 +1312,12 @@ function bindFiles() {
 function bindUi() {
   document.querySelectorAll('.tool').forEach((b) => b.addEventListener('click', () => setTool(b.dataset.tool)));
   $('clear-pivots').addEventListener('click', clearPivots);
-  $('delete-item').addEventListener('click', () => deleteItem(state.selectedItem));
+  $('delete-item').addEventListener('click', deleteSelected);
   $('fit-view').addEventListener('click', fitView);
   $('problem').addEventListener('change', (e) => switchProblem(e.target.value));
   $('solve').addEventListener('click', solveButton);
   $('cancel').addEventListener('click', cancelStaged);
+  $('refine').addEventListener('click', runRefine);
   $('play').addEventListener('click', togglePlay);
   $('scrub').addEventListener('input', (e) => {
     stopPlaying();

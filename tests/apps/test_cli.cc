@@ -443,6 +443,29 @@ TEST_F(CliTest, AnalyzeGivesTheKinematicsOfASixBar) {
                   "--range task: the result does not give the crank's angles"}});
 }
 
+// A fitted four-bar (least squares, or moved into its bounds) passes its first pose only within
+// its max_pose_error: its task is still its task (issue 38: the page animates each over its task
+// range), while another task is refused.
+TEST_F(CliTest, AnalyzeTakesAFittedFourBarsTask) {
+  for (const char* name : {"four_bar_12_poses.json", "bounded_four_bar_5_poses.json",
+                           "bounded_four_bar_12_poses.json"}) {
+    const std::string task = std::string(LINKFIT_SOURCE_DIR) + "/data/" + name;
+    const std::string result_path = Solved(name);
+    const nlohmann::json result = nlohmann::json::parse(ReadFile(result_path));
+    int fitted = 0;
+    for (size_t k = 0; k < result["mechanisms"].size(); ++k) {
+      const nlohmann::json& mechanism = result["mechanisms"][k];
+      if (mechanism.value("type", "") != "4R") continue;
+      fitted += mechanism.value("max_pose_error", 0.0) > 1e-9 * result["scale"].get<double>();
+      const RunResult run = Run("analyze '" + result_path + "' --mechanism " +
+                                std::to_string(k + 1) + " --task '" + task + "' --steps 3");
+      ASSERT_EQ(run.status, 0) << name << " mechanism " << k + 1 << ": " << run.err;
+      EXPECT_TRUE(nlohmann::json::parse(run.out).contains("task_range_deg"));
+    }
+    EXPECT_GT(fitted, 0) << name;
+  }
+}
+
 // A four-bar's task range (issue 37): with its motion task, the crank's angles from the first
 // pose to the last (each pose carries the input dyad's moving pivot to the crank pin), sampled
 // with --range task; a rocking function generator is sampled over its precision pairs' inputs by

@@ -342,3 +342,37 @@ def test_a_port_in_use_and_a_bad_host_are_refused():
         "--host 999.1.1.1: cannot listen there")
     assert cli_message("serve", "--web-dir", "/nonexistent") == (
         "--web-dir /nonexistent: no index.html there")
+
+
+def test_cancel_stops_a_long_solve_and_frees_its_place():
+    with running_server("--long-solves", "1") as (url, process):
+        task = (DATA / "classic_path_ellipse_10_points.json").read_text()
+        replies = {}
+
+        def solve(name):
+            replies[name] = request(url + f"api/solve?effort=thorough&request_id={name}", task)
+
+        first = threading.Thread(target=solve, args=("first",))
+        first.start()
+        time.sleep(0.5)  # running; a second waits for its place
+        second = threading.Thread(target=solve, args=("second",))
+        second.start()
+        time.sleep(0.2)
+        start = time.monotonic()
+        for name in ("second", "first"):
+            status, _, body = request(url + f"api/cancel?request_id={name}", "")
+            assert status == 200 and json.loads(body) == {"cancelled": True}
+        first.join()
+        second.join()
+        assert time.monotonic() - start < 2
+        assert replies["first"][0] == 409 and "cancelled" in json.loads(replies["first"][2])["error"]
+        assert replies["second"][0] == 409
+        assert "before it started" in json.loads(replies["second"][2])["error"]
+        # Nothing left to cancel; the place is free for the next solve.
+        status, _, body = request(url + "api/cancel?request_id=first", "")
+        assert json.loads(body) == {"cancelled": False}
+        status, _, body = request(url + "api/solve?effort=fast",
+                                  (DATA / "path_12_points.json").read_text())
+        assert status == 200, body
+        status, _, body = request(url + "api/cancel", "")
+        assert status == 400 and "request_id" in json.loads(body)["error"]

@@ -58,6 +58,7 @@ const linkfit = {
   lastLatencyMs: null,
   lastLatencyParts: null, // {wait, request, redraw, paint} of the last, in ms
   latencies: [], // the last 64 latencies, in ms
+  allLatencies: [], // every one since the page loaded (bench/serve_page_latency.py)
   ready: new Promise((resolve) => { resolveReady = resolve; }),
   isReady: false,
   get frame() { return state.frame; },
@@ -421,6 +422,7 @@ function pumpLive() {
 function reportLatency(ms) {
   linkfit.lastLatencyMs = ms;
   linkfit.latencies.push(ms);
+  if (linkfit.allLatencies.length < 100000) linkfit.allLatencies.push(ms);
   if (linkfit.latencies.length > 64) linkfit.latencies.shift();
   const box = $('live');
   box.textContent = `live: ${ms.toFixed(1)} ms (pointer event → painted picture)`;

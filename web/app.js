@@ -844,6 +844,8 @@ function fitView() {
   const J = m?.linkage?.joints;
   if (J) for (const v of Object.values(J)) if (Array.isArray(v)) pts.push(v);
   for (const p of state.task?.fixed_pivots || []) pts.push(p.map(val));
+  // The selected mechanism's coupler curve too, once analysed: its whole motion in view.
+  for (const p of currentAnalysis()?.coupler_point || []) if (Array.isArray(p)) pts.push(p);
   if (pts.length) view.fit(pts);
   draw();
 }

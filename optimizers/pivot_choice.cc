@@ -269,8 +269,10 @@ bool NeedsPivotChoices(const Task& task, const PlanarMotionResult& result) {
   const size_t count = task.planar_poses.size();
   if (count < 3 || count > 5) return false;
   if (count == 4 && task.moving_pivots.empty() && task.fixed_pivots.empty()) return true;
-  if (!task.constraints.given) return false;
+  // No four-bar at all (five poses whose Burmester roots are all complex, or whose dyads do not
+  // pair): the nearest ones, with or without constraints given.
   if (result.mechanisms.empty()) return true;
+  if (!task.constraints.given) return false;
   const double precision_fit = PoseFitTolerance(task.precision, result.scale);
   const RankKey first =
       MechanismRankKey(result.mechanisms.front(), precision_fit, task.constraints);
@@ -281,14 +283,16 @@ void AddPivotChoices(const Task& task, const TaskSolverOptions& solver,
                      PlanarMotionResult* result) {
   const PivotChoiceOptions& options = solver.pivot_choice;
   const std::vector<PlanarPose>& poses = task.planar_poses;
+  const bool no_exact_four_bar = result->mechanisms.empty();
   const double length = result->scale;
   const double precision_fit = PoseFitTolerance(task.precision, length);
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
   for (const PlanarPose& pose : poses) {
     centroid += pose.origin_in_fixed / static_cast<double>(poses.size());
   }
-  const std::string within =
-      task.constraints.given ? " within the constraints" : " (no pivots given)";
+  const std::string within = task.constraints.given ? " within the constraints"
+                             : poses.size() == 5    ? ""
+                                                    : " (no pivots given)";
   std::vector<Candidate> candidates;
   std::vector<std::string> chosen;
   if (poses.size() == 3) {
@@ -427,7 +431,8 @@ void AddPivotChoices(const Task& task, const TaskSolverOptions& solver,
     const std::string why =
         poses.size() == 4 && task.moving_pivots.empty() && task.fixed_pivots.empty()
             ? "no pivots were given"
-            : "no exact four-bar keeps the constraints without a defect";
+        : no_exact_four_bar ? "no exact four-bar passes the poses"
+                            : "no exact four-bar keeps the constraints without a defect";
     note = why + ": linkfit chose " + std::to_string(listed.size()) + " four-bars" + within +
            " (\"chosen\"";
     if (poses.size() == 5) {

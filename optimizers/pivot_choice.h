@@ -46,8 +46,8 @@ struct PivotChoiceOptions {
 };
 
 // Whether a solved planar motion task of three to five poses gets chosen pivots: four poses
-// without pivots given, or constraints given and the first listed four-bar breaks one, has a
-// defect (the transmission angle included) or misses a pose marked exact.
+// without pivots given, no four-bar listed, or constraints given and the first listed four-bar
+// breaks one, has a defect (the transmission angle included) or misses a pose marked exact.
 bool NeedsPivotChoices(const Task& task, const PlanarMotionResult& result);
 
 struct TaskSolverOptions;

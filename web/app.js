@@ -43,6 +43,8 @@ const state = {
   dragPose: null, // pose being dragged: the four-bars are drawn at it
   version: null,
   solveCount: 0,
+  stale: false, // the last solve failed: the result shown is of an earlier task
+  errorRows: [], // table rows a server error names (highlighted)
 };
 
 // What tests (and curious designers in the console) can read.
@@ -54,6 +56,7 @@ const linkfit = {
     get resultText() { return state.resultText; },
     get selected() { return state.selected; },
     get analysis() { return state.analysis?.data ?? null; },
+    get stale() { return state.stale; },
   },
   lastLatencyMs: null,
   lastLatencyParts: null, // {wait, request, redraw, paint} of the last, in ms
@@ -66,11 +69,14 @@ const linkfit = {
   get solveCount() { return state.solveCount; },
   // A live solve queued or in flight: tests wait for it to settle.
   get busy() {
-    return live.inFlight || live.dirty || live.rafPending || live.paintPending || drawLater.frames > 0 || staged !== null;
+    return live.inFlight || live.dirty || live.rafPending || live.paintPending || drawLater.frames > 0 || staged !== null ||
+      autoTimer !== null || panelTimer !== null;
   },
   lastExport: null,
   taskText: () => taskText(),
   openTask: (text) => openTaskText(text),
+  openResultText: (text) => openResultText(text),
+  taskTree: () => state.task, // numbers as their texts (Num)
   // Where a point of the fixed frame is drawn, in canvas pixels.
   toScreen: (x, y) => { view.measure(); return view.toScreen([x, y]); },
 };
@@ -123,6 +129,8 @@ function setTask(tree, { fit = true } = {}) {
   state.result = null;
   state.resultText = null;
   state.analysis = null;
+  state.stale = false;
+  state.errorRows = [];
   stopPlaying();
   $('problem').value = isPath() ? 'path' : 'motion';
   const effort = tree.options?.effort;
@@ -144,6 +152,7 @@ function setTask(tree, { fit = true } = {}) {
 // Every change of the task goes through here.
 function taskEdited({ source = 'canvas', eventTime = null, dragging = false } = {}) {
   if (source !== 'table') renderTable();
+  if (source !== 'panel') syncBoxFields();
   // A live pointer edit is drawn with its solve's reply, which usually comes
   // before the next frame: the poses and their mechanisms appear together, and
   // the main thread is not busy painting an intermediate picture while the
@@ -162,6 +171,7 @@ function taskEdited({ source = 'canvas', eventTime = null, dragging = false } = 
 }
 
 function clearResult() {
+  state.stale = false;
   state.result = null;
   state.resultText = null;
   state.analysis = null;
@@ -295,7 +305,33 @@ function syncConstraintPanel() {
   $('c-min-trans').value = text(c.min_transmission_angle_deg);
   $('c-grashof').value = c.grashof || '';
   $('c-input-full').checked = c.input_rotates_fully === true;
+  for (const id of ['c-max-link', 'c-min-link', 'c-min-trans']) setFieldError($(id), null);
+  syncBoxFields();
 }
+
+// The boxes' corners as number fields: [[xmin, ymin], [xmax, ymax]].
+const BOX_KEYS = ['fixed_pivots_box', 'moving_pivots_box'];
+const BOX_FIELDS = [['xmin', 0, 0], ['ymin', 0, 1], ['xmax', 1, 0], ['ymax', 1, 1]];
+const BOX_NAMES = { fixed_pivots_box: 'fixed pivots box', moving_pivots_box: 'moving pivots box' };
+
+// The fields show the task's texts, but for the one being typed in.
+function syncBoxFields() {
+  for (const key of BOX_KEYS) {
+    const box = state.task?.constraints?.[key];
+    const on = Array.isArray(box);
+    $(`${key}-fields`).hidden = !on;
+    for (const [name, a, b] of BOX_FIELDS) {
+      const input = $(`c-${key}-${name}`);
+      if (document.activeElement === input && on) continue;
+      const v = on && Array.isArray(box[a]) ? box[a][b] : undefined;
+      const text = v instanceof Num ? v.text : v === undefined || v === null ? '' : String(v);
+      if (input.value !== text) input.value = text;
+      if (invalidFields.has(input)) setFieldError(input, null);
+    }
+  }
+}
+
+let panelTimer = null; // a constraint typed: its solve waits for a pause in the typing
 
 function bindConstraintPanel() {
   const boxToggle = (id, key) => $(id).addEventListener('change', (e) => {
@@ -309,15 +345,37 @@ function bindConstraintPanel() {
   });
   boxToggle('c-fixed-box', 'fixed_pivots_box');
   boxToggle('c-moving-box', 'moving_pivots_box');
-  let timer = null;
+  const solveSoon = () => {
+    clearTimeout(panelTimer);
+    panelTimer = setTimeout(() => { panelTimer = null; taskEdited({ source: 'panel' }); }, 250); // once typing pauses
+  };
   const numberField = (id, key) => $(id).addEventListener('input', (e) => {
     const text = e.target.value.trim();
+    const problem = text ? numberProblem(text) : null;
+    const label = e.target.closest('label')?.firstChild?.textContent.trim() ?? key;
+    setFieldError(e.target, problem && `${label}: ${problem}`);
+    if (problem) return;
     if (text) constraints()[key] = num(text);
     else if (state.task.constraints) delete state.task.constraints[key];
     pruneConstraints();
-    clearTimeout(timer);
-    timer = setTimeout(() => taskEdited({ source: 'panel' }), 250); // solve once typing pauses
+    solveSoon();
   });
+  // A box corner typed: written as typed (its digits kept), drawn at once.
+  for (const key of BOX_KEYS) {
+    for (const [name, a, b] of BOX_FIELDS) {
+      $(`c-${key}-${name}`).addEventListener('input', (e) => {
+        const box = state.task.constraints?.[key];
+        if (!Array.isArray(box) || !Array.isArray(box[a])) return;
+        const text = e.target.value.trim();
+        const problem = numberProblem(text);
+        setFieldError(e.target, problem && `${BOX_NAMES[key]}, ${name}: ${problem}`);
+        if (problem) return;
+        box[a][b] = num(text);
+        draw();
+        solveSoon();
+      });
+    }
+  }
   numberField('c-max-link', 'max_link_length');
   numberField('c-min-link', 'min_link_length');
   numberField('c-min-trans', 'min_transmission_angle_deg');
@@ -412,7 +470,7 @@ function pumpLive() {
         });
       }
     })
-    .catch((err) => showError(err.message, 'solve'))
+    .catch((err) => solveFailed(err.message))
     .finally(() => {
       live.inFlight = false;
       if (live.dirty) pumpLive();
@@ -432,7 +490,7 @@ function reportLatency(ms) {
 let autoTimer = null;
 function scheduleAutoSolve() {
   clearTimeout(autoTimer);
-  autoTimer = setTimeout(() => runStaged(['fast']), 300);
+  autoTimer = setTimeout(() => { autoTimer = null; runStaged(['fast']); }, 300);
 }
 
 let staged = null; // {controller, timer}
@@ -491,7 +549,7 @@ async function runStaged(levels) {
         } else {
           li.className = 'failed';
           li.textContent = `${level}: failed`;
-          showError(err.message, 'solve');
+          solveFailed(err.message);
         }
         for (const rest of rows.slice(i + 1)) { rest.className = 'cancelled'; rest.textContent = `${rest.dataset.testid.slice(6)}: not run`; }
         break;
@@ -579,6 +637,8 @@ function applyResult(resultText, sentTaskText, { note = '' } = {}) {
   state.resultText = resultText;
   state.resultTaskText = sentTaskText;
   state.solveCount++;
+  state.stale = false;
+  markRows([]);
   const n = result.mechanisms?.length ?? 0;
   if (state.selected >= n) state.selected = 0;
   state.analysis = null;
@@ -706,14 +766,28 @@ function drawTick() {
   draw();
 }
 
+// Each part of the picture is drawn on its own: one that cannot be drawn (a
+// result of an unexpected shape) is said in the status bar, and the rest, and
+// every later redraw (zoom, pan, drag), still happen.
+const drawProblems = { picture: [], mechanism: [] };
+
+function reportDrawProblems() {
+  const all = [...new Set([...drawProblems.picture, ...drawProblems.mechanism])];
+  const box = $('st-draw');
+  box.textContent = all.length ? `not drawn: ${all.join('; ')}` : '';
+  box.title = all.join('\n');
+}
+
 function draw() {
   drawLater.frames = 0;
   view.measure();
-  view.drawGrid(layers.grid);
-  drawCurves();
-  drawBoxes();
+  const problems = [];
+  for (const [what, part] of [['grid', () => view.drawGrid(layers.grid)], ['Burmester curves', drawCurves],
+    ['constraint boxes', drawBoxes], ['poses', drawItems]]) {
+    try { part(); } catch (err) { problems.push(`${what} (${err.message})`); }
+  }
+  drawProblems.picture = problems;
   drawMechanism();
-  drawItems();
 }
 
 function drawCurves() {
@@ -752,34 +826,54 @@ function drawBoxes() {
   }
 }
 
+// The dyads and the selected mechanism (drawn alone on each animation step).
 function drawMechanism() {
+  const problems = [];
+  try {
+    drawMechanismParts(problems);
+  } catch (err) {
+    problems.push(`mechanism ${state.selected + 1} (${err.message})`);
+  }
+  drawProblems.mechanism = problems;
+  reportDrawProblems();
+}
+
+function drawMechanismParts(problems) {
   layers.dyads.replaceChildren();
   layers.mechanism.replaceChildren();
+  // A failed solve leaves the last result drawn, greyed: out of date.
+  for (const layer of [layers.curves, layers.dyads, layers.mechanism]) layer.classList.toggle('stale', state.stale);
   const r = state.result;
-  if (!r || r.space === 'spatial' || !isEditable()) return;
+  if (!r || r.space === 'spatial' || !isEditable()) { $('anim-angle').textContent = ''; return; }
   const motion = r.problem !== 'path' && Array.isArray(r.dyads);
   const poseIndex = state.dragPose ?? 0;
   const pose = motion ? poseAt(poseIndex) : null;
-  if (motion && pose) drawDyads(layers.dyads, view, r, pose);
-  const m = r.mechanisms?.[state.selected];
-  if (!m) { $('anim-angle').textContent = ''; return; }
+  if (motion && pose) drawDyads(layers.dyads, view, r, pose, problems);
+  const m = Array.isArray(r.mechanisms) ? r.mechanisms[state.selected] : null;
+  if (!m || typeof m !== 'object') { $('anim-angle').textContent = ''; return; }
   const a = currentAnalysis();
   const firstTheta = motion ? poseAt(0)?.theta ?? null : null;
+  const hasDyads = Array.isArray(m.dyads);
   let frame = null;
-  if (state.dragPose !== null && motion && pose && m.dyads) {
-    frame = frameFromDyads(r, m, pose); // live: exactly at the pose being dragged
+  let angleText = '';
+  if (state.dragPose !== null && motion && pose && hasDyads) {
+    frame = frameFromDyads(r, m, pose, problems); // live: exactly at the pose being dragged
   } else if (m.linkage && a && canAnimate(m, a)) {
     drawPolyline(layers.mechanism, view, a.coupler_point || [], 'coupler-curve', { 'data-testid': 'coupler-curve' });
     const k = Math.min(state.frame, a.input_deg.length - 1);
-    frame = frameFromLinkage(m, a, k, firstTheta);
-    $('anim-angle').textContent = `input ${a.input_deg[k].toFixed(1)}°, step ${k + 1}/${a.input_deg.length}`;
+    frame = frameFromLinkage(m, a, k, firstTheta, problems);
+    const value = Number(a.input_deg[k]);
+    angleText = (a.input === 'slider' || Array.isArray(a.input_position)
+      ? `slider at ${value.toFixed(2)}` : `input ${value.toFixed(1)}°`) + `, step ${k + 1}/${a.input_deg.length}`;
   } else if (m.linkage) {
-    frame = frameFromLinkage(m, null, null, firstTheta);
-  } else if (motion && pose && m.dyads) {
-    frame = frameFromDyads(r, m, pose);
+    frame = frameFromLinkage(m, null, null, firstTheta, problems);
+  } else if (motion && pose && hasDyads) {
+    frame = frameFromDyads(r, m, pose, problems);
+  } else {
+    problems.push(`mechanism ${state.selected + 1} (${m.type ?? 'no type'}): no linkage or dyads to draw`);
   }
+  $('anim-angle').textContent = angleText;
   if (frame) drawFrame(layers.mechanism, view, frame);
-  if (!a) $('anim-angle').textContent = '';
 }
 
 function drawItems() {
@@ -1030,16 +1124,21 @@ function renderTable() {
   if (isEditable() && body.rows.length === items().length && body.dataset.kind === angleKey() && items().length) {
     items().forEach((item, i) => {
       const row = body.rows[i];
-      row.className = state.selectedItem === i ? 'selected' : '';
+      row.classList.toggle('selected', state.selectedItem === i);
+      row.classList.toggle('error-row', state.errorRows.includes(i));
       ['x', 'y', angleKey()].forEach((key, k) => {
         const input = row.cells[k + 1].firstChild;
         const text = item[key] instanceof Num ? item[key].text : item[key] ?? '';
-        if (input.value !== text && document.activeElement !== input) input.value = text;
+        if (input.value !== text && document.activeElement !== input) {
+          input.value = text;
+          if (invalidFields.has(input)) setFieldError(input, null); // shows the task's value again
+        }
       });
     });
     return;
   }
   body.dataset.kind = angleKey();
+  for (const input of body.querySelectorAll('input.invalid')) setFieldError(input, null);
   body.replaceChildren();
   $('angle-head').textContent = isPath() ? 'input°' : 'θ°';
   if (!isEditable()) {
@@ -1053,7 +1152,8 @@ function renderTable() {
     const tr = body.insertRow();
     tr.dataset.testid = `item-row-${i}`;
     tr.setAttribute('data-testid', `item-row-${i}`);
-    if (state.selectedItem === i) tr.className = 'selected';
+    tr.classList.toggle('selected', state.selectedItem === i);
+    tr.classList.toggle('error-row', state.errorRows.includes(i));
     tr.insertCell().textContent = String(i + 1);
     for (const key of ['x', 'y', angleKey()]) {
       const input = document.createElement('input');
@@ -1064,7 +1164,10 @@ function renderTable() {
         const text = input.value.trim();
         const it = items()[i]; // the row's item now (rows outlive a drag's edits)
         if (!it) return;
-        if (text === '' && key === 'input_deg') delete it[key];
+        const problem = text === '' && key === 'input_deg' ? null : numberProblem(text);
+        setFieldError(input, problem && `${isPath() ? 'point' : 'pose'} ${i + 1}, ${key}: ${problem}`);
+        if (problem) return; // not sent: the task keeps its last number
+        if (text === '') delete it[key];
         else it[key] = num(text);
         taskEdited({ source: 'table' });
       });
@@ -1086,13 +1189,28 @@ const COLUMN_NAMES = {
 
 // A typed or pasted table: whitespace, comma, semicolon or tab separated, an
 // optional header naming the columns. Values stay as typed.
+const NUMBER_TEXT = /^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/;
+const DECIMAL_COMMA = /[-+]?\d*,\d+/;
+
+// A line's fields: a line with semicolons or tabs is separated by them (and
+// spaces); its commas can only be decimal commas, refused with a hint. Else
+// spaces and commas separate, and a comma between digits on a line that is
+// separated by spaces is taken for a decimal comma and refused too.
+function splitTableLine(no, l) {
+  if (/[;\t]/.test(l)) return l.split(/[\s;]+/).filter(Boolean);
+  if (/\d,\d/.test(l) && /[^\s,]\s+[^\s,]/.test(l)) {
+    throw new Error(`table line ${no}: '${DECIMAL_COMMA.exec(l)[0]}' is not a number (use a decimal point)`);
+  }
+  return l.split(/[\s,]+/).filter(Boolean);
+}
+
 function parseTable(text) {
   const lines = text.split(/\r?\n/).map((l, i) => [i + 1, l.trim()]).filter(([, l]) => l && !l.startsWith('#'));
   if (!lines.length) throw new Error('the table is empty');
-  const split = (l) => l.split(/[\s,;]+/).filter(Boolean);
   let columns = null;
-  const first = split(lines[0][1]);
-  if (first.some((t) => !/^[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$/.test(t))) {
+  const first = splitTableLine(...lines[0]);
+  // A header names columns: a word that is not a number.
+  if (first.some((t) => !NUMBER_TEXT.test(t) && /[A-Za-zθφ°_]/.test(t))) {
     columns = first.map((t) => {
       const name = COLUMN_NAMES[t.toLowerCase().replace(/[()°]/g, '')];
       if (!name) throw new Error(`table header: unknown column "${t}" (x, y, theta_deg, input_deg, weight)`);
@@ -1103,13 +1221,15 @@ function parseTable(text) {
   let path = isPath();
   if (columns) path = columns.includes('input_deg') || (!columns.includes('theta_deg') && path);
   if (!columns) {
-    const n = split(lines[0][1]).length;
+    const n = first.length;
     if (path) columns = n === 2 ? ['x', 'y'] : ['x', 'y', 'input_deg', 'weight'].slice(0, n);
     else columns = ['x', 'y', 'theta_deg', 'weight'].slice(0, n);
     if (n < 2 || n > 4) throw new Error(`table line ${lines[0][0]}: expected 2 to 4 values, got ${n}`);
   }
   const rows = lines.map(([no, l]) => {
-    const cells = split(l);
+    const cells = splitTableLine(no, l);
+    const bad = cells.findIndex((t) => numberProblem(t));
+    if (bad >= 0 && bad < columns.length) throw new Error(`table line ${no}, ${columns[bad]}: ${numberProblem(cells[bad])}`);
     if (cells.length !== columns.length) throw new Error(`table line ${no}: expected ${columns.length} values, got ${cells.length}`);
     return Object.fromEntries(columns.map((c, k) => [c, num(cells[k])]));
   });
@@ -1158,26 +1278,36 @@ const fitKey = (m) => FIT_KEYS.find((key) => Number.isFinite(m?.[key])) ?? null;
 const fitOf = (m) => (fitKey(m) ? m[fitKey(m)] : NaN);
 const fmtFit = (m) => fmtNum(fitOf(m));
 
+const fmtDeg = (x) => (Number.isFinite(x) ? x.toFixed(1) : '?');
 function transmissionOf(m) {
   const t = m.transmission_angle_deg;
-  if (Array.isArray(t)) return `${t[0].toFixed(1)}–${t[1].toFixed(1)}`;
-  if (Number.isFinite(m.transmission_angle_min_deg)) return `${m.transmission_angle_min_deg.toFixed(1)}–${m.transmission_angle_max_deg.toFixed(1)}`;
+  if (Array.isArray(t) && t.length >= 2) return `${fmtDeg(t[0])}–${fmtDeg(t[1])}`;
+  if (Number.isFinite(m.transmission_angle_min_deg)) return `${fmtDeg(m.transmission_angle_min_deg)}–${fmtDeg(m.transmission_angle_max_deg)}`;
   return '–';
 }
+const listText = (v) => (Array.isArray(v) ? v.map(String).join(', ') : v ? String(v) : '') || '–';
+const plainText = (v) => (v === undefined || v === null ? '' : typeof v === 'object' ? JSON.stringify(v) : String(v));
 
 function renderMechList() {
   const body = $('mech-body');
   body.replaceChildren();
-  (state.result?.mechanisms || []).forEach((m, i) => {
+  const table = $('mech-body').closest('table');
+  table.classList.toggle('stale', state.stale);
+  $('mech-stale').hidden = !state.stale;
+  const list = Array.isArray(state.result?.mechanisms) ? state.result.mechanisms : [];
+  list.forEach((m, i) => {
+    if (!m || typeof m !== 'object') m = {};
     const tr = body.insertRow();
     tr.setAttribute('data-testid', `mechanism-row-${i}`);
     if (i === state.selected) tr.className = 'selected';
-    const cells = [String(i + 1), m.type ?? '', m.grashof ?? '', (m.defects || []).join(', ') || '–',
-      transmissionOf(m), fmtFit(m), (m.violates || []).join(', ') || '–'];
+    const defects = Array.isArray(m.defects) && m.defects.length > 0;
+    const cells = [String(i + 1), plainText(m.type), plainText(m.grashof), listText(m.defects),
+      transmissionOf(m), fmtFit(m), listText(m.violates)];
     cells.forEach((text, k) => {
       const td = tr.insertCell();
       td.textContent = text;
-      if (k === 3 && m.defects?.length) td.className = 'defective';
+      if (k === 3 && defects) td.className = 'defective';
+      if (k === 6) td.className = 'violates';
     });
     tr.title = m.chosen ? `chosen: ${m.chosen}` : '';
     tr.addEventListener('click', () => selectMechanism(i));
@@ -1202,9 +1332,73 @@ function renderStatus() {
   $('st-method').textContent = r ? `method: ${r.method ?? '–'}${r.effort ? ` (${r.effort})` : ''}` : '';
   $('st-time').textContent = r ? `solve_time_ms: ${fmtMs(r.solve_time_ms)}` : '';
   $('st-refine').textContent = r ? state.statusNote : '';
-  const notes = r?.notes || [];
-  $('st-notes').textContent = notes.length ? `notes: ${notes.join(' · ')}` : '';
-  $('st-notes').title = notes.join('\n\n');
+  const notes = Array.isArray(r?.notes) ? r.notes.map(plainText) : [];
+  // Each note whole, on its own line (the bar wraps; long notes scroll within it).
+  $('st-notes').replaceChildren(...notes.map((note) => {
+    const li = document.createElement('li');
+    li.textContent = note;
+    return li;
+  }));
+  const toggle = $('notes-toggle');
+  toggle.hidden = !notes.length;
+  toggle.textContent = notes.length ? `${notesOpen ? '▾' : '▴'} notes (${notes.length}): ${notes[0]}` : '';
+  toggle.setAttribute('aria-expanded', String(notesOpen && notes.length > 0));
+  $('notes-panel').hidden = !(notesOpen && notes.length);
+}
+
+// The notes panel stays open or closed, as chosen, across results.
+let notesOpen = false;
+function toggleNotes(open = !notesOpen) {
+  notesOpen = open;
+  renderStatus();
+}
+
+// A solve that failed: its message, naming the table's rows, and the result
+// shown greyed as out of date until a solve succeeds.
+function solveFailed(message) {
+  showError(withRows(message), 'solve');
+  state.stale = true;
+  renderMechList();
+  drawMechanism();
+}
+
+// The server names poses and points as the task's JSON does (poses[1], from
+// 0): said as the table's rows too (row 2), and those rows highlighted.
+function withRows(message) {
+  const rows = [];
+  const text = String(message).replace(/\b(poses|points)\[(\d+)\]((?:\.\w+)*)/g, (all, key, i) => {
+    if (key === itemsKey()) rows.push(Number(i));
+    return `${all} (row ${Number(i) + 1})`;
+  });
+  markRows(rows);
+  return text;
+}
+
+function markRows(rows) {
+  state.errorRows = rows;
+  [...$('items-body').rows].forEach((tr, i) => tr.classList.toggle('error-row', rows.includes(i)));
+}
+
+// Why a typed text is not a number to send, or null. Nothing that is not one
+// is sent: a decimal comma would be read as two values, or refused.
+function numberProblem(text) {
+  if (text === '') return 'empty (type a number)';
+  if (num(text).valid) return null;
+  if (/^[-+]?(\d+,\d*|\d*,\d+)$/.test(text)) return `'${text}' is not a number (use a decimal point)`;
+  return `'${text}' is not a number`;
+}
+
+// Fields typed with something that is not a number: marked, said in the error
+// bar (the last one typed), and left out of the task until corrected.
+const invalidFields = new Map();
+function setFieldError(input, message) {
+  input.classList.toggle('invalid', Boolean(message));
+  if (message) input.setAttribute('aria-invalid', 'true'); else input.removeAttribute('aria-invalid');
+  if (message) invalidFields.set(input, message); else invalidFields.delete(input);
+  for (const field of invalidFields.keys()) if (!field.isConnected) invalidFields.delete(field);
+  if (message) showError(message, 'field');
+  else if (invalidFields.size) showError([...invalidFields.values()].pop(), 'field');
+  else clearError('field');
 }
 
 let errorSource = null;
@@ -1289,18 +1483,21 @@ function openTaskText(text) {
   if (isLive() || !enoughData()) taskEdited(); else { updateHint(); runStaged(['fast']); }
 }
 
+// A result file's text: listed and drawn over the task shown.
+function openResultText(text) {
+  const result = JSON.parse(text);
+  if (!result || !Array.isArray(result.mechanisms)) throw new Error('not a linkfit result (no "mechanisms")');
+  stopPlaying();
+  state.selected = 0;
+  applyResult(text, taskText());
+  clearError();
+}
+
 function bindFiles() {
   $('open-task').addEventListener('click', () => $('file-task').click());
   $('open-result').addEventListener('click', () => $('file-result').click());
   readFile($('file-task'), openTaskText);
-  readFile($('file-result'), (text) => {
-    const result = JSON.parse(text);
-    if (!Array.isArray(result.mechanisms)) throw new Error('not a linkfit result (no "mechanisms")');
-    stopPlaying();
-    state.selected = 0;
-    applyResult(text, taskText());
-    clearError();
-  });
+  readFile($('file-result'), openResultText);
   $('save-task').addEventListener('click', () => download('task.json', taskText(), 'application/json'));
   $('save-result').addEventListener('click', () => {
     if (!state.resultText) { showError('no result to save yet'); return; }
@@ -1329,6 +1526,8 @@ function bindUi() {
     if (!currentAnalysis()) fetchAnalysis(); else drawMechanism();
   });
   $('error-close').addEventListener('click', () => clearError());
+  $('notes-toggle').addEventListener('click', () => toggleNotes());
+  $('notes-close').addEventListener('click', () => toggleNotes(false));
   $('table-apply').addEventListener('click', applyTable);
   document.querySelector('.paste').addEventListener('toggle', (e) => {
     if (e.target.open && !$('table-text').value.trim()) $('table-text').value = tableAsText();

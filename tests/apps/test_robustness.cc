@@ -380,7 +380,7 @@ TEST_F(RobustnessTest, OptionValuesAreRefusedInOneLine) {
       {{"analyze", task, "--input-speed", "fast"}, "--input-speed"},
       {{"analyze", task, "--force", "1"}, "--force"},
       {{"frobnicate", task},
-       "unknown command 'frobnicate': solve, refine, analyze, export, show or bench"},
+       "unknown command 'frobnicate': solve, refine, analyze, export, show, serve or bench"},
       {{"solve", task, "--jobs"}, "--jobs: 1 required INT missing"},
   };
   for (const auto& [args, expected] : cases) {

@@ -124,6 +124,31 @@ TEST(PivotChoice, FivePosesWhoseExactFourBarsBreakTheBoxGetOneInsideFirst) {
 }
 
 // Bounds the generator keeps: its exact four-bar comes first and nothing is chosen.
+// Five poses whose four Burmester roots are all complex (a designer's gripper poses, issue 38's
+// newcomer run): no exact four-bar, so the nearest ones, chosen on the Burmester curves of four
+// of the poses and fitted to all five, are listed whether constraints are given or not (they
+// came only with "constraints": {} before; given, the fit also holds the default transmission
+// angle, so the two lists need not be equal). Each listed gives its pose errors; the first fits
+// the five poses within half a millimetre on a 170 mm task.
+TEST(PivotChoice, FivePosesWithoutAnExactFourBarGetTheNearestOnes) {
+  const double deg = M_PI / 180.0;
+  Task task =
+      MotionTask({PlanarPose(0, 0, 0), PlanarPose(40, 25, 15 * deg), PlanarPose(85, 35, 30 * deg),
+                  PlanarPose(130, 25, 45 * deg), PlanarPose(170, 0, 60 * deg)});
+  const PlanarMotionResult plain = SolvePlanarTask(task);
+  EXPECT_TRUE(HasNote(plain, "4 of the 4 Burmester roots are complex"));
+  ASSERT_FALSE(plain.mechanisms.empty());
+  EXPECT_TRUE(HasNote(plain, "no exact four-bar passes the poses: linkfit chose"));
+  for (const MechanismReport& mechanism : plain.mechanisms) {
+    ASSERT_TRUE(mechanism.max_pose_error.has_value());
+  }
+  EXPECT_LT(*plain.mechanisms[0].max_pose_error, 0.5);
+  task.constraints.given = true;
+  const PlanarMotionResult given = SolvePlanarTask(task);
+  ASSERT_FALSE(given.mechanisms.empty());
+  EXPECT_LT(*given.mechanisms[0].max_pose_error, 0.5);
+}
+
 TEST(PivotChoice, NothingIsChosenWhenAnExactFourBarKeepsTheConstraints) {
   std::mt19937_64 rng(3502);
   const testing::GeneratedTask generated = testing::RandomFourBarTask(rng, 5);

@@ -179,13 +179,18 @@ def test_designer_page(server, browser):
     assert exported["text"] == moved_text
     assert json.loads(exported["text"]) == moved
 
-    # A bad value typed in the table: the server's one-line message in the error bar.
+    # A value typed in the table that is not a number: not sent; the cell marked, the error bar says so.
+    count = driver.execute_script("return window.linkfit.solveCount")
     cell = driver.find_element(By.CSS_SELECTOR, '[data-testid="item-2-y"]')
     cell.clear()
     cell.send_keys("abc")
     bar = driver.find_element(By.CSS_SELECTOR, '[data-testid="error-bar"]')
     wait_for(bar.is_displayed, what="the error bar")
-    assert "poses[2].y" in bar.text
+    assert "pose 3, y: 'abc' is not a number" in bar.text, bar.text
+    assert "invalid" in cell.get_attribute("class")
+    settle(driver)
+    assert driver.execute_script("return window.linkfit.solveCount") == count
+    assert json.loads(driver.execute_script("return window.linkfit.taskText()")) == moved
 
     target = os.environ.get("LINKFIT_SCREENSHOT") or os.path.join(tempfile.mkdtemp(), "serve_page.png")
     # The picture with the error fixed again, for a human to look at.
@@ -473,3 +478,307 @@ def test_cancel_staged_solve(server, browser):
     task_text = open_task(driver, DATA / "four_bar_5_poses.json")
     assert_page_shows(driver, api_solve(server, task_text))
     assert driver.execute_script("return window.linkfit.state.result.mechanisms.length") > 0
+
+
+# ---------- every dyad and four-bar type drawn; bad input refused; box fields; layout ----------
+
+# Four poses whose Burmester curves give slider dyads (PR): slider-cranks driven by the slider and
+# by the crank, and a 4R. The same motion inverted (the frames swapped) gives RP dyads: inverted
+# slider-cranks.
+SLIDER_TASK = json.dumps({"problem": "motion", "space": "planar", "poses": [
+    {"x": 0, "y": 0, "theta_deg": 0}, {"x": 40, "y": 25, "theta_deg": 15},
+    {"x": 85, "y": 35, "theta_deg": 30}, {"x": 170, "y": 0, "theta_deg": 60}]})
+INVERTED_TASK = json.dumps({"problem": "motion", "space": "planar", "poses": [
+    {"x": 0, "y": 0, "theta_deg": 0}, {"x": -45.1075, "y": -13.7954, "theta_deg": -15},
+    {"x": -91.1122, "y": 12.1891, "theta_deg": -30}, {"x": -85, "y": 147.2243, "theta_deg": -60}]})
+
+# The picture's state in one script: the error bar, what the status says was not drawn, the
+# selected mechanism's parts (their world coordinates) and the dyads' glyphs.
+PICTURE = """
+  const $ = (id) => document.querySelector(`[data-testid="${id}"]`);
+  const parts = [...document.querySelectorAll('#layer-mechanism [data-testid]')].map((e) => ({
+    id: e.dataset.testid, x: Number(e.dataset.x), y: Number(e.dataset.y), angle: Number(e.dataset.angle),
+    from: e.dataset.from, to: e.dataset.to,
+    nan: [...e.attributes].some((a) => /NaN|undefined/.test(a.value)) }));
+  const dyads = [...document.querySelectorAll('[data-testid^="dyad-"]')].map((e) => e.dataset.testid);
+  return { error: $('error-bar').hidden ? null : $('error-text').textContent, notDrawn: $('status-draw').textContent,
+           parts, dyads, analysis: window.linkfit.state.analysis, selected: window.linkfit.state.selected,
+           busy: window.linkfit.busy, frame: window.linkfit.frame };
+"""
+
+
+def off_line(x, y, line):
+    """The distance from (x, y) to the line through (line.x, line.y) at line.angle (radians)."""
+    return abs(-(x - line["x"]) * math.sin(line["angle"]) + (y - line["y"]) * math.cos(line["angle"]))
+
+
+def check_frame(picture, mechanism, scale):
+    """The selected mechanism's parts are those of its joints' types, and assembled: each slider
+    block on its line, each RP's fixed pivot on the line the coupler carries."""
+    joints = mechanism["linkage"]["joints"]
+    parts = {p["id"]: p for p in picture["parts"]}
+    assert not any(p["nan"] for p in picture["parts"]), picture["parts"]
+    for side in ("input", "output"):
+        line = joints.get(side + "_slider_line")
+        if line is None:  # RR: a crank from its fixed pivot
+            assert {f"mech-crank-{side}", f"mech-pivot-{side}"} <= parts.keys(), (side, parts.keys())
+            assert f"mech-slider-{side}" not in parts
+            continue
+        block, drawn_line = parts[f"mech-slider-{side}"], parts[f"mech-line-{side}"]
+        assert off_line(block["x"], block["y"], drawn_line) < 1e-6 * scale, (side, block, drawn_line)
+        if line["on"] == "ground":  # PR: the block slides on the ground line
+            assert math.isclose(drawn_line["angle"], math.radians(line["angle_deg"]), abs_tol=1e-9)
+            assert f"mech-pivot-{side}" not in parts
+        else:  # RP: the block turns on its fixed pivot, on the coupler's line
+            assert f"mech-pivot-{side}" in parts
+            assert math.hypot(block["x"] - joints[side + "_pivot"][0],
+                              block["y"] - joints[side + "_pivot"][1]) < 1e-9 * scale
+    return parts
+
+
+def check_every_mechanism(driver, types):
+    """Selects each listed mechanism: drawn without an error, as its type, at two steps of its
+    analysis; returns the mechanism types seen."""
+    result = driver.execute_script("return window.linkfit.state.result")
+    scale = result["scale"]
+    seen = set()
+    assert {d["type"] for d in result["dyads"]} >= types, result["dyads"]
+    for i, mechanism in enumerate(result["mechanisms"]):
+        driver.find_element(By.CSS_SELECTOR, f'[data-testid="mechanism-row-{i}"]').click()
+        picture = wait_for(lambda: (lambda p: p if p["analysis"] and p["analysis"]["mechanism"] == i + 1
+                                    and not p["busy"] else None)(driver.execute_script(PICTURE)),
+                           what=f"mechanism {i + 1} analysed")
+        assert picture["error"] is None and picture["notDrawn"] == "", picture
+        assert "coupler-curve" in {p["id"] for p in picture["parts"]}
+        first = check_frame(picture, mechanism, scale)
+        # Another step of its cycle: still assembled, the crank's length kept.
+        steps = len(picture["analysis"]["input_deg"])
+        driver.execute_script("""const s = document.querySelector('[data-testid="scrub"]');
+            s.value = arguments[0]; s.dispatchEvent(new Event('input'));""", steps // 3)
+        picture = driver.execute_script(PICTURE)
+        assert picture["frame"] == steps // 3 and picture["error"] is None and picture["notDrawn"] == ""
+        later = check_frame(picture, mechanism, scale)
+        for side in ("input", "output"):
+            if f"mech-crank-{side}" in first:
+                length = [math.dist(*[[float(v) for v in p[k].split(",")] for k in ("from", "to")])
+                          for p in (first[f"mech-crank-{side}"], later[f"mech-crank-{side}"])]
+                assert math.isclose(*length, rel_tol=1e-9), (side, length)
+        seen.add(mechanism["type"])
+    # Every dyad drawn, a slider's and an RP's with its block.
+    picture = driver.execute_script(PICTURE)
+    for i, d in enumerate(result["dyads"]):
+        assert f"dyad-{i}" in picture["dyads"]
+        assert (f"dyad-block-{i}" in picture["dyads"]) == (d["type"] != "RR"), (i, d["type"])
+    return seen
+
+
+def test_every_dyad_type_drawn(server, browser):
+    driver = browser
+    load_page(driver, server)
+    driver.execute_script("window.linkfit.openTask(arguments[0])", SLIDER_TASK)
+    settle(driver)
+    assert check_every_mechanism(driver, {"RR", "PR"}) >= {"slider-crank", "4R"}
+    result = driver.execute_script("return window.linkfit.state.result")
+    assert_page_shows(driver, result)
+    # Played: a slider-driven slider-crank moves.
+    driven = [i for i, m in enumerate(result["mechanisms"]) if "input_slider_line" in m["linkage"]["joints"]]
+    assert driven, "a slider-crank driven by its slider"
+    driver.find_element(By.CSS_SELECTOR, f'[data-testid="mechanism-row-{driven[0]}"]').click()
+    driver.find_element(By.CSS_SELECTOR, '[data-testid="play"]').click()
+    wait_for(lambda: driver.execute_script("return window.linkfit.playing"), what="play")
+    first = driver.execute_script("return window.linkfit.frame")
+    wait_for(lambda: driver.execute_script("return window.linkfit.frame") != first, what="the animation")
+    driver.find_element(By.CSS_SELECTOR, '[data-testid="play"]').click()
+    picture = driver.execute_script(PICTURE)
+    assert picture["error"] is None and picture["notDrawn"] == ""
+    check_frame(picture, result["mechanisms"][driven[0]], result["scale"])
+    assert "slider at" in driver.find_element(By.CSS_SELECTOR, '[data-testid="anim-angle"]').text
+    # The canvas still follows the zoom: pose 1 is drawn where the view now puts it.
+    before = driver.execute_script("return window.linkfit.toScreen(0, 0)")
+    driver.execute_script("""document.querySelector('[data-testid="canvas"]').dispatchEvent(
+        new WheelEvent('wheel', {deltaY: -300, clientX: 200, clientY: 200, bubbles: true, cancelable: true}));""")
+    after, drawn = driver.execute_script("""const o = document.querySelector('[data-testid="pose-0-origin"]');
+        return [window.linkfit.toScreen(0, 0), [Number(o.getAttribute('cx')), Number(o.getAttribute('cy'))]];""")
+    assert after != before and math.dist(after, drawn) < 0.5, (before, after, drawn)
+
+    # RP dyads: inverted slider-cranks.
+    driver.execute_script("window.linkfit.openTask(arguments[0])", INVERTED_TASK)
+    settle(driver)
+    assert "inverted slider-crank" in check_every_mechanism(driver, {"RR", "RP"})
+    assert_page_shows(driver, driver.execute_script("return window.linkfit.state.result"))
+
+    # Five poses with a slider: the bundled slider-crank example.
+    open_task(driver, DATA / "slider_crank_5_poses.json")
+    assert check_every_mechanism(driver, {"RR", "PR"}) >= {"slider-crank", "4R"}
+
+    # A mechanism of a shape the page does not know: drawn as far as it goes, said in the status.
+    text = driver.execute_script("return window.linkfit.state.resultText")
+    odd = json.loads(text)
+    odd["dyads"][0] = {"type": "XY", "fixed": "here"}
+    del odd["mechanisms"][0]["linkage"]["joints"]["input_pin"]
+    driver.execute_script("window.linkfit.openResultText(arguments[0])", json.dumps(odd))
+    time.sleep(0.3)  # its analysis: the server may refuse the broken linkage, which the bar then says
+    picture = driver.execute_script(PICTURE)
+    assert picture["error"] is None or picture["error"].startswith("analysis:"), picture["error"]
+    assert "dyad 1" in picture["notDrawn"] and "input joints" in picture["notDrawn"], picture["notDrawn"]
+    assert "dyad-1" in picture["dyads"]
+
+
+def error_text(driver):
+    return driver.execute_script("""const b = document.querySelector('[data-testid="error-bar"]');
+        return b.hidden ? null : document.querySelector('[data-testid="error-text"]').textContent;""")
+
+
+def test_bad_numbers_refused(server, browser):
+    driver = browser
+    load_page(driver, server)
+    # A decimal comma typed in a cell: not sent, the cell marked, the error bar says why.
+    cell = driver.find_element(By.CSS_SELECTOR, '[data-testid="item-1-x"]')
+    cell.clear()
+    cell.send_keys("40")
+    settle(driver)
+    task = driver.execute_script("return window.linkfit.taskText()")
+    count = driver.execute_script("return window.linkfit.solveCount")
+    cell.send_keys(",5")
+    settle(driver)
+    assert error_text(driver) == "pose 2, x: '40,5' is not a number (use a decimal point)"
+    assert "invalid" in cell.get_attribute("class")
+    assert driver.execute_script("return window.linkfit.solveCount") == count
+    assert driver.execute_script("return window.linkfit.taskText()") == task
+    cell.clear()
+    cell.send_keys("40.50")
+    settle(driver)
+    assert error_text(driver) is None and "invalid" not in cell.get_attribute("class")
+    assert '"x": 40.50' in driver.execute_script("return window.linkfit.taskText()")
+
+    # A pasted table with decimal commas: refused with the same hint, the task kept.
+    task = driver.execute_script("return window.linkfit.taskText()")
+    driver.find_element(By.CSS_SELECTOR, '.paste > summary').click()
+    area = driver.find_element(By.CSS_SELECTOR, '[data-testid="table-text"]')
+    for table, message in (
+            ("x;y;theta_deg\n0;0;0\n40,5;25;15\n85;35;30\n170;0;60\n", "table line 3, x: '40,5'"),
+            ("0\t0\t0\n40\t25,5\t15\n85\t35\t30\n", "table line 2, y: '25,5'"),
+            ("0 0 0\n40,5 25 15\n85 35 30\n", "table line 2: '40,5'")):
+        driver.execute_script("arguments[0].value = arguments[1]", area, table)
+        driver.find_element(By.CSS_SELECTOR, '[data-testid="table-apply"]').click()
+        assert error_text(driver) == message + " is not a number (use a decimal point)", error_text(driver)
+        assert driver.execute_script("return window.linkfit.taskText()") == task
+    driver.find_element(By.CSS_SELECTOR, '.paste > summary').click()
+
+    # The server's message naming poses[2]: the table's row 3 named and marked; the result kept
+    # but greyed as out of date until the next solve succeeds.
+    cell = driver.find_element(By.CSS_SELECTOR, '[data-testid="item-2-y"]')
+    good = cell.get_attribute("value")
+    # Pasted into the cell at once (typed, "1e9" and "1e99" would be solved on the way).
+    driver.execute_script("arguments[0].value = '1e999'; arguments[0].dispatchEvent(new Event('input'))", cell)
+    settle(driver)
+    message = error_text(driver)
+    assert message and "poses[2].y (row 3)" in message, message
+    state = driver.execute_script("""const $ = (id) => document.querySelector(`[data-testid="${id}"]`);
+        return [window.linkfit.state.stale, $('item-row-2').classList.contains('error-row'),
+                $('mechanism-list').classList.contains('stale'), !$('mechanism-stale').hidden,
+                document.getElementById('layer-mechanism').classList.contains('stale'),
+                document.querySelectorAll('#layer-mechanism > *').length,
+                document.querySelectorAll('.error-row').length]""")
+    assert state == [True, True, True, True, True, state[5], 1] and state[5] > 0, state
+    cell.clear()
+    cell.send_keys(good)
+    settle(driver)
+    state = driver.execute_script("""return [window.linkfit.state.stale, document.querySelectorAll('.error-row').length,
+        document.querySelector('[data-testid="mechanism-list"]').classList.contains('stale'),
+        document.getElementById('layer-mechanism').classList.contains('stale')]""")
+    assert state == [False, 0, False, False] and error_text(driver) is None, state
+
+
+def test_box_corner_fields(server, browser):
+    driver = browser
+    load_page(driver, server)
+    driver.find_element(By.CSS_SELECTOR, '[data-testid="c-fixed-box"]').click()
+    settle(driver)
+    key = "fixed_pivots_box"
+    fields = lambda: driver.execute_script(
+        "return ['xmin', 'ymin', 'xmax', 'ymax'].map((n) => document.querySelector(`[data-testid=\"c-%s-${n}\"]`).value)" % key)
+    box = page_task(driver)["constraints"][key]
+    assert [float(v) for v in fields()] == [box[0][0], box[0][1], box[1][0], box[1][1]]
+    # Typed: the task keeps the digits; the box is drawn there and solved with.
+    xmax = f"{math.floor(box[1][0]) + 5}.50"
+    field = driver.find_element(By.CSS_SELECTOR, f'[data-testid="c-{key}-xmax"]')
+    field.clear()
+    field.send_keys(xmax)
+    settle(driver)
+    text = driver.execute_script("return window.linkfit.taskText()")
+    assert f"[{xmax}, " in text, text
+    assert driver.execute_script("return window.linkfit.state.result.constraints.fixed_pivots_box")[1][0] == float(xmax)
+    corner = driver.execute_script("""const e = document.querySelector('[data-testid="fixed_pivots_box-corner-2"]');
+        return [Number(e.getAttribute('x')) + 5, Number(e.getAttribute('y')) + 5];""")
+    expected = driver.execute_script("return window.linkfit.toScreen(...arguments)", float(xmax), box[1][1])
+    assert math.dist(corner, expected) < 0.5, (corner, expected)
+    # Not a number: refused, said.
+    field = driver.find_element(By.CSS_SELECTOR, f'[data-testid="c-{key}-ymin"]')
+    field.clear()
+    field.send_keys("3,5")
+    settle(driver)
+    assert error_text(driver) == "fixed pivots box, ymin: '3,5' is not a number (use a decimal point)"
+    assert "invalid" in field.get_attribute("class")
+    assert page_task(driver)["constraints"][key][0][1] == 3  # the last number typed, "3"
+    # Dragged on the canvas: the fields follow (the dragged values rounded to the view).
+    handle = driver.find_element(By.CSS_SELECTOR, f'[data-testid="{key}-corner-2"]')
+    assert driver.execute_script(
+        """const e = arguments[0], b = e.getBoundingClientRect();
+           return document.elementFromPoint(b.x + b.width / 2, b.y + b.height / 2) === e;""", handle)
+    ActionChains(driver, duration=20).click_and_hold(handle).move_by_offset(12, -9).pause(0.05) \
+        .move_by_offset(12, -9).release().perform()
+    settle(driver)
+    moved = json.loads(driver.execute_script("return window.linkfit.taskText()"))["constraints"][key]
+    assert moved[1][0] > float(xmax) and moved[1][1] > box[1][1], (moved, xmax, box)
+    raw = driver.execute_script("return window.linkfit.taskText()")
+    assert fields() == [str(v) for v in driver.execute_script(
+        "const b = window.linkfit.taskTree().constraints.fixed_pivots_box; return [b[0][0].text, b[0][1].text, b[1][0].text, b[1][1].text]")], raw
+    assert error_text(driver) is None
+
+
+def test_layout_readable(server, browser):
+    driver = browser
+    load_page(driver, server)
+    layout = """
+      const rect = (e) => e.getBoundingClientRect();
+      const $ = (id) => document.querySelector(`[data-testid="${id}"]`);
+      const hint = rect($('hint')), legend = rect($('legend'));
+      const notes = $('status-notes'), panel = $('notes-panel');
+      const wrap = document.querySelector('.mechs-wrap'), head = rect(document.querySelector('.mechs th.violates'));
+      return { overlap: hint.width > 0 && hint.right > legend.left && hint.left < legend.right &&
+                        hint.bottom > legend.top && hint.top < legend.bottom,
+               hintText: $('hint').textContent,
+               notes: panel.hidden ? null : [...notes.children].map((li) => li.textContent),
+               // Each note whole: wrapped, not cut; the panel on screen, above the status bar.
+               notesClipped: [...notes.children].some((li) => li.scrollWidth > li.clientWidth + 1 ||
+                   getComputedStyle(li).textOverflow === 'ellipsis' || rect(li).height < 10) ||
+                   panel.scrollWidth > panel.clientWidth + 1 || rect(panel).top < 0 ||
+                   rect(panel).bottom > rect($('status-bar')).top + 1,
+               canvasHeight: rect($('canvas')).height,
+               violatesVisible: head.width > 0 && head.right <= rect(wrap).right + 1 && wrap.scrollWidth <= wrap.clientWidth + 1,
+               rows: document.querySelectorAll('[data-testid^="mechanism-row-"]').length };
+    """
+    height = driver.execute_script(layout)["canvasHeight"]
+    for task in (SLIDER_TASK, (DATA / "four_bar_12_poses.json").read_text()):
+        driver.execute_script("window.linkfit.openTask(arguments[0])", task)
+        settle(driver)
+        page = driver.execute_script(layout)
+        notes = driver.execute_script("return window.linkfit.state.result.notes")
+        assert notes and not page["overlap"] and page["notes"] is None, page
+        # The canvas keeps its size with the notes; their button opens every note, whole.
+        assert page["canvasHeight"] == height, page
+        toggle = driver.find_element(By.CSS_SELECTOR, '[data-testid="notes-toggle"]')
+        toggle.click()
+        page = driver.execute_script(layout)
+        assert page["notes"] == notes and not page["notesClipped"], page
+        toggle.click()
+        assert driver.execute_script(layout)["notes"] is None
+    # Many mechanisms, each violating constraints: the "violates" column in view.
+    task = json.loads((DATA / "four_bar_12_poses.json").read_text())
+    task["constraints"] = {"max_link_length": 5, "min_transmission_angle_deg": 80,
+                           "fixed_pivots_box": [[0, 0], [1, 1]]}
+    driver.execute_script("window.linkfit.openTask(arguments[0])", json.dumps(task))
+    settle(driver)
+    page = driver.execute_script(layout)
+    assert page["rows"] >= 8 and page["violatesVisible"] and not page["overlap"], page

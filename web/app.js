@@ -435,6 +435,9 @@ function queueLiveSolve(eventTime, pointer) {
   }
 }
 
+const hasConstraints = () =>
+  !!state.task?.constraints && Object.keys(state.task.constraints).length > 0;
+
 function pumpLive() {
   if (live.inFlight || !live.dirty) return; // the reply in flight pumps again
   live.dirty = false;
@@ -447,9 +450,13 @@ function pumpLive() {
   const text = taskText();
   cancelStaged();
   live.inFlight = true;
-  live.lastText = text;
+  // Constrained five poses: while a pose is dragged, the fast level (the exact four-bars and
+  // those chosen on the Burmester curves of four poses: ~15 ms) keeps up with the pointer; the
+  // bounded least-squares fit of all five (~100 ms) follows on release (endDrag).
+  const effort = state.dragPose !== null && hasConstraints() ? 'fast' : undefined;
+  live.lastText = effort ? null : text;
   const sent = performance.now();
-  api.solve(text)
+  api.solve(text, { effort })
     .then((resultText) => {
       const received = performance.now();
       applyResult(resultText, text);

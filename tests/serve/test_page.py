@@ -782,3 +782,36 @@ def test_layout_readable(server, browser):
     settle(driver)
     page = driver.execute_script(layout)
     assert page["rows"] >= 8 and page["violatesVisible"] and not page["overlap"], page
+
+
+def test_constrained_drag_is_fast_then_refined(server, browser):
+    """Five poses with a box: while a pose is dragged the page solves at the fast level (it keeps
+    up with the pointer), and on release at the task's own effort; the picture is then the API's
+    answer for the moved task, its bounded least-squares fits of all five among it."""
+    driver = browser
+    load_page(driver, server)
+    open_task(driver, ROOT / "data" / "bounded_four_bar_5_poses.json")
+    handle = driver.find_element(By.CSS_SELECTOR, '[data-testid="pose-1-origin"]')
+    driver.execute_script("window.linkfit.allLatencies.length = 0")
+    chain = ActionChains(driver, duration=20).click_and_hold(handle)
+    for _ in range(10):
+        chain.move_by_offset(2, -2).pause(0.06)
+    chain.perform()
+    settle(driver)
+    # Held, not yet released: the last solve was the fast level's.
+    held = driver.execute_script("return window.linkfit.taskText()")
+    request = urllib.request.Request(server + "api/solve?effort=fast", data=held.encode(),
+                                     method="POST", headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(request, timeout=30) as reply:
+        fast = json.loads(reply.read())
+    assert_page_shows(driver, fast)
+    latencies = driver.execute_script("return window.linkfit.allLatencies")
+    assert latencies, "no live solve while dragging"
+    ActionChains(driver).release().perform()
+    settle(driver)
+    released = driver.execute_script("return window.linkfit.taskText()")
+    assert released == held
+    full = api_solve(server, released)
+    assert_page_shows(driver, full)
+    assert any("least-squares fit(s) of all five" in note for note in full["notes"])
+    print("constrained drag latencies (ms):", sorted(latencies))

@@ -69,6 +69,8 @@ struct Feed {
   size_t written = 0;
 };
 
+constexpr size_t kErrKept = size_t{64} << 10;
+
 }  // namespace
 
 ChildOutcome RunChild(const ChildRun& run) {
@@ -92,6 +94,10 @@ ChildOutcome RunChild(const ChildRun& run) {
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
   posix_spawn_file_actions_adddup2(&actions, out_write.get(), 1);
   posix_spawn_file_actions_adddup2(&actions, err_write.get(), 2);
+  // Nothing else of this process's: httplib accepts its connections without close-on-exec, and
+  // a child holding them would keep a client's connection open past the server's life.
+  const int first_unused = run.inputs.empty() ? 3 : std::max(3, run.inputs.rbegin()->first + 1);
+  posix_spawn_file_actions_addclosefrom_np(&actions, first_unused);
   std::vector<char*> argv;
   argv.push_back(const_cast<char*>(run.program.c_str()));
   for (const std::string& arg : run.args) argv.push_back(const_cast<char*>(arg.c_str()));
@@ -103,6 +109,17 @@ ChildOutcome RunChild(const ChildRun& run) {
   if (spawned != 0) {
     throw std::runtime_error("cannot run " + run.program + ": " + std::strerror(spawned));
   }
+  // The child is killed and reaped however this function ends (a failed poll, an exception).
+  struct Reaper {
+    pid_t pid;
+    bool reaped = false;
+    ~Reaper() {
+      if (reaped) return;
+      ::kill(pid, SIGKILL);
+      while (::waitpid(pid, nullptr, 0) == -1 && errno == EINTR) {
+      }
+    }
+  } reaper{pid};
   ::setpriority(PRIO_PROCESS, static_cast<id_t>(pid), run.nice);
   // The child's ends are its own now: closed here, so its exit gives the parent end-of-file.
   child_ends.clear();
@@ -136,7 +153,10 @@ ChildOutcome RunChild(const ChildRun& run) {
     const int wait_ms = static_cast<int>(left.count()) + 1;
     const int ready = ::poll(polled.data(), polled.size(),
                              run.cancel != nullptr ? std::min(wait_ms, 20) : wait_ms);
-    if (ready < 0 && errno != EINTR) break;
+    if (ready < 0 && errno != EINTR) {
+      outcome.timed_out = true;  // cannot wait on it any more: stopped as at its limit
+      break;
+    }
     for (Feed& feed : feeds) {
       if (feed.fd.get() == -1) continue;
       const size_t left_bytes = feed.text->size() - feed.written;
@@ -162,6 +182,8 @@ ChildOutcome RunChild(const ChildRun& run) {
         break;
       }
     }
+    // Standard error: its last line is the message; a child that writes on and on keeps 64 KiB.
+    if (outcome.err.size() > kErrKept) outcome.err.erase(0, outcome.err.size() - kErrKept);
     if (outcome.out.size() > run.max_output_bytes) {
       outcome.output_too_long = true;
       break;
@@ -171,6 +193,7 @@ ChildOutcome RunChild(const ChildRun& run) {
   int status = 0;
   while (::waitpid(pid, &status, 0) == -1 && errno == EINTR) {
   }
+  reaper.reaped = true;
   outcome.exit_status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   outcome.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return outcome;

@@ -20,7 +20,7 @@ struct ChildRun {
   std::map<int, std::string> inputs;
   double time_limit_s = 60.0;  // killed (SIGKILL) when it runs longer
   int nice = 10;               // its scheduling niceness (below interactive requests)
-  size_t max_output_bytes = size_t{512} << 20;  // killed when its standard output passes this
+  size_t max_output_bytes = size_t{64} << 20;  // killed when its standard output passes this
   // Killed as soon as this turns true (looked at every 20 ms), when given.
   const std::atomic<bool>* cancel = nullptr;
 };

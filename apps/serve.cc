@@ -7,10 +7,13 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <string>
 #include <system_error>
+#include <thread>
+#include <utility>
 
 #include "apps/web_api.h"
 #include "lib/task_io.h"
@@ -83,13 +86,14 @@ WebRequest ToWebRequest(const httplib::Request& request) {
   return web;
 }
 
-void Send(const WebReply& reply, httplib::Response& response) {
+void Send(WebReply reply, httplib::Response& response) {
   response.status = reply.status;
   if (!reply.filename.empty()) {
     response.set_header("Content-Disposition", "attachment; filename=\"" + reply.filename + "\"");
   }
   response.set_header("Cache-Control", "no-store");
-  response.set_content(reply.body, reply.content_type.c_str());
+  response.body = std::move(reply.body);
+  response.set_header("Content-Type", reply.content_type);
 }
 
 }  // namespace
@@ -125,9 +129,38 @@ int RunServe(const ServeOptions& options) {
   // (slowest) quality, 50 ms for the page's script and 8 ms for a five-pose result, all of it
   // latency on a loopback connection, where the bytes cost nothing. The request is httplib's own
   // (non-const) object, handed on as const.
-  server.set_pre_routing_handler([](const httplib::Request& request, httplib::Response&) {
+  //
+  // On loopback, only this machine's pages: a request whose Host is not the server's own address
+  // comes through a name an attacker's page rebound to 127.0.0.1 (DNS rebinding), and a POST
+  // from another site's page (its Origin, or Sec-Fetch-Site: cross-site) would spend the cores
+  // on its solves. Both answer 403; curl and scripts send neither header.
+  int port = options.port;
+  const bool loopback = IsLoopback(options.host);
+  server.set_pre_routing_handler([&port, loopback](const httplib::Request& request,
+                                                   httplib::Response& response) {
     const_cast<httplib::Request&>(request).headers.erase("Accept-Encoding");
-    return httplib::Server::HandlerResponse::Unhandled;
+    if (!loopback) return httplib::Server::HandlerResponse::Unhandled;
+    const std::string host = request.get_header_value("Host");
+    const std::string suffix = ":" + std::to_string(port);
+    bool own = false;
+    for (const char* name : {"127.0.0.1", "localhost", "[::1]"}) {
+      own |= host == name || host == name + suffix;  // a loopback name, its port or none
+    }
+    std::string refusal;
+    if (!own) {
+      refusal = "Host " + ShownInMessage(host) + ": this server answers to 127.0.0.1" + suffix +
+                " and localhost" + suffix + " only";
+    } else if (request.method == "POST") {
+      const std::string origin = request.get_header_value("Origin");
+      if ((!origin.empty() && origin != "http://" + host) ||
+          request.get_header_value("Sec-Fetch-Site") == "cross-site") {
+        refusal =
+            "Origin " + ShownInMessage(origin) + ": another site's page may not use this server";
+      }
+    }
+    if (refusal.empty()) return httplib::Server::HandlerResponse::Unhandled;
+    Send(ErrorReply(403, refusal), response);
+    return httplib::Server::HandlerResponse::Handled;
   });
   if (!server.set_mount_point("/", web_dir)) {
     throw InputError("serve: cannot serve the page's files from " + web_dir);
@@ -145,6 +178,18 @@ int RunServe(const ServeOptions& options) {
   server.Get("/api/version", [&api](const httplib::Request&, httplib::Response& response) {
     Send(api.Version(), response);
   });
+  // A route called with the other method: 405, with the one it takes.
+  const auto wrong_method = [](const char* allowed) {
+    return [allowed](const httplib::Request& request, httplib::Response& response) {
+      Send(ErrorReply(405, ShownInMessage(request.path) + ": use " + allowed), response);
+      response.set_header("Allow", allowed);
+    };
+  };
+  for (const char* path :
+       {"/api/solve", "/api/refine", "/api/analyze", "/api/export", "/api/cancel"}) {
+    server.Get(path, wrong_method("POST"));
+  }
+  server.Post("/api/version", wrong_method("GET"));
   // httplib's own refusals (413 too large, 404 no such file or route, 400 malformed) get the
   // API's JSON body.
   server.set_error_handler(
@@ -159,7 +204,7 @@ int RunServe(const ServeOptions& options) {
                         ? request.path +
                               ": no such route (solve, refine, analyze, export, cancel: "
                               "POST; version: GET)"
-                        : request.path + ": not found";
+                        : ShownInMessage(request.path) + ": not found";
         } else {
           message = "HTTP " + std::to_string(response.status);
         }
@@ -186,7 +231,6 @@ int RunServe(const ServeOptions& options) {
     ::setsockopt(socket, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof(yes));
     listening = socket;
   });
-  int port = options.port;
   if (port == 0) {
     port = server.bind_to_any_port(options.host);
     if (port < 0) throw InputError("--host " + options.host + ": cannot listen there");
@@ -209,7 +253,16 @@ int RunServe(const ServeOptions& options) {
   const std::string shown_host =
       options.host.find(':') != std::string::npos ? "[" + options.host + "]" : options.host;
   std::cout << "linkfit serve: http://" << shown_host << ":" << port << "/" << std::endl;
+  // The first signal stops the server: its long solves are stopped at once (a thread of their
+  // own, for a signal handler may not lock), so that the connections' threads end.
+  std::atomic<bool> served{false};
+  std::thread stopper([&] {
+    while (!served && signals_seen == 0) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    api.StopLongSolves();
+  });
   server.listen_after_bind();
+  served = true;
+  stopper.join();
   running_server = nullptr;
   return 0;
 }

@@ -29,15 +29,10 @@ namespace {
 
 constexpr long long kMaxIndex = 1000000000;
 constexpr long long kMaxCurvePoints = 100000;
+// Cancels of solves not (yet) running remembered, the newest.
+constexpr size_t kCancelledEarlyKept = 256;
 
-// A query parameter's text, shown in a message: at most 40 printable characters.
-std::string Shown(const std::string& text) {
-  std::string shown = text.substr(0, 40);
-  for (char& c : shown) {
-    if (c < 0x20 || c >= 0x7f) c = '?';
-  }
-  return shown.size() < text.size() ? shown + "..." : shown;
-}
+std::string Shown(const std::string& text) { return ShownInMessage(text); }
 
 // The query parameters of a route: only those it takes, each at most once.
 class Params {
@@ -51,7 +46,7 @@ class Params {
         throw InputError("?" + Shown(name) + ": not a parameter of " + route +
                          (names.empty() ? " (it takes none)" : " (it takes " + names + ")"));
       }
-      if (request.params.count(name) > 1) throw InputError("?" + name + ": given twice");
+      if (request.params.count(name) > 1) throw InputError("?" + Shown(name) + ": given twice");
     }
   }
   std::optional<std::string> Text(const std::string& name) const {
@@ -204,6 +199,14 @@ std::string ChildMessage(const std::string& err) {
 
 }  // namespace
 
+std::string ShownInMessage(const std::string& text) {
+  std::string shown = text.substr(0, 40);
+  for (char& c : shown) {
+    if (c < 0x20 || c >= 0x7f) c = '?';
+  }
+  return shown.size() < text.size() ? shown + "..." : shown;
+}
+
 WebReply ErrorReply(int status, const std::string& message) {
   WebReply reply;
   reply.status = status;
@@ -265,6 +268,10 @@ WebReply WebApi::Cancel(const WebRequest& request) {
       if (it != cancels_.end()) {
         it->second->store(true);
         found = true;
+      } else {
+        // Not here yet (its request still uploading or parsing): refused when it comes.
+        cancelled_early_.push_back(*id);
+        if (cancelled_early_.size() > kCancelledEarlyKept) cancelled_early_.pop_front();
       }
     }
     turn_.notify_all();
@@ -272,6 +279,15 @@ WebReply WebApi::Cancel(const WebRequest& request) {
     reply.body = nlohmann::json{{"cancelled", found}}.dump() + "\n";
     return reply;
   });
+}
+
+void WebApi::StopLongSolves() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_long_ = true;
+    for (std::atomic<bool>* flag : every_long_) flag->store(true);
+  }
+  turn_.notify_all();
 }
 
 WebReply WebApi::Version() const {
@@ -290,8 +306,10 @@ WebReply WebApi::Version() const {
 WebReply WebApi::RunLong(const std::vector<std::string>& args,
                          const std::map<int, std::string>& inputs, const std::string& request_id) {
   const auto cancel = std::make_shared<std::atomic<bool>>(false);
+  bool ran = false;
   {
     std::unique_lock<std::mutex> lock(mutex_);
+    if (stopping_long_) return ErrorReply(503, "the server is stopping");
     if (running_ >= options_.long_solves && waiting_ >= options_.max_waiting) {
       return ErrorReply(503, "busy: " + std::to_string(running_) + " long solves running and " +
                                  std::to_string(waiting_) + " waiting; try again later");
@@ -300,33 +318,49 @@ WebReply WebApi::RunLong(const std::vector<std::string>& args,
       if (cancels_.count(request_id) > 0) {
         throw InputError("?request_id=" + Shown(request_id) + ": already in use");
       }
+      // Cancelled before it got here (its cancel overtook it on another connection).
+      if (std::find(cancelled_early_.begin(), cancelled_early_.end(), request_id) !=
+          cancelled_early_.end()) {
+        return ErrorReply(409, "cancelled (/api/cancel) before it started");
+      }
       cancels_[request_id] = cancel;
     }
+    every_long_.insert(cancel.get());
     ++waiting_;
     turn_.wait(lock, [&] { return running_ < options_.long_solves || cancel->load(); });
     --waiting_;
-    if (!cancel->load()) ++running_;
+    // Decided once, under the lock: a cancel after this point stops the child instead.
+    ran = !cancel->load();
+    if (ran) ++running_;
   }
   struct Turn {
     WebApi* api;
     const std::string& id;
+    std::atomic<bool>* flag;
     bool ran;
     ~Turn() {
       std::lock_guard<std::mutex> lock(api->mutex_);
       if (ran) --api->running_;
       if (!id.empty()) api->cancels_.erase(id);
+      api->every_long_.erase(flag);
       api->turn_.notify_all();
     }
-  } turn{this, request_id, !cancel->load()};
-  if (cancel->load()) return ErrorReply(409, "cancelled (/api/cancel) before it started");
+  } turn{this, request_id, cancel.get(), ran};
+  if (!ran) {
+    return stopping_long_ ? ErrorReply(503, "the server is stopping")
+                          : ErrorReply(409, "cancelled (/api/cancel) before it started");
+  }
   ChildRun run;
   run.program = options_.program;
   run.args = args;
   run.inputs = inputs;
   run.time_limit_s = options_.solve_time_limit_s;
   run.cancel = cancel.get();
-  const ChildOutcome outcome = RunChild(run);
-  if (outcome.cancelled) return ErrorReply(409, "cancelled (/api/cancel)");
+  ChildOutcome outcome = RunChild(run);
+  if (outcome.cancelled) {
+    return stopping_long_ ? ErrorReply(503, "the server is stopping")
+                          : ErrorReply(409, "cancelled (/api/cancel)");
+  }
   if (outcome.timed_out) {
     char limit[32];
     std::snprintf(limit, sizeof(limit), "%g", options_.solve_time_limit_s);
@@ -339,7 +373,7 @@ WebReply WebApi::RunLong(const std::vector<std::string>& args,
   if (outcome.output_too_long) return ErrorReply(500, "internal error: the result is too large");
   if (outcome.exit_status == 0) {
     WebReply reply;
-    reply.body = outcome.out;
+    reply.body = std::move(outcome.out);
     return reply;
   }
   const std::string message = ChildMessage(outcome.err);

@@ -25,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -53,6 +54,9 @@ struct WebReply {
   std::string filename;  // a download's name (Content-Disposition), when set
 };
 
+// `text` (a query parameter, a path) as a message shows it: at most 40 printable characters.
+std::string ShownInMessage(const std::string& text);
+
 // The message of an error reply: {"error": message}.
 WebReply ErrorReply(int status, const std::string& message);
 
@@ -69,6 +73,9 @@ class WebApi {
   WebReply Export(const WebRequest& request);
   WebReply Cancel(const WebRequest& request);
   WebReply Version() const;
+  // Stops every long solve, waiting or running (503 "the server is stopping"), and refuses new
+  // ones: the server's shutdown.
+  void StopLongSolves();
 
   const WebApiOptions& options() const { return options_; }
 
@@ -96,8 +103,12 @@ class WebApi {
   std::condition_variable turn_;
   int running_ = 0;
   int waiting_ = 0;
-  // The long solves waiting or running by their request_id, each with its cancel flag.
+  // The long solves waiting or running by their request_id, each with its cancel flag; every
+  // long solve's flag (with a request_id or not); request_ids cancelled before their solve came.
   std::map<std::string, std::shared_ptr<std::atomic<bool>>> cancels_;
+  std::set<std::atomic<bool>*> every_long_;
+  std::deque<std::string> cancelled_early_;
+  std::atomic<bool> stopping_long_{false};
 };
 
 }  // namespace linkfit

@@ -229,8 +229,11 @@ def test_routes_methods_and_page(server):
     assert version["limits"]["max_request_bytes"] == 8 << 20
     status, _, body = request(server + "api/nothing", "{}")
     assert status == 404 and "no such route" in json.loads(body)["error"]
-    status, _, _ = request(server + "api/solve")  # GET of a POST route
-    assert status in (404, 405)
+    status, headers, body = request(server + "api/solve")  # GET of a POST route
+    assert status == 405 and headers["Allow"] == "POST"
+    assert json.loads(body)["error"] == "/api/solve: use POST"
+    status, headers, _ = request(server + "api/version", "{}")
+    assert status == 405 and headers["Allow"] == "GET"
     status, headers, body = request(server)
     assert status == 200 and headers["Content-Type"].startswith("text/html")
     assert b"<html" in body.lower()
@@ -376,3 +379,52 @@ def test_cancel_stops_a_long_solve_and_frees_its_place():
         assert status == 200, body
         status, _, body = request(url + "api/cancel", "")
         assert status == 400 and "request_id" in json.loads(body)["error"]
+
+
+def test_only_this_machines_pages_are_served(server):
+    """A Host other than the server's own (a DNS-rebinding page) and a POST from another site's
+    page answer 403; the page's own requests, curl's and scripts' pass."""
+    five = (DATA / "four_bar_5_poses.json").read_text()
+    port = server.rstrip("/").rsplit(":", 1)[1]
+    req = urllib.request.Request(server + "api/version", headers={"Host": f"evil.example:{port}"})
+    with pytest.raises(urllib.error.HTTPError) as refused:
+        urllib.request.urlopen(req, timeout=10)
+    assert refused.value.code == 403
+    assert "answers to 127.0.0.1:" in json.loads(refused.value.read())["error"]
+    for headers in ({"Origin": "http://evil.example"}, {"Sec-Fetch-Site": "cross-site"}):
+        req = urllib.request.Request(server + "api/solve", data=five.encode(),
+                                     headers={"Content-Type": "application/json", **headers})
+        with pytest.raises(urllib.error.HTTPError) as refused:
+            urllib.request.urlopen(req, timeout=10)
+        assert refused.value.code == 403
+    for host in (f"127.0.0.1:{port}", f"localhost:{port}"):
+        req = urllib.request.Request(server + "api/solve", data=five.encode(), headers={
+            "Content-Type": "application/json", "Host": host, "Origin": f"http://{host}",
+            "Sec-Fetch-Site": "same-origin"})
+        with urllib.request.urlopen(req, timeout=10) as reply:
+            assert reply.status == 200
+
+
+def test_a_cancel_that_overtakes_its_solve_still_stops_it(server):
+    status, _, body = request(server + "api/cancel?request_id=early-1", "")
+    assert status == 200 and json.loads(body) == {"cancelled": False}
+    status, _, body = request(server + "api/solve?effort=fast&request_id=early-1",
+                              (DATA / "path_12_points.json").read_text())
+    assert status == 409 and "before it started" in json.loads(body)["error"]
+
+
+def test_stopping_the_server_stops_its_long_solves():
+    with running_server() as (url, process):
+        replies = []
+        thread = threading.Thread(target=lambda: replies.append(request(
+            url + "api/solve?effort=thorough",
+            (DATA / "classic_path_ellipse_10_points.json").read_text())))
+        thread.start()
+        time.sleep(0.5)
+        start = time.monotonic()
+        process.send_signal(2)
+        assert process.wait(timeout=10) == 0
+        thread.join()
+        assert time.monotonic() - start < 3
+        status, _, body = replies[0]
+        assert status == 503 and json.loads(body)["error"] == "the server is stopping"

@@ -43,16 +43,28 @@ export async function version() {
 
 // A solve or refinement that may run long carries a request_id: when its fetch is aborted
 // (Cancel), the server is told to stop it (POST /api/cancel), so it frees its place.
+// A page reloaded or closed aborts its fetches without telling the server: on `pagehide`
+// every one still in flight is cancelled by a beacon (a POST that outlives the page).
 const session = Math.random().toString(36).slice(2);
 let nextRequest = 0;
+const inFlight = new Set(); // the request_ids sent and not yet answered
 function cancellable(route, params, options) {
   if (!options.signal) return call(route + query(params), options);
   const id = `${session}-${++nextRequest}`;
   const stop = () => fetch('/api/cancel' + query({ request_id: id }), { method: 'POST' }).catch(() => {});
   options.signal.addEventListener('abort', stop, { once: true });
+  inFlight.add(id);
   return call(route + query({ ...params, request_id: id }), options)
-    .finally(() => options.signal.removeEventListener('abort', stop));
+    .finally(() => {
+      inFlight.delete(id);
+      options.signal.removeEventListener('abort', stop);
+    });
 }
+
+window.addEventListener('pagehide', () => {
+  for (const id of inFlight) navigator.sendBeacon('/api/cancel' + query({ request_id: id }));
+  inFlight.clear();
+});
 
 export function solve(taskText, { effort, curvePoints, signal } = {}) {
   return cancellable('/api/solve', { effort, curve_points: curvePoints }, {

@@ -45,6 +45,7 @@ const state = {
   solveCount: 0,
   stale: false, // the last solve failed: the result shown is of an earlier task
   errorRows: [], // table rows a server error names (highlighted)
+  epoch: 0, // a new task, its result cleared or a result opened: replies to earlier requests are dropped
 };
 
 // What tests (and curious designers in the console) can read.
@@ -123,6 +124,7 @@ function setTask(tree, { fit = true } = {}) {
   if ('mechanisms' in tree && !('poses' in tree) && !('points' in tree)) {
     throw new Error('this is a result file: open it with "Open result…"');
   }
+  newEpoch();
   state.task = tree;
   state.selectedItem = null;
   state.selectedPivot = null;
@@ -171,6 +173,7 @@ function taskEdited({ source = 'canvas', eventTime = null, dragging = false } = 
 }
 
 function clearResult() {
+  newEpoch();
   state.stale = false;
   state.result = null;
   state.resultText = null;
@@ -205,6 +208,7 @@ function addItem(world) {
 function deleteItem(i) {
   const list = items();
   if (i === null || i < 0 || i >= list.length) return;
+  endItemDrag(); // Delete while dragging: the drag's index would name another pose, or none
   list.splice(i, 1);
   state.selectedItem = null;
   taskEdited();
@@ -249,6 +253,7 @@ function movePivot(i, world) {
 function deletePivot(i) {
   const list = state.task?.fixed_pivots;
   if (!Array.isArray(list) || i === null || i < 0 || i >= list.length) return;
+  endItemDrag();
   list.splice(i, 1);
   if (!list.length) delete state.task.fixed_pivots;
   state.selectedPivot = null;
@@ -456,8 +461,10 @@ function pumpLive() {
   const effort = state.dragPose !== null && hasConstraints() ? 'fast' : undefined;
   live.lastText = effort ? null : text;
   const sent = performance.now();
+  const epoch = state.epoch;
   api.solve(text, { effort })
     .then((resultText) => {
+      if (epoch !== state.epoch) return; // for a task since replaced or cleared: dropped
       const received = performance.now();
       applyResult(resultText, text);
       const drawn = performance.now();
@@ -477,7 +484,7 @@ function pumpLive() {
         });
       }
     })
-    .catch((err) => solveFailed(err.message))
+    .catch((err) => { if (epoch === state.epoch) solveFailed(err.message); })
     .finally(() => {
       live.inFlight = false;
       if (live.dirty) pumpLive();
@@ -506,6 +513,22 @@ function cancelStaged() {
   if (staged) staged.controller.abort();
 }
 
+// A new task, its result cleared, or a result file opened: every request on its way is for
+// what was there before. The long ones are cancelled, nothing queued is sent, and each reply
+// still to come is dropped (every request keeps the epoch it was sent in).
+function newEpoch() {
+  state.epoch++;
+  cancelStaged();
+  clearTimeout(autoTimer);
+  autoTimer = null;
+  live.dirty = false;
+  live.since = null;
+  live.pointer = false;
+}
+
+// A reply to a request of an earlier epoch: treated as cancelled.
+const superseded = () => Object.assign(new Error('superseded'), { name: 'AbortError' });
+
 // Fast first, its list shown at once, then the finer levels up to the chosen
 // one; each stage is marked with its time as it finishes.
 async function runStaged(levels) {
@@ -533,6 +556,7 @@ async function runStaged(levels) {
   $('solve').disabled = true;
   updateRefine();
   const text = taskText();
+  const epoch = state.epoch;
   try {
     for (const [i, level] of levels.entries()) {
       const li = rows[i];
@@ -541,6 +565,7 @@ async function runStaged(levels) {
       const t0 = performance.now();
       try {
         const resultText = await api.solve(text, { effort: level, signal: controller.signal });
+        if (epoch !== state.epoch || controller.signal.aborted) throw superseded();
         applyResult(resultText, text);
         clearError('solve');
         const r = state.result;
@@ -549,7 +574,7 @@ async function runStaged(levels) {
           ` (solve ${fmtMs(r.solve_time_ms)}), ${r.mechanisms?.length ?? 0} mechanisms` +
           (r.mechanisms?.[0] ? `, best fit ${fmtFit(r.mechanisms[0])}` : '');
       } catch (err) {
-        if (err.name === 'AbortError') {
+        if (err.name === 'AbortError' || epoch !== state.epoch) {
           cancelled = true;
           li.className = 'cancelled';
           li.textContent = `${level}: cancelled after ${(performance.now() - t0).toFixed(0)} ms`;
@@ -565,7 +590,8 @@ async function runStaged(levels) {
   } finally {
     clearInterval(me.timer);
     const seconds = ((performance.now() - start) / 1000).toFixed(2);
-    $('elapsed').textContent = cancelled ? `cancelled after ${seconds} s` : `total ${seconds} s`;
+    // (Not over a new task's empty list.)
+    if (rows[0]?.isConnected) $('elapsed').textContent = cancelled ? `cancelled after ${seconds} s` : `total ${seconds} s`;
     endLong(me);
   }
 }
@@ -594,6 +620,7 @@ async function runRefine() {
   const before = state.result.mechanisms[index];
   const designText = state.resultText;
   const text = taskText();
+  const epoch = state.epoch;
   const controller = new AbortController();
   const me = { controller, timer: null };
   staged = me;
@@ -611,6 +638,7 @@ async function runRefine() {
   }, 100);
   try {
     const resultText = await api.refine(text, designText, index, controller.signal);
+    if (epoch !== state.epoch || controller.signal.aborted) throw superseded();
     const after = JSON.parse(resultText).mechanisms?.[0];
     const key = fitKey(before) || fitKey(after) || 'fit';
     const note = `refined mechanism ${index + 1}: ${key.replace(/_/g, ' ')} ${fmtNum(before?.[key])} → ${fmtNum(after?.[key])}`;
@@ -620,13 +648,14 @@ async function runRefine() {
     li.className = 'done';
     li.textContent = `${note} (${(performance.now() - start).toFixed(0)} ms)`;
   } catch (err) {
-    li.className = err.name === 'AbortError' ? 'cancelled' : 'failed';
-    li.textContent = `refine mechanism ${index + 1}: ${err.name === 'AbortError' ? 'cancelled' : 'failed'}`;
-    if (err.name !== 'AbortError') showError(`refine: ${err.message}`, 'solve');
+    const aborted = err.name === 'AbortError' || epoch !== state.epoch;
+    li.className = aborted ? 'cancelled' : 'failed';
+    li.textContent = `refine mechanism ${index + 1}: ${aborted ? 'cancelled' : 'failed'}`;
+    if (!aborted) showError(`refine: ${err.message}`, 'solve');
   } finally {
     clearInterval(me.timer);
     const seconds = ((performance.now() - start) / 1000).toFixed(2);
-    $('elapsed').textContent = li.className === 'cancelled' ? `cancelled after ${seconds} s` : `total ${seconds} s`;
+    if (li.isConnected) $('elapsed').textContent = li.className === 'cancelled' ? `cancelled after ${seconds} s` : `total ${seconds} s`;
     endLong(me);
   }
 }
@@ -671,20 +700,35 @@ function scheduleAnalysis() {
   analysisTimer = setTimeout(fetchAnalysis, 80);
 }
 
-async function fetchAnalysis() {
+// The selected mechanism's analysis. One on its way for it (the one scheduled after a solve,
+// when Play is pressed or a mechanism selected meanwhile) is waited for, not restarted: a
+// restart would abort it, and its caller would take the mechanism for one without analysis.
+let analysisPending = null; // {result, index, epoch, promise}
+
+function fetchAnalysis() {
+  const p = analysisPending;
+  if (p && p.result === state.result && p.index === state.selected && p.epoch === state.epoch) return p.promise;
+  const me = { result: state.result, index: state.selected, epoch: state.epoch };
+  analysisPending = me;
+  me.promise = loadAnalysis().finally(() => { if (analysisPending === me) analysisPending = null; });
+  return me.promise;
+}
+
+async function loadAnalysis() {
   const result = state.result;
   const index = state.selected;
   const m = result?.mechanisms?.[index];
   if (!m?.linkage || result.space === 'spatial') return null;
   analysisController?.abort();
   analysisController = new AbortController();
+  const epoch = state.epoch;
   try {
     const signal = analysisController.signal;
     // Its whole cycle: a crank's turn, a rocker's swing between its dead points (the task
     // gives the analysis its task range too, task_range_deg).
     const text = await api.analyze(state.resultText, state.resultTaskText, index,
       { steps: 180, range: 'whole' }, signal);
-    if (state.result !== result || state.selected !== index) return null; // superseded
+    if (state.result !== result || state.selected !== index || state.epoch !== epoch) return null; // superseded
     const data = JSON.parse(text);
     state.analysis = { result, index, data };
     const steps = data.input_deg?.length ?? 0;
@@ -707,27 +751,40 @@ function currentAnalysis() {
 
 let lastTick = 0;
 let direction = 1;
+let playFrame = null; // the Play loop's pending animation frame: one loop at most
 
 async function togglePlay() {
   if (state.playing) { stopPlaying(); return; }
-  if (!currentAnalysis() && !(await fetchAnalysis())) {
-    if (!currentAnalysis()) { showError('this mechanism cannot be animated (no analysis)', 'analysis'); return; }
+  if (!currentAnalysis() && !(await fetchAnalysis()) && !currentAnalysis()) {
+    showError('this mechanism cannot be animated (no analysis)', 'analysis');
+    return;
   }
-  state.playing = true;
-  $('play').textContent = '❚❚ Pause';
-  $('play').classList.add('active');
-  lastTick = performance.now();
-  requestAnimationFrame(tick);
+  startPlaying();
+}
+
+function startPlaying() {
+  if (!currentAnalysis()) return;
+  if (!state.playing) {
+    state.playing = true;
+    $('play').textContent = '❚❚ Pause';
+    $('play').classList.add('active');
+    lastTick = performance.now();
+  }
+  if (playFrame === null) playFrame = requestAnimationFrame(tick);
 }
 
 function stopPlaying() {
   state.playing = false;
+  resumePlay = false;
+  if (playFrame !== null) cancelAnimationFrame(playFrame);
+  playFrame = null;
   $('play').textContent = '▶ Play';
   $('play').classList.remove('active');
 }
 
 // About 60 analysis steps a second; a rocking input swings back and forth.
 function tick(now) {
+  playFrame = null;
   if (!state.playing) return;
   const a = currentAnalysis();
   if (!a) { stopPlaying(); return; }
@@ -745,7 +802,7 @@ function tick(now) {
     $('scrub').value = state.frame;
     drawMechanism();
   }
-  requestAnimationFrame(tick);
+  playFrame = requestAnimationFrame(tick);
 }
 
 /* ---------- drawing ---------- */
@@ -954,6 +1011,17 @@ function fitView() {
 /* ---------- pointer interaction ---------- */
 
 let drag = null;
+const ITEM_DRAGS = ['pose-origin', 'pose-angle', 'point'];
+
+// A drag of a pose, point or picked pivot ends when what it holds is deleted (Delete pressed
+// while dragging): its index would name another one, or none.
+function endItemDrag() {
+  if (!drag || !(ITEM_DRAGS.includes(drag.kind) || drag.kind === 'pivot')) return;
+  const id = drag.pointerId;
+  drag = null;
+  state.dragPose = null;
+  if (id !== undefined && svg.hasPointerCapture(id)) svg.releasePointerCapture(id);
+}
 
 function eventTime(e) {
   // The event's own timestamp (same clock as performance.now()) includes the
@@ -989,6 +1057,7 @@ svg.addEventListener('pointerdown', (e) => {
       drag.localStart = boxFrame(drag.box).toLocal(drag.world);
     }
   } else return;
+  drag.pointerId = e.pointerId;
   svg.setPointerCapture(e.pointerId);
   e.preventDefault();
 });
@@ -1014,6 +1083,11 @@ svg.addEventListener(MOVE_EVENT, (e) => {
   if (!drag.moved) return;
   const w = view.toWorld(p);
   const it = items()[drag.index];
+  // What the drag holds is gone (deleted while dragged): the drag ends.
+  if (drag.kind === 'pivot' ? !state.task.fixed_pivots?.[drag.index] : ITEM_DRAGS.includes(drag.kind) && !it) {
+    endItemDrag();
+    return;
+  }
   switch (drag.kind) {
     case 'pose-origin':
     case 'point':
@@ -1321,16 +1395,27 @@ function renderMechList() {
   });
 }
 
+// A mechanism selected while playing (or while the one selected just before was to play on)
+// plays once its analysis comes; the latest selection's, only.
+let resumePlay = false;
+let selections = 0;
+
 function selectMechanism(i) {
   if (i === state.selected) return;
+  const wasPlaying = state.playing || resumePlay;
+  stopPlaying();
+  resumePlay = wasPlaying;
   state.selected = i;
   state.frame = 0;
   renderMechList();
   updateRefine();
   drawMechanism();
-  const wasPlaying = state.playing;
-  stopPlaying();
-  fetchAnalysis().then((a) => { if (a && wasPlaying) togglePlay(); });
+  const mine = ++selections;
+  fetchAnalysis().then((a) => {
+    if (mine !== selections || !resumePlay) return; // selected again since, or stopped
+    resumePlay = false;
+    if (a) startPlaying();
+  });
 }
 
 function renderStatus() {
@@ -1494,6 +1579,7 @@ function openTaskText(text) {
 function openResultText(text) {
   const result = JSON.parse(text);
   if (!result || !Array.isArray(result.mechanisms)) throw new Error('not a linkfit result (no "mechanisms")');
+  newEpoch(); // a solve on its way would replace the result opened
   stopPlaying();
   state.selected = 0;
   applyResult(text, taskText());

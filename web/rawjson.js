@@ -12,6 +12,9 @@ export class Num {
 }
 
 const JSON_NUMBER = /^-?(0|[1-9]\d*)(\.\d+)?([eE][+-]?\d+)?$/;
+// A number where the parser stands (lastIndex): sticky, so it is read whole from the text
+// (no copy of a slice of it, which would cut a long number short).
+const NUMBER_AT = /-?\d+(\.\d+)?([eE][+-]?\d+)?/y;
 
 // A typed number made valid JSON without changing its digits (".5" → "0.5",
 // "+2" → "2", "3." → "3"); anything else is left as typed, and is then sent as a
@@ -69,7 +72,8 @@ export function parse(text) {
       }
     }
     if (c === '"') return string();
-    const m = /^-?\d+(\.\d+)?([eE][+-]?\d+)?/.exec(text.slice(i, i + 64));
+    NUMBER_AT.lastIndex = i; // sticky: matched at i, however long the number
+    const m = NUMBER_AT.exec(text);
     if (m) { i += m[0].length; return new Num(m[0]); }
     for (const [word, v] of [['true', true], ['false', false], ['null', null]]) {
       if (text.startsWith(word, i)) { i += word.length; return v; }

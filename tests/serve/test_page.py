@@ -15,9 +15,12 @@ import subprocess
 import tempfile
 import threading
 import time
+import urllib.parse
 import urllib.request
 
 import pytest
+
+from conftest import running_server
 
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 WEB = ROOT / "web"
@@ -815,3 +818,172 @@ def test_constrained_drag_is_fast_then_refined(server, browser):
     assert_page_shows(driver, full)
     assert any("least-squares fit(s) of all five" in note for note in full["notes"])
     print("constrained drag latencies (ms):", sorted(latencies))
+
+
+# ---------- replies to a replaced task, a reload, the Play loop, long numbers, Delete in a drag ----------
+
+# Every /api/solve reply held `arguments[0]` ms before the page sees it (a slow reply: a request is
+# in flight when the test acts), the page's uncaught errors recorded in window.pageErrors.
+HOLD_SOLVES = """
+  window.pageErrors = [];
+  window.addEventListener('error', (e) => window.pageErrors.push(String(e.message)));
+  window.addEventListener('unhandledrejection', (e) => window.pageErrors.push(String(e.reason)));
+  const hold = arguments[0];
+  const fetch0 = window.fetch;
+  window.fetch = async (url, options) => {
+    const response = await fetch0(url, options);
+    if (String(url).includes('/api/solve')) await new Promise((resolve) => setTimeout(resolve, hold));
+    return response;
+  };
+"""
+
+
+def test_delete_while_dragging_drops_the_old_reply(server, browser):
+    """Three poses, one dragged (its live solve in flight), Delete: two poses, no result. The
+    reply for three poses that then arrives is dropped (not drawn as current), and the pointer
+    moves after the Delete throw nothing: the drag has ended."""
+    from selenium.webdriver.common.keys import Keys
+    driver = browser
+    load_page(driver, server)
+    open_task(driver, DATA / "four_bar_3_poses.json")
+    assert driver.execute_script("return window.linkfit.state.result.mechanisms.length") > 0
+    before = page_task(driver)["poses"]
+    driver.execute_script(HOLD_SOLVES, 500)
+    # The last pose: after the Delete, its index names no pose.
+    handle = driver.find_element(By.CSS_SELECTOR, '[data-testid="pose-2-origin"]')
+    ActionChains(driver, duration=20).click_and_hold(handle).move_by_offset(6, -4).pause(0.03) \
+        .move_by_offset(6, -4).perform()
+    # A solve sent, its reply held; Delete while the pose is still held.
+    assert driver.execute_script("return window.linkfit.busy")
+    count = driver.execute_script("return window.linkfit.solveCount")
+    ActionChains(driver).send_keys(Keys.DELETE).perform()
+    assert len(page_task(driver)["poses"]) == 2
+    ActionChains(driver, duration=20).move_by_offset(5, 5).pause(0.03).move_by_offset(5, 5) \
+        .pause(0.03).release().perform()
+    settle(driver)  # the held reply has come (a solve in flight is waited for)
+    state = driver.execute_script("""
+        const $ = (id) => document.querySelector(`[data-testid="${id}"]`);
+        return {result: window.linkfit.state.result, count: window.linkfit.solveCount,
+                rows: document.querySelectorAll('[data-testid^="mechanism-row-"]').length,
+                drawn: document.querySelectorAll('#layer-mechanism *, #layer-dyads *').length,
+                errors: window.pageErrors, error: $('error-bar').hidden ? null : $('error-text').textContent};""")
+    assert state == {"result": None, "count": count, "rows": 0, "drawn": 0, "errors": [], "error": None}, state
+    assert page_task(driver)["poses"] == before[:2]  # the drag ended: no other pose moved
+    # Still usable: a pose added back solves and is drawn.
+    driver.execute_script("window.linkfit.openTask(arguments[0])", (DATA / "four_bar_3_poses.json").read_text())
+    wait_for(lambda: driver.execute_script("return window.linkfit.state.result"), what="the solve")
+    settle(driver)
+    assert driver.execute_script("return window.pageErrors") == []
+
+
+# Counts, from now on, the animation frames, the Play loop's tick callbacks, and the steps the
+# animation advances (a full turn wraps: the shorter way round).
+COUNT_TICKS = """
+  const l = window.linkfit;
+  const c = window.playCount = {frames: 0, ticks: 0, steps: 0, start: performance.now(), last: l.frame};
+  if (!window.rafWrapped) {
+    window.rafWrapped = true;
+    const raf = window.requestAnimationFrame.bind(window);
+    window.requestAnimationFrame = (cb) => raf((t) => { if (cb.name === 'tick') window.playCount.ticks++; cb(t); });
+  }
+  const n = l.state.analysis ? l.state.analysis.input_deg.length : 1;
+  const frame = () => {
+    if (window.playCount !== c) return;
+    c.frames++;
+    const d = Math.abs(l.frame - c.last);
+    c.steps += Math.min(d, n - d);
+    c.last = l.frame;
+    requestAnimationFrame(frame);
+  };
+  requestAnimationFrame(frame);
+"""
+
+
+def test_play_runs_one_loop(server, browser):
+    """Mechanisms selected quickly one after another while playing: the last one plays, in one
+    loop (one tick a frame, about 60 steps a second); Pause and Play pressed within one frame
+    leave one loop too, and Play / Pause still toggles."""
+    driver = browser
+    load_page(driver, server)
+    assert driver.execute_script("return window.linkfit.state.result.mechanisms.length") >= 4
+    play = driver.find_element(By.CSS_SELECTOR, '[data-testid="play"]')
+    play.click()
+    wait_for(lambda: driver.execute_script("return window.linkfit.playing"), what="play")
+
+    def one_loop(what):
+        driver.execute_script(COUNT_TICKS)
+        time.sleep(0.5)
+        count = driver.execute_script(
+            "const c = window.playCount; return {...c, elapsed: performance.now() - c.start};")
+        assert count["frames"] >= 10, (what, count)
+        assert count["ticks"] <= count["frames"] + 1, (what, count)  # one loop
+        assert 0 < count["steps"] <= count["elapsed"] * 60 / 1000 + 3, (what, count)
+
+    driver.execute_script("""for (const i of [1, 2, 3]) {
+        document.querySelector(`[data-testid="mechanism-row-${i}"]`).click(); }""")
+    wait_for(lambda: driver.execute_script(
+        "return window.linkfit.playing && window.linkfit.state.analysis?.mechanism === 4"),
+        what="the fourth mechanism playing")
+    one_loop("after selecting")
+    driver.execute_script("const b = arguments[0]; b.click(); b.click();", play)  # Pause, Play
+    assert driver.execute_script("return window.linkfit.playing")
+    one_loop("after Pause and Play")
+    play.click()
+    assert not driver.execute_script("return window.linkfit.playing")
+    frame = driver.execute_script("return window.linkfit.frame")
+    driver.execute_script(COUNT_TICKS)
+    time.sleep(0.15)
+    assert driver.execute_script("return [window.linkfit.frame, window.playCount.ticks]") == [frame, 0]
+    play.click()
+    wait_for(lambda: driver.execute_script("return window.linkfit.frame") != frame, what="the animation again")
+    play.click()
+    assert not driver.execute_script("return window.linkfit.playing")
+
+
+def test_long_number_saved_and_reopened(server, browser):
+    """A number of 70 digits typed in the table: saved as typed, and the saved task reopens."""
+    driver = browser
+    load_page(driver, server)
+    long = "12." + "3" * 67
+    assert len(long) == 70
+    cell = driver.find_element(By.CSS_SELECTOR, '[data-testid="item-0-x"]')
+    driver.execute_script("arguments[0].value = arguments[1]; arguments[0].dispatchEvent(new Event('input'))",
+                          cell, long)
+    settle(driver)
+    driver.find_element(By.CSS_SELECTOR, '[data-testid="export-task"]').click()
+    saved = driver.execute_script("return window.linkfit.lastExport.text")
+    assert f'"x": {long}' in saved
+    driver.execute_script("window.linkfit.openTask(arguments[0])", saved)
+    settle(driver)
+    assert driver.execute_script("return window.linkfit.taskText()") == saved
+    assert driver.execute_script("return window.linkfit.taskTree().poses[0].x.text") == long
+
+
+def test_reload_cancels_long_solves(browser):
+    """A page reloaded while its balanced stage runs: the server is told to stop that solve (its
+    request_id is then unknown to /api/cancel), so it does not hold the one place."""
+    from selenium.webdriver.support.ui import Select
+    driver = browser
+    with running_server("--long-solves", "1") as (url, _):
+        load_page(driver, url)
+        open_task(driver, DATA / "classic_path_ellipse_10_points.json")
+        driver.execute_script("""
+            window.sentUrls = [];
+            const fetch0 = window.fetch;
+            window.fetch = (u, o) => { window.sentUrls.push(String(u)); return fetch0(u, o); };""")
+        Select(driver.find_element(By.CSS_SELECTOR, '[data-testid="effort"]')).select_by_visible_text("balanced")
+        driver.find_element(By.CSS_SELECTOR, '[data-testid="solve"]').click()
+        wait_for(lambda: driver.execute_script(
+            """const li = document.querySelector('[data-testid="stage-balanced"]');
+               return li && li.className === 'running';"""), timeout=10, what="the balanced stage")
+        time.sleep(0.3)
+        sent = [u for u in driver.execute_script("return window.sentUrls") if "effort=balanced" in u]
+        assert len(sent) == 1, sent
+        request_id = urllib.parse.parse_qs(urllib.parse.urlsplit(sent[0]).query)["request_id"][0]
+        driver.get(url)  # balanced runs for seconds: still running unless the page had it stopped
+        time.sleep(0.3)
+        request = urllib.request.Request(url + f"api/cancel?request_id={request_id}", data=b"", method="POST")
+        with urllib.request.urlopen(request, timeout=10) as reply:
+            assert json.loads(reply.read()) == {"cancelled": False}
+        assert driver.execute_async_script(
+            "const done = arguments[0]; window.linkfit.ready.then(() => done(true));")

@@ -181,9 +181,7 @@ void ApplyOverrides(const SolveOutputs& outputs, const std::string& task_path, T
     }
     task->platform = outputs.platform;
   }
-  if (outputs.effort == "fast") task->effort = Effort::kFast;
-  if (outputs.effort == "balanced") task->effort = Effort::kBalanced;
-  if (outputs.effort == "thorough") task->effort = Effort::kThorough;
+  if (const std::optional<Effort> effort = EffortOfName(outputs.effort)) task->effort = *effort;
 }
 
 // The longest line a task or result file may have.

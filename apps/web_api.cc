@@ -129,8 +129,11 @@ const std::string& Part(const WebRequest& request, const std::string& name, cons
   const auto found = request.parts.find(name);
   if (found == request.parts.end()) {
     if (!required) return kNone;
+    const char* what = name == "task"     ? "the task file"
+                       : name == "design" ? "a result, or a design written by hand"
+                                          : "the result file";
     throw InputError(std::string(route) + ": expected a multipart/form-data part '" + name +
-                     "' (the JSON of the " + (name == "task" ? "task" : "result") + " file)");
+                     "' (the JSON of " + what + ")");
   }
   if (found->second.find_first_not_of(" \t\r\n") == std::string::npos) {
     throw InputError(name + ": empty, expected JSON");
@@ -403,9 +406,7 @@ WebReply WebApi::Solve(const WebRequest& request) {
         if (effort) long_args.insert(long_args.end(), {"--effort", *effort});
         return WebReply();
       }
-      if (effort == "fast") task.effort = Effort::kFast;
-      if (effort == "balanced") task.effort = Effort::kBalanced;
-      if (effort == "thorough") task.effort = Effort::kThorough;
+      if (effort) task.effort = *EffortOfName(*effort);
       TaskSolverOptions solver;
       solver.threads = 1;  // the other workers solve other requests meanwhile
       TaskResult result = SolveTask(task, solver);
@@ -428,12 +429,6 @@ WebReply WebApi::Refine(const WebRequest& request) {
   return Guarded([&] {
     const Params params(request, "refine", {"mechanism", "request_id"});
     const std::string& task_text = Part(request, "task", "refine");
-    const auto found = request.parts.find("design");
-    if (found == request.parts.end()) {
-      throw InputError(
-          "refine: expected a multipart/form-data part 'design' (the JSON of a result, or a "
-          "design written by hand)");
-    }
     const std::string& design_text = Part(request, "design", "refine");
     // Checked here, so a bad request is named as the CLI names it before any process starts.
     const Task task = ParseTask(task_text, "task");

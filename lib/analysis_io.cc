@@ -429,6 +429,19 @@ std::string SixBarAnalysisText(const std::string& result_text, const std::string
   return out.dump(2) + "\n";
 }
 
+// A four-bar kind's masses (planar closed form, spherical, dyad rows: the same three links) from
+// the request's, read and checked once (AnalyzeResultText).
+template <typename Masses>
+Masses ThreeMasses(const FourBarMasses& four_bar) {
+  Masses masses;
+  masses.input = four_bar.input;
+  masses.coupler = four_bar.coupler;
+  masses.output = four_bar.output;
+  masses.length_unit_m = four_bar.length_unit_m;
+  masses.gravity = four_bar.gravity;
+  return masses;
+}
+
 // `linkfit analyze` of spherical four-bar `request.mechanism` of a result.
 std::string SphericalAnalysisText(const Json& result, const std::string& source,
                                   const AnalysisRequest& request, const FourBarMasses& units) {
@@ -442,17 +455,7 @@ std::string SphericalAnalysisText(const Json& result, const std::string& source,
                      " (counted from 1): the result lists " + std::to_string(mechanisms->size()));
   }
   const std::string item = source + ": mechanisms[" + std::to_string(index) + "]";
-  SphericalFourBarMasses masses;
-  if (!request.mass_list.empty()) {
-    if (request.mass_list.size() != 3) {
-      throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
-    }
-    masses.input = request.mass_list[0];
-    masses.coupler = request.mass_list[1];
-    masses.output = request.mass_list[2];
-  }
-  masses.length_unit_m = units.length_unit_m;
-  masses.gravity = units.gravity;
+  SphericalFourBarMasses masses = ThreeMasses<SphericalFourBarMasses>(units);
   // The links' sphere: through the tool frame's origin (|center_in_moving|), else the scale.
   masses.radius = std::max(1e-300, result.value("scale", 1.0));
   const auto spherical = result.find("spherical");
@@ -791,17 +794,7 @@ std::string DyadFourBarAnalysisText(const Json& result, const Json& mechanism,
                                     const std::string& source, const std::string& item,
                                     const AnalysisRequest& request, const FourBarMasses& units) {
   const std::string type = mechanism.value("type", std::string());
-  DyadFourBarMasses masses;
-  if (!request.mass_list.empty()) {
-    if (request.mass_list.size() != 3) {
-      throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
-    }
-    masses.input = request.mass_list[0];
-    masses.coupler = request.mass_list[1];
-    masses.output = request.mass_list[2];
-  }
-  masses.length_unit_m = units.length_unit_m;
-  masses.gravity = units.gravity;
+  const DyadFourBarMasses masses = ThreeMasses<DyadFourBarMasses>(units);
   const bool massive = masses.Any();
   const Json& joints = mechanism["linkage"]["joints"];
   const std::string at = item + ".linkage.joints";
@@ -1302,6 +1295,10 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
         !six_bars->empty()) {
       return SixBarAnalysisText(result_text, source, request, masses);
     }
+    // Every kind of four-bar below takes three masses.
+    if (request.mass_list.size() != 3 && !request.mass_list.empty()) {
+      throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
+    }
     if (result.is_object() && result.value("model", std::string()) == "spherical") {
       return SphericalAnalysisText(result, source, request, masses);
     }
@@ -1311,9 +1308,6 @@ std::string AnalyzeResultText(const std::string& result_text, const std::string&
           result, result["mechanisms"][request.mechanism], source,
           source + ": mechanisms[" + std::to_string(request.mechanism) + "]", request, masses);
     }
-  }
-  if (request.mass_list.size() != 3 && !request.mass_list.empty()) {
-    throw InputError("--mass: a four-bar takes three masses INPUT,COUPLER,OUTPUT (kg)");
   }
   const ResultFourBar four_bar = FourBarOfResult(result, source, request.mechanism);
   const FourBarJoints& joints = four_bar.joints;

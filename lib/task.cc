@@ -24,6 +24,13 @@ const char* EffortName(Effort effort) {
   return "balanced";
 }
 
+std::optional<Effort> EffortOfName(const std::string& name) {
+  for (const Effort effort : {Effort::kFast, Effort::kBalanced, Effort::kThorough}) {
+    if (name == EffortName(effort)) return effort;
+  }
+  return std::nullopt;
+}
+
 int DistinctPoints(const std::vector<TimedPoint>& points) {
   std::vector<std::pair<double, double>> locations;
   for (const TimedPoint& point : points) {

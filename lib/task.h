@@ -27,6 +27,8 @@ enum class Effort { kFast, kBalanced, kThorough };
 const char* ProblemKindName(ProblemKind kind);
 const char* SpaceName(Space space);
 const char* EffortName(Effort effort);
+// The effort a name gives ("fast", "balanced", "thorough"); none for another text.
+std::optional<Effort> EffortOfName(const std::string& name);
 
 struct TimedPoint {
   Eigen::Vector2d point_in_fixed = Eigen::Vector2d::Zero();

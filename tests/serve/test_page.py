@@ -74,6 +74,15 @@ def wait_for(predicate, timeout=10, what="condition"):
     pytest.fail(f"timed out waiting for {what}")
 
 
+def drag(driver, handle, steps, dx, dy, pause, release=True):
+    """Presses on `handle` and moves by (dx, dy) pixels `steps` times, `pause` seconds apart,
+    as a hand drags (each move an event the page solves); then lets go unless told not to."""
+    chain = ActionChains(driver, duration=20).click_and_hold(handle)
+    for _ in range(steps):
+        chain.move_by_offset(dx, dy).pause(pause)
+    (chain.release() if release else chain).perform()
+
+
 def settle(driver):
     """Waits until no solve is queued or in flight."""
     wait_for(lambda: not driver.execute_script("return window.linkfit.busy"), what="the solves to settle")
@@ -139,10 +148,7 @@ def test_designer_page(server, browser):
     before = json.loads(task_text)["poses"][1]
     samples_before = driver.execute_script("return window.linkfit.latencies.length")
     handle = driver.find_element(By.CSS_SELECTOR, '[data-testid="pose-1-origin"]')
-    chain = ActionChains(driver, duration=20).click_and_hold(handle)
-    for _ in range(8):
-        chain.move_by_offset(4, -3).pause(0.05)
-    chain.release().perform()
+    drag(driver, handle, 8, 4, -3, 0.05)
     settle(driver)
     moved_text = driver.execute_script("return window.linkfit.taskText()")
     moved = json.loads(moved_text)
@@ -348,10 +354,7 @@ def test_picked_pivots(server, browser):
 
     # A picked pivot dragged slides along the curve.
     handle = driver.find_element(By.CSS_SELECTOR, '[data-testid="picked-pivot-0"]')
-    chain = ActionChains(driver, duration=20).click_and_hold(handle)
-    for _ in range(5):
-        chain.move_by_offset(4, 3).pause(0.03)
-    chain.release().perform()
+    drag(driver, handle, 5, 4, 3, 0.03)
     settle(driver)
     task_text = driver.execute_script("return window.linkfit.taskText()")
     moved = json.loads(task_text)["fixed_pivots"]
@@ -408,10 +411,7 @@ def test_constraint_box(server, browser):
            return document.elementFromPoint(b.x + b.width / 2, b.y + b.height / 2) === e;""", handle)
     unit = world_per_pixel(driver)
     count = driver.execute_script("return window.linkfit.solveCount")
-    chain = ActionChains(driver, duration=20).click_and_hold(handle)
-    for _ in range(6):
-        chain.move_by_offset(5, -4).pause(0.03)
-    chain.release().perform()
+    drag(driver, handle, 6, 5, -4, 0.03)
     settle(driver)
     task_text = driver.execute_script("return window.linkfit.taskText()")
     moved = json.loads(task_text)["constraints"]["fixed_pivots_box"]
@@ -796,10 +796,7 @@ def test_constrained_drag_is_fast_then_refined(server, browser):
     open_task(driver, ROOT / "data" / "bounded_four_bar_5_poses.json")
     handle = driver.find_element(By.CSS_SELECTOR, '[data-testid="pose-1-origin"]')
     driver.execute_script("window.linkfit.allLatencies.length = 0")
-    chain = ActionChains(driver, duration=20).click_and_hold(handle)
-    for _ in range(10):
-        chain.move_by_offset(2, -2).pause(0.06)
-    chain.perform()
+    drag(driver, handle, 10, 2, -2, 0.06, release=False)
     settle(driver)
     # Held, not yet released: the last solve was the fast level's.
     held = driver.execute_script("return window.linkfit.taskText()")

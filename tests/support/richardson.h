@@ -32,6 +32,22 @@ auto EachOf(const std::array<Sample, 5>& samples, const Get& get)
   return {get(samples[0]), get(samples[1]), get(samples[2]), get(samples[3]), get(samples[4])};
 }
 
+// The rates of a mechanism's kinetic and potential energy in its input at t: `energies(t, &k,
+// &p)` (false where the mechanism does not assemble) at t - h, t - h/2, t + h/2 and t + h,
+// Richardson-extrapolated (the inertial and the weight torque a constant input speed needs, per
+// unit speed). False where any of the four does not assemble.
+template <typename Energies>
+bool EnergyRates(double t, double h, const Energies& energies, double* inertial, double* weight) {
+  std::array<double, 5> k = {}, p = {};  // (t itself: not read)
+  const double offsets[5] = {-h, -0.5 * h, 0.0, 0.5 * h, h};
+  for (int i : {0, 1, 3, 4}) {
+    if (!energies(t + offsets[i], &k[i], &p[i])) return false;
+  }
+  *inertial = RichardsonFirst(k, h);
+  *weight = RichardsonFirst(p, h);
+  return true;
+}
+
 }  // namespace linkfit::testing
 
 #endif  // LINKFIT_TESTS_SUPPORT_RICHARDSON_H_
